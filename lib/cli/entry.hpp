@@ -1,0 +1,27 @@
+#pragma once
+// The shared entry point of every program: parses the command line, runs the body, and
+// owns the try/catch, the one-line error message and the exit status, so that no program
+// repeats them.
+//
+//   0  success; --help and --version print to stdout
+//   1  runtime failure (I/O error, device lost, solver failure)
+//   2  bad input or usage
+//
+// Output discipline: a body builds its whole result before writing to stdout, or, for
+// streamed output, validates everything first, so a refusal leaves stdout empty.
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace tp::cli {
+
+// Adds --version to `app`, parses argv into it and runs `body`; returns the exit status
+// for main().  Declare the program as CLI::App app{"description", "name"}.
+int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
+
+// Writes a string to stdout and flushes; an I/O failure is a runtime failure.
+void write_stdout(const std::string& text);
+
+}  // namespace tp::cli

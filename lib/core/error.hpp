@@ -1,0 +1,34 @@
+#pragma once
+// One error type for the whole project, carrying the exit status it maps to.
+// Exit statuses are fixed for every program:
+//   0  success
+//   1  runtime failure (I/O error, device lost, solver failure)
+//   2  bad input or usage (nothing was written to stdout, nothing was sent)
+
+#include <stdexcept>
+#include <string>
+
+namespace tp {
+
+enum class ExitCode : int { ok = 0, failure = 1, bad_input = 2 };
+
+class Error : public std::runtime_error {
+ public:
+  Error(ExitCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  ExitCode code() const noexcept { return code_; }
+
+ private:
+  ExitCode code_;
+};
+
+// Bad input or usage: exit status 2.
+[[noreturn]] inline void bad_input(const std::string& message) {
+  throw Error(ExitCode::bad_input, message);
+}
+
+// Runtime failure: exit status 1.
+[[noreturn]] inline void failure(const std::string& message) {
+  throw Error(ExitCode::failure, message);
+}
+
+}  // namespace tp

@@ -1,0 +1,32 @@
+#pragma once
+// A buffered CSV writer for large numeric outputs: numbers are formatted with
+// std::to_chars into one buffer that is flushed with fwrite, never an iostream per number.
+
+#include <cstdio>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tp {
+
+class CsvWriter {
+ public:
+  explicit CsvWriter(std::FILE* out, std::size_t buffer_bytes = 1 << 16);
+  ~CsvWriter();  // flushes; errors are reported by flush(), so call it before exiting
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
+
+  void header(const std::vector<std::string>& columns);
+  void row(const double* values, std::size_t count);
+  void row(const std::vector<double>& values) { row(values.data(), values.size()); }
+  // Writes out the buffer; throws tp::Error (failure) on an I/O error.
+  void flush();
+
+ private:
+  void raw(std::string_view s);
+  std::FILE* out_;
+  std::vector<char> buf_;
+  std::size_t used_ = 0;
+};
+
+}  // namespace tp

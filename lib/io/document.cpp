@@ -1,0 +1,127 @@
+#include "io/document.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "core/error.hpp"
+#include "model/constants.hpp"
+
+namespace tp {
+namespace {
+
+void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where) {
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!known.count(it.key())) bad_input(where + ": unknown key '" + it.key() + "'");
+}
+
+std::vector<double> finite_list(const Json& j, const std::string& what) {
+  if (!j.is_array()) bad_input(what + ": expected an array of numbers");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < j.size(); ++i)
+    out.push_back(json_finite(j[i], what + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+ElectrodeArray array_from_json(const Json& j) {
+  if (!j.is_object()) bad_input("array: expected an object");
+  reject_unknown(j, {"electrodes", "pitch_mm", "positions_mm", "width_mm", "length_mm"}, "array");
+  ElectrodeArray a;
+  const double width = j.contains("width_mm") ? json_finite(j["width_mm"], "array.width_mm") : 0.5;
+  const double length = j.contains("length_mm") ? json_finite(j["length_mm"], "array.length_mm") : 10.0;
+  if (j.contains("positions_mm")) {
+    a.positions_mm = finite_list(j["positions_mm"], "array.positions_mm");
+    a.width_mm = width;
+    a.length_mm = length;
+    if (j.contains("electrodes") &&
+        json_int(j["electrodes"], "array.electrodes") != static_cast<int>(a.positions_mm.size()))
+      bad_input("array: 'electrodes' disagrees with the length of 'positions_mm'");
+    if (j.contains("pitch_mm")) a.pitch_mm = json_finite(j["pitch_mm"], "array.pitch_mm");
+  } else {
+    if (!j.contains("electrodes") || !j.contains("pitch_mm"))
+      bad_input("array: give 'positions_mm', or 'electrodes' and 'pitch_mm'");
+    a = ElectrodeArray::uniform(json_int(j["electrodes"], "array.electrodes"),
+                                json_finite(j["pitch_mm"], "array.pitch_mm"), width, length);
+  }
+  a.validate();
+  return a;
+}
+
+}  // namespace
+
+Document document_from_json(const Json& j) {
+  if (!j.is_object()) bad_input("document: expected a JSON object");
+  Document d;
+  if (j.contains("format")) {
+    if (!j["format"].is_string() || j["format"].get<std::string>() != kDocumentFormat)
+      bad_input(std::string("document: 'format' must be \"") + kDocumentFormat + "\"");
+  }
+  if (!j.contains("array")) bad_input("document: missing 'array'");
+  d.setup.array = array_from_json(j["array"]);
+  if (j.contains("model")) {
+    const Json& m = j["model"];
+    if (!m.is_object()) bad_input("model: expected an object");
+    reject_unknown(m, {"conductor", "resistivity_ohm_m", "lateral_margin_mm"}, "model");
+    if (m.contains("conductor")) {
+      if (!m["conductor"].is_string()) bad_input("model.conductor: expected a string");
+      d.setup.conductor.model = m["conductor"].get<std::string>();
+    }
+    if (m.contains("resistivity_ohm_m")) {
+      d.setup.conductor.resistivity_ohm_m = json_finite(m["resistivity_ohm_m"], "model.resistivity_ohm_m");
+      if (!(d.setup.conductor.resistivity_ohm_m > 0)) bad_input("model.resistivity_ohm_m: must be > 0");
+    }
+    if (m.contains("lateral_margin_mm")) {
+      d.setup.lateral_margin_mm = json_finite(m["lateral_margin_mm"], "model.lateral_margin_mm");
+      if (d.setup.lateral_margin_mm < 0) bad_input("model.lateral_margin_mm: must be >= 0");
+    }
+  }
+  make_conductor(d.setup.conductor, d.setup.array);  // validates the model name
+  if (j.contains("receptors")) d.setup.receptors = receptors_from_json(j["receptors"]);
+  if (j.contains("weights")) {
+    d.weights = finite_list(j["weights"], "weights");
+    if (d.weights->size() != d.setup.array.size())
+      bad_input("weights: expected " + std::to_string(d.setup.array.size()) + " values, got " +
+                std::to_string(d.weights->size()));
+  }
+  if (j.contains("max_current_mA")) {
+    d.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
+    if (!(d.max_current_mA > 0)) bad_input("max_current_mA: must be > 0");
+  }
+  static const std::set<std::string> own = {"format", "array", "model", "receptors", "weights",
+                                            "max_current_mA"};
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!own.count(it.key())) d.extra[it.key()] = it.value();
+  return d;
+}
+
+Json array_to_json(const ElectrodeArray& a) {
+  Json j;
+  j["electrodes"] = a.size();
+  if (a.pitch_mm) j["pitch_mm"] = *a.pitch_mm;
+  j["positions_mm"] = a.positions_mm;
+  j["width_mm"] = a.width_mm;
+  j["length_mm"] = a.length_mm;
+  return j;
+}
+
+Json model_to_json(const Setup& s) {
+  Json j;
+  j["conductor"] = s.conductor.model;
+  j["resistivity_ohm_m"] = s.conductor.resistivity_ohm_m > 0 ? s.conductor.resistivity_ohm_m
+                                                             : constants::tissue_resistivity_ohm_m;
+  j["lateral_margin_mm"] = s.lateral_margin_mm;
+  return j;
+}
+
+Json document_to_json(const Document& d) {
+  Json j;
+  j["format"] = kDocumentFormat;
+  j["array"] = array_to_json(d.setup.array);
+  j["model"] = model_to_json(d.setup);
+  j["receptors"] = receptors_to_json(d.setup.receptors);
+  if (d.weights) j["weights"] = *d.weights;
+  j["max_current_mA"] = d.max_current_mA;
+  for (auto it = d.extra.begin(); it != d.extra.end(); ++it) j[it.key()] = it.value();
+  return j;
+}
+
+}  // namespace tp

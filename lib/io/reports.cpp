@@ -1,0 +1,70 @@
+#include "io/reports.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "io/csv.hpp"
+#include "model/constants.hpp"
+
+namespace tp {
+
+void validate_grid(const Axis& x, const Axis& y) {
+  if (!(y.min > 0.0)) bad_input("--y: depths must be > 0 mm (the skin surface is y = 0)");
+  if (static_cast<double>(x.count()) * static_cast<double>(y.count()) > 1e9)
+    bad_input("grid: more than 1e9 points");
+}
+
+void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y) {
+  validate_grid(x, y);
+  const double k = fibre_factor_mm2_per_ms(Fibre{Orientation::horizontal,
+                                                 constants::reference_diameter_um, true});
+  CsvWriter csv(out, 1 << 20);
+  csv.header({"x_mm", "y_mm", "af_h", "af_v"});
+  const std::size_t nx = x.count(), ny = y.count();
+  double row[4];
+  for (std::size_t j = 0; j < ny; ++j) {
+    row[1] = y.at(j);
+    for (std::size_t i = 0; i < nx; ++i) {
+      row[0] = x.at(i);
+      double xx = 0.0, yy = 0.0;
+      field.second_derivatives(row[0], row[1], xx, yy);
+      row[2] = k * xx;
+      row[3] = k * yy;
+      csv.row(row, 4);
+    }
+  }
+  csv.flush();
+}
+
+Axis default_x_axis(const ElectrodeArray& a) {
+  return Axis{std::floor(a.x_min_mm() - 5.0), std::ceil(a.x_max_mm() + 5.0), 0.1};
+}
+Axis default_y_axis() { return Axis{0.2, 3.0, 0.05}; }
+
+Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA, const Summary& s) {
+  Json j;
+  j["format"] = "tactile-primaries/af-summary/1";
+  j["af_unit"] = "V/ms";
+  j["conductor"] = setup.conductor.model;
+  j["currents_mA"] = currents_mA;
+  Json rec = Json::object();
+  for (std::size_t i = 0; i < s.peaks.size(); ++i) {
+    const Receptor& r = setup.receptors[i];
+    const Peak& p = s.peaks[i].second;
+    Json e;
+    e["max_af"] = p.af;
+    e["x_mm"] = p.x_mm;
+    e["y_mm"] = p.y_mm;
+    e["orientation"] = to_string(r.fibre.orientation);
+    e["diameter_um"] = r.fibre.diameter_um;
+    e["fibre_factor_mm2_per_ms"] = fibre_factor_mm2_per_ms(r.fibre);
+    rec[s.peaks[i].first] = e;
+  }
+  j["receptors"] = rec;
+  Json ratios = Json::object();
+  for (const auto& [name, ratio] : s.ratios) ratios[name] = ratio ? Json(*ratio) : Json(nullptr);
+  j["ratios"] = ratios;
+  return j;
+}
+
+}  // namespace tp

@@ -1,0 +1,24 @@
+#pragma once
+// Output of the model: the AF on a grid (CSV) and the per-receptor summary (JSON).
+
+#include <cstdio>
+
+#include "io/json.hpp"
+#include "io/number.hpp"
+#include "model/field.hpp"
+
+namespace tp {
+
+// Columns x_mm,y_mm,af_h,af_v: the AF of horizontal and vertical myelinated fibres of the
+// reference diameter, one row per grid point, y outer, x inner.  Rejects y <= 0.
+void validate_grid(const Axis& x, const Axis& y);
+void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y);
+
+// Default grid: the array +-5 mm at 0.1 mm, depths 0.2 to 3 mm at 0.05 mm.
+Axis default_x_axis(const ElectrodeArray& a);
+Axis default_y_axis();
+
+// {"af_unit", "currents_mA", "receptors": {NAME: {max_af, x_mm, y_mm, ...}}, "ratios": {...}}
+Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA, const Summary& s);
+
+}  // namespace tp

@@ -1,0 +1,79 @@
+#pragma once
+// The activating function (AF) of a current pattern, and each receptor's largest AF.
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/conductor.hpp"
+#include "model/receptors.hpp"
+
+namespace tp {
+
+// A model ready to evaluate: array geometry, conductor and receptor table.
+struct Setup {
+  ElectrodeArray array = ElectrodeArray::paper();
+  ConductorParams conductor;
+  std::vector<Receptor> receptors = default_receptors();
+  // Fibres run laterally over [first electrode - margin, last electrode + margin].
+  double lateral_margin_mm = 5.0;
+};
+
+// Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
+// single depth line).
+struct Region {
+  double x0_mm, x1_mm, y0_mm, y1_mm;
+};
+Region fibre_region(const Setup& setup, const Receptor& r);
+
+struct Peak {
+  double af = 0.0;  // V/ms, largest AF over the receptor's fibres
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+};
+
+class Field {
+ public:
+  // currents_mA: one per electrode, positive = cathodic.
+  Field(const Setup& setup, std::vector<double> currents_mA);
+
+  const Conductor& conductor() const { return *conductor_; }
+  const std::vector<double>& currents_mA() const { return currents_; }
+
+  // d2Psi/dx2 and d2Psi/dy2 (V/mm^2) at a point.
+  void second_derivatives(double x_mm, double y_mm, double& xx, double& yy) const;
+  // AF (V/ms) of a fibre at a point: fibre factor times d2Psi/ds2 along the fibre.
+  double af(const Fibre& fibre, double x_mm, double y_mm) const;
+
+  // Largest AF over the receptor's fibres, and where it occurs.
+  Peak peak(const Receptor& r) const;
+
+ private:
+  const Setup& setup_;
+  std::unique_ptr<Conductor> conductor_;
+  std::vector<double> currents_;
+  mutable std::vector<double> scratch_;
+};
+
+// Largest AF per receptor and the selectivity ratio of each mode (Eq. 32-34):
+// ratio[M] = largest off-target AF / largest AF of receptor M.  No value when the target's
+// largest AF is not positive (the target is never depolarised).
+struct Summary {
+  std::vector<std::pair<std::string, Peak>> peaks;  // in receptor-table order
+  std::vector<std::pair<std::string, std::optional<double>>> ratios;
+};
+Summary summarize(const Setup& setup, const std::vector<double>& currents_mA);
+
+std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>& peaks,
+                                 const std::string& mode);
+
+// Maximises f on [a, b]: dense sampling at `step`, then golden-section refinement of every
+// sampled local maximum.  Returns (argmax, max).
+template <class F>
+std::pair<double, double> maximize_1d(F&& f, double a, double b, double step);
+
+}  // namespace tp
+
+#include "model/maximize_impl.hpp"

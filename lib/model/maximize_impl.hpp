@@ -1,0 +1,45 @@
+#pragma once
+// Implementation of tp::maximize_1d (included by field.hpp).
+
+#include <cmath>
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace tp {
+
+template <class F>
+std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
+  if (!(b > a)) return {a, f(a)};
+  const std::size_t n = static_cast<std::size_t>(std::ceil((b - a) / step)) + 1;
+  const double h = (b - a) / static_cast<double>(n - 1);
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = f(i + 1 == n ? b : a + static_cast<double>(i) * h);
+  std::pair<double, double> best{a, v[0]};
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = i + 1 == n ? b : a + static_cast<double>(i) * h;
+    if (v[i] > best.second) best = {t, v[i]};
+    const bool left_ok = i == 0 || v[i] >= v[i - 1];
+    const bool right_ok = i + 1 == n || v[i] >= v[i + 1];
+    if (!(left_ok && right_ok)) continue;
+    // Golden-section search on the bracket around sample i.
+    double lo = i == 0 ? a : t - h;
+    double hi = i + 1 == n ? b : t + h;
+    constexpr double g = 0.6180339887498949;
+    double c = hi - g * (hi - lo), d = lo + g * (hi - lo);
+    double fc = f(c), fd = f(d);
+    for (int it = 0; it < 200 && hi - lo > 1e-12 * (1.0 + std::fabs(t)); ++it) {
+      if (fc >= fd) {
+        hi = d; d = c; fd = fc; c = hi - g * (hi - lo); fc = f(c);
+      } else {
+        lo = c; c = d; fc = fd; d = lo + g * (hi - lo); fd = f(d);
+      }
+    }
+    const double tm = fc >= fd ? c : d;
+    const double fm = fc >= fd ? fc : fd;
+    if (fm > best.second) best = {tm, fm};
+  }
+  return best;
+}
+
+}  // namespace tp
