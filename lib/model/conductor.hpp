@@ -30,6 +30,10 @@ class Conductor {
   // in V/mm^2, at (x_mm, y_mm) with y_mm > 0.  Either pointer may be null.
   virtual void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const = 0;
 
+  // Psi (V) at (x_mm, y_mm) for 1 mA cathodic on each electrode alone, up to a constant
+  // (the 2-D models have no zero at infinity).  Used to check the derivatives.
+  virtual void unit_potentials(double x_mm, double y_mm, double* psi) const = 0;
+
   // True when Psi is harmonic in the (x, y) plane, so that the AF of either orientation
   // is harmonic too (Eq. 28-30) and obeys the maximum principle.
   virtual bool planar_harmonic() const = 0;

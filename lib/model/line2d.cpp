@@ -33,6 +33,13 @@ class Line2d : public Conductor {
   std::size_t size() const override { return x_.size(); }
   bool planar_harmonic() const override { return true; }
 
+  void unit_potentials(double x_mm, double y_mm, double* psi) const override {
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      const double u = x_mm - x_[i];
+      psi[i] = scale_ * 0.5 * std::log(u * u + y_mm * y_mm);
+    }
+  }
+
   void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
     const double y2 = y_mm * y_mm;
     for (std::size_t i = 0; i < x_.size(); ++i) {
@@ -61,6 +68,16 @@ class Strip2d : public Conductor {
   const char* name() const override { return "strip2d"; }
   std::size_t size() const override { return x_.size(); }
   bool planar_harmonic() const override { return true; }
+
+  // Antiderivative of ln R along the strip: d/du [u ln R - u + y atan(u/y)] = ln R.
+  void unit_potentials(double x_mm, double y_mm, double* psi) const override {
+    const double inv_w = 1.0 / (2.0 * half_);
+    auto g = [y_mm](double u) {
+      return 0.5 * u * std::log(u * u + y_mm * y_mm) - u + y_mm * std::atan(u / y_mm);
+    };
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      psi[i] = scale_ * inv_w * (g(x_mm - x_[i] + half_) - g(x_mm - x_[i] - half_));
+  }
 
   void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
     const double y2 = y_mm * y_mm;

@@ -1,0 +1,90 @@
+// Parsing and formatting: numbers, grids, the JSON document.
+#include <catch2/catch.hpp>
+
+#include <cstring>
+
+#include "core/error.hpp"
+#include "io/document.hpp"
+#include "io/number.hpp"
+
+using namespace tp;
+
+namespace {
+ExitCode code_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return ExitCode::ok;
+}
+}  // namespace
+
+TEST_CASE("parse_finite accepts numbers and refuses everything else", "[io][number]") {
+  CHECK(parse_finite("1.5", "v") == 1.5);
+  CHECK(parse_finite("-2e-3", "v") == -2e-3);
+  CHECK(parse_finite("+3", "v") == 3.0);
+  CHECK(parse_finite(" 4 ", "v") == 4.0);
+  for (const char* bad : {"", "abc", "1x", "nan", "inf", "-inf", "1e999", "1,2", "--1"})
+    CHECK(code_of([&] { parse_finite(bad, "v"); }) == ExitCode::bad_input);
+  CHECK(parse_integer("8", "n") == 8);
+  CHECK(code_of([] { parse_integer("8.5", "n"); }) == ExitCode::bad_input);
+  CHECK(parse_list("1,-1, 0.5", "w") == std::vector<double>{1, -1, 0.5});
+  CHECK(code_of([] { parse_list("1,,2", "w"); }) == ExitCode::bad_input);
+}
+
+TEST_CASE("grid axes include both ends", "[io][number]") {
+  CHECK(parse_axis("-3:3:0.25", "x").count() == 25);
+  CHECK(parse_axis("0.5:2.5:0.5", "y").count() == 5);
+  CHECK(parse_axis("0:1:0.1", "x").count() == 11);
+  CHECK(parse_axis("1:1:0.1", "x").count() == 1);
+  CHECK(parse_axis("0:1:0.3", "x").count() == 4);  // 0, 0.3, 0.6, 0.9
+  for (const char* bad : {"1:0:0.1", "0:1:0", "0:1:-1", "0:1", "0:1:0.1:2", "a:1:1", "0:nan:1"})
+    CHECK(code_of([&] { parse_axis(bad, "x"); }) == ExitCode::bad_input);
+}
+
+TEST_CASE("format_number is short, locale-free and never prints -0", "[io][number]") {
+  char buf[32];
+  auto fmt = [&](double v) { return std::string(buf, format_number(buf, v)); };
+  CHECK(fmt(0.25) == "0.25");
+  CHECK(fmt(-0.0) == "0");
+  CHECK(fmt(1.0 / 3.0) == "0.3333333333");
+  CHECK(fmt(-1.5e-7) == "-1.5e-07");
+  CHECK(fmt(12345678.0) == "12345678");
+}
+
+TEST_CASE("documents round-trip and keep extra keys", "[io][document]") {
+  Document d;
+  d.setup.array = ElectrodeArray::uniform(4, 1.5);
+  d.weights = std::vector<double>{1, -1, 0.5, -0.5};
+  d.max_current_mA = 1.5;
+  d.extra["mode"] = "SAI";
+  d.extra["ratio"] = 0.25;
+  const Json j = document_to_json(d);
+  const Document e = document_from_json(Json::parse(j.dump()));
+  CHECK(e.setup.array.positions_mm == d.setup.array.positions_mm);
+  CHECK(*e.setup.array.pitch_mm == 1.5);
+  CHECK(*e.weights == *d.weights);
+  CHECK(e.max_current_mA == 1.5);
+  CHECK(e.extra["mode"] == "SAI");
+  CHECK(e.setup.receptors.size() == 3);
+  CHECK(document_to_json(e).dump() == j.dump());
+}
+
+TEST_CASE("malformed documents are bad input", "[io][document]") {
+  auto bad = [](const char* text) {
+    return code_of([&] { document_from_json(Json::parse(text)); });
+  };
+  CHECK(bad(R"({})") == ExitCode::bad_input);
+  CHECK(bad(R"([1,2])") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2}})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 0}})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1, "bogus": 1}})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1]})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, "a"]})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"positions_mm": [0, 0.1]}})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "model": {"conductor": "x"}})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "receptors": []})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "format": "other"})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, -1]})") == ExitCode::ok);
+}
