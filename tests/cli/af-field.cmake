@@ -1,0 +1,40 @@
+tp_cli_smoke(af-field)
+
+# Bad input: one line on stderr, exit 2, nothing on stdout.
+tp_cli_test(af-field refuses-unknown-flag refuses 2 -- af-field --bogus)
+tp_cli_test(af-field refuses-bad-number refuses 2 -- af-field --pitch 1x)
+tp_cli_test(af-field refuses-nan-pitch refuses 2 -- af-field --pitch nan)
+tp_cli_test(af-field refuses-inf-weight refuses 2 -- af-field --electrodes 2 --weights 1,inf)
+tp_cli_test(af-field refuses-weight-count refuses 2 -- af-field --electrodes 3 --weights 1,-1)
+tp_cli_test(af-field refuses-zero-pitch refuses 2 -- af-field --pitch 0)
+tp_cli_test(af-field refuses-negative-pitch refuses 2 -- af-field --pitch -1)
+tp_cli_test(af-field refuses-fractional-count refuses 2 -- af-field --electrodes 2.5)
+tp_cli_test(af-field refuses-zero-electrodes refuses 2 -- af-field --electrodes 0 --weights 1)
+tp_cli_test(af-field refuses-empty-grid refuses 2 -- af-field --x 1:0:0.1)
+tp_cli_test(af-field refuses-zero-step refuses 2 -- af-field --x 0:1:0)
+tp_cli_test(af-field refuses-bad-grid refuses 2 -- af-field --y 0.5:2)
+tp_cli_test(af-field refuses-surface-depth refuses 2 -- af-field --y 0:1:0.1)
+tp_cli_test(af-field refuses-negative-depth refuses 2 -- af-field --y -1:1:0.1)
+tp_cli_test(af-field refuses-missing-config refuses 2 -- af-field --config /nonexistent.json)
+tp_cli_test(af-field refuses-malformed-json refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/malformed.json -- af-field --config -)
+tp_cli_test(af-field refuses-empty-stdin refuses 2 -- af-field --config -)
+tp_cli_test(af-field refuses-config-weight-count refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/wrong-weight-count.json -- af-field --config -)
+tp_cli_test(af-field refuses-config-and-flags refuses 2 -- af-field --config - --pitch 1)
+tp_cli_test(af-field refuses-unknown-model refuses 2 -- af-field --model foo)
+tp_cli_test(af-field refuses-summary-with-grid refuses 2 -- af-field --summary --x 0:1:1)
+
+# Golden files (scripts/regen-golden rewrites them).
+tp_cli_test(af-field golden-one-cathode-csv golden af-field/one-cathode.csv --
+  af-field --electrodes 8 --pitch 1 --weights 0,0,0,1,0,0,0,0 --x -5:5:0.5 --y 0.25:3:0.25)
+tp_cli_test(af-field golden-sai-pattern-csv golden af-field/sai-pattern.csv --
+  af-field --electrodes 8 --pitch 1 --weights 0,0,-0.5,1,-0.5,0,0,0 --x -4:4:0.2 --y 0.5:2.5:0.5)
+tp_cli_test(af-field golden-default-summary golden af-field/default-summary.json -- af-field --summary)
+tp_cli_test(af-field golden-config-summary golden af-field/config-summary.json
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pc-pattern.json -- af-field --config - --summary)
+tp_cli_test(af-field golden-strip2d-summary golden af-field/strip2d-summary.json --
+  af-field --model strip2d --weights -1,-1,1,1,1,1,-1,-1 --summary)
+
+# Scripted checks.
+tp_cli_test(af-field eq23-single-electrode script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/eq23.sh)
+tp_cli_test(af-field deterministic script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/deterministic.sh)
+tp_cli_test(af-field config-equals-flags script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/config-equals-flags.sh)
