@@ -38,3 +38,4 @@ tp_cli_test(af-field golden-strip2d-summary golden af-field/strip2d-summary.json
 tp_cli_test(af-field eq23-single-electrode script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/eq23.sh)
 tp_cli_test(af-field deterministic script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/deterministic.sh)
 tp_cli_test(af-field config-equals-flags script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/config-equals-flags.sh)
+tp_cli_test(af-field plot-field script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/plot.sh)

@@ -1,7 +1,11 @@
 // Parsing and formatting: numbers, grids, the JSON document.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <random>
 
 #include "core/error.hpp"
 #include "io/document.hpp"
@@ -51,6 +55,31 @@ TEST_CASE("format_number is short, locale-free and never prints -0", "[io][numbe
   CHECK(fmt(1.0 / 3.0) == "0.3333333333");
   CHECK(fmt(-1.5e-7) == "-1.5e-07");
   CHECK(fmt(12345678.0) == "12345678");
+}
+
+TEST_CASE("format_number writes what printf(\"%.10g\") writes", "[io][number]") {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> mant(-1.0, 1.0);
+  std::uniform_int_distribution<int> ex(-14, 14);
+  char buf[32], ref[64];
+  int mismatches = 0;
+  for (int i = 0; i < 200000; ++i) {
+    double v = mant(rng) * std::pow(10.0, ex(rng));
+    if (i % 10 == 0 && std::fabs(v) < 1e6) v = std::round(v * 1000) / 1000;  // short decimals
+    const std::string got(buf, format_number(buf, v));
+    std::snprintf(ref, sizeof ref, "%.10g", v == 0.0 ? 0.0 : v);
+    if (got != ref) {
+      ++mismatches;  // only possible at an exact rounding tie; must still round-trip
+      INFO(got << " vs " << ref);
+      CHECK(std::strtod(got.c_str(), nullptr) == Approx(v).epsilon(1e-9));
+    }
+  }
+  CHECK(mismatches <= 2);
+  for (double v : {1.0, 10.0, 9.9999999999, 0.00012345, 1e-5, 123456789012.0, 99999.999995, 1e-13, 5e13})
+    CHECK(std::string(buf, format_number(buf, v)) == [&] {
+      std::snprintf(ref, sizeof ref, "%.10g", v);
+      return std::string(ref);
+    }());
 }
 
 TEST_CASE("documents round-trip and keep extra keys", "[io][document]") {
