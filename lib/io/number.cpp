@@ -138,4 +138,9 @@ std::size_t format_number(char* buf, double value) {
   return static_cast<std::size_t>(p - buf);
 }
 
+std::string number_text(double value) {
+  char buf[32];
+  return std::string(buf, format_number(buf, value));
+}
+
 }  // namespace tp

@@ -32,4 +32,7 @@ Axis parse_axis(std::string_view text, const std::string& what);
 // Locale-independent; -0 is written as 0.
 std::size_t format_number(char* buf, double value);
 
+// format_number as a string (for messages).
+std::string number_text(double value);
+
 }  // namespace tp

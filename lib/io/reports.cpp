@@ -4,6 +4,8 @@
 
 #include "core/error.hpp"
 #include "io/csv.hpp"
+#include "io/document.hpp"
+#include "opt/minimax.hpp"
 #include "model/constants.hpp"
 
 namespace tp {
@@ -65,6 +67,53 @@ Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA,
   for (const auto& [name, ratio] : s.ratios) ratios[name] = ratio ? Json(*ratio) : Json(nullptr);
   j["ratios"] = ratios;
   return j;
+}
+
+Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool with_time,
+                             const std::optional<double>& certified) {
+  Document out = doc;
+  out.weights = r.weights;
+  out.extra = Json::object();
+  Json j = document_to_json(out);
+  j["mode"] = r.mode;
+  j["ratio"] = r.ratio;
+  if (certified) j["certified_optimum"] = *certified;
+  j["af_unit"] = "V/ms";
+  j["currents_mA"] = r.currents_mA;
+  j["target_max_af"] = r.target_max_af;
+  Json peaks = Json::object();
+  for (std::size_t i = 0; i < r.summary.peaks.size(); ++i) {
+    const Peak& p = r.summary.peaks[i].second;
+    peaks[r.summary.peaks[i].first] = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
+  }
+  j["receptors_at_limit"] = peaks;
+  Json solver;
+  solver["method"] = "p-norm surrogate (L-BFGS, Ceres) with continuation, LP polish (GLPK)";
+  solver["starts"] = r.starts;
+  solver["best_start"] = r.best_start;
+  solver["iterations"] = r.iterations;
+  solver["evaluations"] = r.evaluations;
+  solver["lp_solves"] = r.lp_solves;
+  if (with_time) solver["time_s"] = r.time_s;
+  j["solver"] = solver;
+  return j;
+}
+
+std::vector<std::string> optimize_csv_header(const Setup& setup) {
+  std::vector<std::string> h = {"electrodes", "pitch_mm", "mode", "ratio", "target_max_af"};
+  for (const auto& rec : setup.receptors) h.push_back("max_af_" + rec.name);
+  for (std::size_t i = 0; i < setup.array.size(); ++i) h.push_back("w" + std::to_string(i));
+  return h;
+}
+
+std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r) {
+  const auto num = number_text;
+  std::string line = std::to_string(setup.array.size()) + "," +
+                     (setup.array.pitch_mm ? num(*setup.array.pitch_mm) : std::string()) + "," +
+                     r.mode + "," + num(r.ratio) + "," + num(r.target_max_af);
+  for (const auto& p : r.summary.peaks) line += "," + num(p.second.af);
+  for (double w : r.weights) line += "," + num(w);
+  return line + "\n";
 }
 
 }  // namespace tp

@@ -2,6 +2,9 @@
 // Output of the model: the AF on a grid (CSV) and the per-receptor summary (JSON).
 
 #include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "io/json.hpp"
 #include "io/number.hpp"
@@ -20,5 +23,16 @@ Axis default_y_axis();
 
 // {"af_unit", "currents_mA", "receptors": {NAME: {max_af, x_mm, y_mm, ...}}, "ratios": {...}}
 Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA, const Summary& s);
+
+// optimize-weights' document: the input document's array, model and receptors with the
+// new weights, plus mode, ratio, per-receptor maxima at the current limit and solver facts.
+struct Document;
+struct OptimizeResult;
+Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool with_time,
+                             const std::optional<double>& certified);
+
+// One CSV row per result: electrodes,pitch_mm,mode,ratio,target_max_af,max_af_<R>...,w0,w1,...
+std::vector<std::string> optimize_csv_header(const Setup& setup);
+std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r);
 
 }  // namespace tp

@@ -1,0 +1,43 @@
+#pragma once
+// The minimax problem for a fixed target point is a linear programme (GLPK):
+//
+//     minimise t   over z, t
+//     subject to   off_rows z - t <= 0         every off-target sample stays below t
+//                  target_row . z  = 1         the target point's AF is 1
+//                  -c <= (B z)_i <= c           optional: bound each weight (efficiency)
+//
+// Its value is the best ratio achievable when the target fires at that point.  Solving it
+// for many target points reuses one GLPK problem and warm-starts from the last basis.
+
+#include <memory>
+#include <optional>
+
+#include <Eigen/Dense>
+
+struct glp_prob;
+
+namespace tp {
+
+struct LpSolution {
+  double value = 0.0;  // t: the largest off-target AF when the target point's AF is 1
+  Eigen::VectorXd z;
+};
+
+class TargetLp {
+ public:
+  // basis and weight_bound: when weight_bound > 0, |(basis z)_i| <= weight_bound.
+  TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis, double weight_bound);
+  ~TargetLp();
+  TargetLp(const TargetLp&) = delete;
+  TargetLp& operator=(const TargetLp&) = delete;
+
+  // No value when infeasible or unbounded.
+  std::optional<LpSolution> solve(const Eigen::VectorXd& target_row);
+
+ private:
+  glp_prob* lp_;
+  int nz_;          // number of z variables
+  int target_row_;  // GLPK row index of the target equality
+};
+
+}  // namespace tp

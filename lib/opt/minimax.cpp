@@ -1,0 +1,272 @@
+#include "opt/minimax.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <ceres/gradient_problem.h>
+#include <ceres/gradient_problem_solver.h>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+#include "opt/lp.hpp"
+
+namespace tp {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// log P_p(a) and its gradient d log P / d a, p = 2^log2_p.  False when no a_i > 0.
+bool log_pnorm(const Eigen::VectorXd& a, int log2_p, double& log_p, Eigen::VectorXd& grad) {
+  const double m = a.maxCoeff();
+  if (!(m > 0.0) || !std::isfinite(m)) return false;
+  const double p = std::ldexp(1.0, log2_p);
+  double s = 0.0;
+  grad.resize(a.size());
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    if (a(i) > 0.0) {
+      const double r = a(i) / m;
+      double q = r;
+      for (int k = 0; k < log2_p; ++k) q *= q;  // r^p
+      s += q;
+      grad(i) = q / r;  // r^(p-1)
+    } else {
+      grad(i) = 0.0;
+    }
+  }
+  log_p = std::log(m) + std::log(s) / p;
+  grad /= m * s;
+  return true;
+}
+
+// Deterministic, portable random numbers (splitmix64): the same starts everywhere.
+struct SplitMix {
+  std::uint64_t state;
+  double uniform() {  // in [-1, 1)
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
+  }
+};
+
+struct Start {
+  std::string label;
+  Eigen::VectorXd w;
+};
+
+std::vector<Start> make_starts(std::size_t n, int random_starts, std::uint64_t seed) {
+  const auto N = static_cast<Eigen::Index>(n);
+  const Eigen::Index c = (N - 1) / 2;  // the centre electrode (left of centre when N is even)
+  std::vector<Start> s;
+  auto balanced = [&](Eigen::VectorXd w) {  // spread the excess current over all electrodes
+    w.array() -= w.mean();
+    return w;
+  };
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(N);
+  e(c) = -1.0;
+  s.push_back({"anode", balanced(e)});
+  e(c) = 1.0;
+  s.push_back({"cathode", balanced(e)});
+  if (N >= 3) {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(N);
+    w(c) = 1.0;
+    w(c - 1 >= 0 ? c - 1 : c + 2) = -0.5;
+    w(c + 1) = -0.5;
+    s.push_back({"cathode-with-anodic-neighbours", balanced(w)});
+  }
+  if (N >= 4) {
+    Eigen::VectorXd w = -Eigen::VectorXd::Ones(N);
+    for (Eigen::Index i = N / 4; i < N - N / 4; ++i) w(i) = 1.0;
+    s.push_back({"widened-cathode", balanced(w)});
+  }
+  SplitMix rng{seed};
+  for (int k = 0; k < random_starts; ++k) {
+    Eigen::VectorXd w(N);
+    for (Eigen::Index i = 0; i < N; ++i) w(i) = rng.uniform();
+    s.push_back({"random-" + std::to_string(k + 1), balanced(w)});
+  }
+  return s;
+}
+
+}  // namespace
+
+PNormLogRatio::PNormLogRatio(Eigen::MatrixXd off_rows, Eigen::MatrixXd target_rows, int log2_p)
+    : off_(std::move(off_rows)), target_(std::move(target_rows)), log2_p_(log2_p) {}
+
+bool PNormLogRatio::Evaluate(const double* zp, double* cost, double* gradient) const {
+  const Eigen::Map<const Eigen::VectorXd> z(zp, off_.cols());
+  double log_off = 0.0, log_target = 0.0;
+  Eigen::VectorXd g_off, g_target;
+  if (!log_pnorm(off_ * z, log2_p_, log_off, g_off)) return false;
+  if (!log_pnorm(target_ * z, log2_p_, log_target, g_target)) return false;
+  const double norm2 = z.squaredNorm();
+  *cost = log_off - log_target + 0.5 * (norm2 - 1.0) * (norm2 - 1.0);
+  if (gradient) {
+    Eigen::Map<Eigen::VectorXd> g(gradient, off_.cols());
+    g = off_.transpose() * g_off - target_.transpose() * g_target + 2.0 * (norm2 - 1.0) * z;
+  }
+  return std::isfinite(*cost);
+}
+
+double true_ratio(const Setup& setup, const std::string& mode, const std::vector<double>& w) {
+  const Summary s = summarize(setup, w);
+  const auto r = mode_ratio(s.peaks, mode);
+  return r ? *r : kInf;
+}
+
+OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const OptimizeOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!(opt.max_current_mA > 0.0)) bad_input("max current must be > 0 mA");
+  if (opt.min_target_af < 0.0) bad_input("minimum target AF must be >= 0");
+  const ModeProblem coarse = make_mode_problem(setup, mode, opt.surrogate_step_mm);
+  const ModeProblem fine = make_mode_problem(setup, mode, opt.polish_step_mm);
+  const Eigen::MatrixXd& B = coarse.basis;
+  const Receptor& target = setup.receptors[coarse.target];
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+
+  OptimizeResult res;
+  res.mode = mode;
+  auto weights_of = [&](const Eigen::VectorXd& z) {
+    const Eigen::VectorXd w = B * z;
+    return std::vector<double>(w.data(), w.data() + w.size());
+  };
+  auto ratio_of = [&](const Eigen::VectorXd& z) { return true_ratio(setup, mode, weights_of(z)); };
+
+  // 1-2. Surrogate minimisation with continuation, from every start.
+  struct Candidate {
+    double ratio;
+    Eigen::VectorXd z;
+    std::string label;
+  };
+  std::vector<Candidate> candidates;
+  ceres::GradientProblemSolver::Options so;
+  so.line_search_direction_type = ceres::LBFGS;
+  so.max_num_iterations = 200;
+  so.function_tolerance = 1e-12;
+  so.gradient_tolerance = 1e-10;
+  so.parameter_tolerance = 1e-12;
+  so.logging_type = ceres::SILENT;
+  for (const Start& start : make_starts(setup.array.size(), opt.random_starts, opt.seed)) {
+    ++res.starts;
+    Eigen::VectorXd z = B.transpose() * start.w;
+    z /= z.norm();
+    for (int log2_p = 3; log2_p <= 8; ++log2_p) {
+      ceres::GradientProblem problem(new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
+      double cost = 0.0;
+      if (!problem.Evaluate(z.data(), &cost, nullptr)) break;  // target never depolarised
+      Eigen::VectorXd trial = z;
+      ceres::GradientProblemSolver::Summary summary;
+      ceres::Solve(so, problem, trial.data(), &summary);
+      res.iterations += static_cast<int>(summary.iterations.size());
+      res.evaluations += summary.num_cost_evaluations;
+      if (!summary.IsSolutionUsable() || !trial.allFinite()) break;
+      z = trial / trial.norm();
+    }
+    const double r = ratio_of(z);
+    if (std::isfinite(r)) candidates.push_back({r, z, start.label});
+  }
+
+  // 3. LP seeds: the optimum's target peak tends to sit under an electrode (an anode for a
+  // vertical target, a cathode for a horizontal one), a discrete choice that local descent
+  // does not make well.  Solve the LP with the target point under each electrode, at the
+  // top of the target's fibres, and add the solutions as candidates.
+  const bool bounded = opt.min_target_af > 0.0;
+  const double weight_bound = bounded ? opt.max_current_mA / opt.min_target_af : 0.0;
+  TargetLp lp(fine.off_rows, B, weight_bound);
+  for (std::size_t i = 0; i < setup.array.size(); ++i) {
+    const double x = setup.array.positions_mm[i];
+    const Eigen::VectorXd row = B.transpose() * unit_af(setup, *conductor, target, x, target.depth_min_mm);
+    ++res.lp_solves;
+    if (const auto sol = lp.solve(row)) {
+      const double r = ratio_of(sol->z);
+      if (std::isfinite(r)) candidates.push_back({r, sol->z, "lp-under-electrode-" + std::to_string(i)});
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.ratio < b.ratio; });
+  if (candidates.size() > static_cast<std::size_t>(opt.polished_candidates))
+    candidates.resize(static_cast<std::size_t>(opt.polished_candidates));
+
+  // 4. Polish by LP at the target's true peak.  With an efficiency bound, only LP
+  // solutions (which honour it) are admissible.
+  // The best unbounded candidate's target AF at the current limit, for the message below.
+  double unbounded_af = 0.0;
+  if (!candidates.empty()) {
+    Eigen::VectorXd w = B * candidates.front().z;
+    w *= opt.max_current_mA / w.cwiseAbs().maxCoeff();
+    const Field field(setup, std::vector<double>(w.data(), w.data() + w.size()));
+    unbounded_af = field.peak(target).af;
+  }
+  std::optional<Candidate> best;
+  for (Candidate c : candidates) {
+    double r = bounded ? kInf : c.ratio;
+    Eigen::VectorXd z = c.z;
+    for (int it = 0; it < 10; ++it) {
+      const Field field(setup, weights_of(z));
+      const Peak pk = field.peak(target);
+      const Eigen::VectorXd row = B.transpose() * unit_af(setup, *conductor, target, pk.x_mm, pk.y_mm);
+      ++res.lp_solves;
+      const auto sol = lp.solve(row);
+      if (!sol) break;
+      const double rn = ratio_of(sol->z);
+      const bool improved = std::isinf(r) ? std::isfinite(rn) : rn < r - 1e-12 * std::fabs(r);
+      if (!improved) break;
+      r = rn;
+      z = sol->z;
+    }
+    if (std::isfinite(r) && (!best || r < best->ratio)) best = Candidate{r, z, c.label};
+  }
+  if (!best) {
+    if (bounded)
+      bad_input("no weights reach a target AF of " + number_text(opt.min_target_af) + " V/ms at " +
+                number_text(opt.max_current_mA) + " mA (the most selective weights reach " +
+                number_text(unbounded_af) + " V/ms)");
+    failure("optimisation failed: no start depolarises receptor " + mode);
+  }
+
+  // 5. Scale so that max |w| = 1, and make Sum w = 0 exact to rounding.
+  Eigen::VectorXd w = B * best->z;
+  w /= w.cwiseAbs().maxCoeff();
+  w.array() -= w.mean();
+  res.weights.assign(w.data(), w.data() + w.size());
+  for (double& v : res.weights)
+    if (v == 0.0) v = 0.0;  // no -0 in the output
+  for (double v : res.weights) res.currents_mA.push_back(v * opt.max_current_mA);
+  res.summary = summarize(setup, res.currents_mA);
+  const auto r = mode_ratio(res.summary.peaks, mode);
+  res.ratio = r ? *r : kInf;
+  res.target_max_af = res.summary.peaks[coarse.target].second.af;
+  res.best_start = best->label;
+  res.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+Certificate certify_mode(const Setup& setup, const std::string& mode, double step_mm, double weight_bound) {
+  const ModeProblem p = make_mode_problem(setup, mode, step_mm);
+  // A mirror-symmetric array has a mirror-symmetric problem: x >= 0 suffices.
+  const auto& x = setup.array.positions_mm;
+  bool symmetric = true;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    symmetric = symmetric && std::fabs(x[i] + x[x.size() - 1 - i]) < 1e-12;
+  TargetLp lp(p.off_rows, p.basis, weight_bound);
+  Certificate c;
+  c.optimum = kInf;
+  for (Eigen::Index i = 0; i < p.target_rows.rows(); ++i) {
+    const SamplePoint& pt = p.target_pts[static_cast<std::size_t>(i)];
+    if (symmetric && pt.x_mm < -1e-12) continue;
+    ++c.lp_solves;
+    const auto sol = lp.solve(p.target_rows.row(i).transpose());
+    if (sol && sol->value < c.optimum) {
+      c.optimum = sol->value;
+      c.x_mm = pt.x_mm;
+      c.y_mm = pt.y_mm;
+      c.weights = p.basis * sol->z;
+    }
+  }
+  return c;
+}
+
+}  // namespace tp

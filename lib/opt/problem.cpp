@@ -1,0 +1,84 @@
+#include "opt/problem.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace tp {
+
+Eigen::MatrixXd zero_sum_basis(std::size_t n) {
+  // Householder QR of the all-ones vector: the remaining columns of Q span its complement.
+  const Eigen::MatrixXd ones = Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(n), 1);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ones);
+  const Eigen::MatrixXd q = qr.householderQ();
+  return q.rightCols(static_cast<Eigen::Index>(n) - 1);
+}
+
+Eigen::VectorXd unit_af(const Setup& setup, const Conductor& c, const Receptor& r, double x_mm,
+                        double y_mm) {
+  const auto n = static_cast<Eigen::Index>(setup.array.size());
+  Eigen::VectorXd xx(n), yy(n);
+  c.unit_second_derivatives(x_mm, y_mm, xx.data(), yy.data());
+  const double k = fibre_factor_mm2_per_ms(r.fibre);
+  return k * (r.fibre.orientation == Orientation::horizontal ? xx : yy);
+}
+
+namespace {
+
+void sample_segment(double x0, double y0, double x1, double y1, double step, std::size_t receptor,
+                    std::vector<SamplePoint>& out) {
+  const double len = std::hypot(x1 - x0, y1 - y0);
+  const auto n = static_cast<std::size_t>(std::ceil(len / step));
+  for (std::size_t i = 0; i <= n; ++i) {
+    const double t = n ? static_cast<double>(i) / static_cast<double>(n) : 0.0;
+    out.push_back({x0 + t * (x1 - x0), y0 + t * (y1 - y0), receptor});
+  }
+}
+
+void sample_boundary(const Setup& s, std::size_t r, double step, std::vector<SamplePoint>& out) {
+  const Region g = fibre_region(s, s.receptors[r]);
+  sample_segment(g.x0_mm, g.y0_mm, g.x1_mm, g.y0_mm, step, r, out);
+  if (g.y1_mm > g.y0_mm) {
+    sample_segment(g.x0_mm, g.y1_mm, g.x1_mm, g.y1_mm, step, r, out);
+    sample_segment(g.x0_mm, g.y0_mm, g.x0_mm, g.y1_mm, step, r, out);
+    sample_segment(g.x1_mm, g.y0_mm, g.x1_mm, g.y1_mm, step, r, out);
+  }
+}
+
+Eigen::MatrixXd rows_for(const Setup& s, const Conductor& c, const std::vector<SamplePoint>& pts,
+                         const Eigen::MatrixXd& basis) {
+  Eigen::MatrixXd g(static_cast<Eigen::Index>(pts.size()), static_cast<Eigen::Index>(s.array.size()));
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    g.row(static_cast<Eigen::Index>(i)) =
+        unit_af(s, c, s.receptors[pts[i].receptor], pts[i].x_mm, pts[i].y_mm).transpose();
+  return g * basis;
+}
+
+}  // namespace
+
+ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, double step_mm) {
+  if (setup.array.size() < 2) bad_input("optimisation needs at least 2 electrodes");
+  if (setup.receptors.size() < 2) bad_input("optimisation needs at least 2 receptors");
+  ModeProblem p;
+  p.mode = mode;
+  bool found = false;
+  for (std::size_t r = 0; r < setup.receptors.size(); ++r)
+    if (setup.receptors[r].name == mode) {
+      p.target = r;
+      found = true;
+    }
+  if (!found) {
+    std::string names;
+    for (const auto& r : setup.receptors) names += (names.empty() ? "" : ", ") + r.name;
+    bad_input("unknown mode '" + mode + "' (expected one of " + names + ")");
+  }
+  p.basis = zero_sum_basis(setup.array.size());
+  for (std::size_t r = 0; r < setup.receptors.size(); ++r)
+    sample_boundary(setup, r, step_mm, r == p.target ? p.target_pts : p.off_pts);
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  p.target_rows = rows_for(setup, *conductor, p.target_pts, p.basis);
+  p.off_rows = rows_for(setup, *conductor, p.off_pts, p.basis);
+  return p;
+}
+
+}  // namespace tp

@@ -1,0 +1,163 @@
+// The minimax weight fitting: derivatives, constraints, physics and global optimality.
+// Ceres pulls in glog, whose CHECK macros clash with Catch's: use Catch's prefixed names.
+#define CATCH_CONFIG_PREFIX_ALL
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+
+#include <ceres/gradient_checker.h>
+#include <ceres/sized_cost_function.h>
+
+#include "core/error.hpp"
+#include "opt/lp.hpp"
+#include "opt/minimax.hpp"
+
+using namespace tp;
+
+namespace {
+
+// GradientChecker works on CostFunctions: present the surrogate's value as a single residual
+// whose Jacobian is its gradient.
+class AsCostFunction : public ceres::CostFunction {
+ public:
+  explicit AsCostFunction(const ceres::FirstOrderFunction& f) : f_(f) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(f.NumParameters());
+  }
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    return f_.Evaluate(params[0], residuals, jacobians ? jacobians[0] : nullptr);
+  }
+
+ private:
+  const ceres::FirstOrderFunction& f_;
+};
+
+}  // namespace
+
+CATCH_TEST_CASE("the surrogate's gradient matches finite differences (Ceres GradientChecker)", "[opt][gradient]") {
+  Setup s;
+  for (const std::string mode : {"RA", "SAI", "PC"}) {
+    const ModeProblem p = make_mode_problem(s, mode, 0.1);
+    for (int log2_p = 1; log2_p <= 6; ++log2_p) {
+      const PNormLogRatio f(p.off_rows, p.target_rows, log2_p);
+      const AsCostFunction cost(f);
+      ceres::NumericDiffOptions nd;
+      // The checker differentiates by Ridders extrapolation; its default first step (1e-2)
+      // straddles the kinks of max(a, 0)^p between samples, so start it small.
+      nd.ridders_relative_initial_step_size = 1e-5;
+      const std::vector<const ceres::Manifold*>* no_manifolds = nullptr;
+      const ceres::GradientChecker checker(&cost, no_manifolds, nd);
+      Eigen::VectorXd z = Eigen::VectorXd::LinSpaced(7, -1.0, 1.2);
+      if (mode == "RA") z = -z;  // an anode-like pattern so that the target depolarises
+      z.normalize();
+      double value = 0;
+      CATCH_REQUIRE(f.Evaluate(z.data(), &value, nullptr));
+      const double* params[] = {z.data()};
+      ceres::GradientChecker::ProbeResults results;
+      CATCH_INFO(mode << " p = " << (1 << log2_p));
+      CATCH_CHECK(checker.Probe(params, 1e-6, &results));
+      CATCH_INFO(results.error_log);
+      CATCH_CHECK(results.maximum_relative_error < 1e-6);
+    }
+  }
+}
+
+CATCH_TEST_CASE("the zero-sum basis is orthonormal and sums to zero", "[opt]") {
+  for (std::size_t n : {2u, 3u, 8u, 16u}) {
+    const Eigen::MatrixXd B = zero_sum_basis(n);
+    CATCH_REQUIRE(B.rows() == static_cast<Eigen::Index>(n));
+    CATCH_REQUIRE(B.cols() == static_cast<Eigen::Index>(n - 1));
+    CATCH_CHECK((B.transpose() * B - Eigen::MatrixXd::Identity(B.cols(), B.cols())).norm() < 1e-13);
+    CATCH_CHECK(B.colwise().sum().cwiseAbs().maxCoeff() < 1e-14);
+  }
+}
+
+CATCH_TEST_CASE("the target-point LP meets its constraints and is optimal among random weights", "[opt][lp]") {
+  Setup s;
+  const ModeProblem p = make_mode_problem(s, "SAI", 0.05);
+  TargetLp lp(p.off_rows, p.basis, 0.0);
+  const Eigen::Index mid = p.target_rows.rows() / 2;
+  const Eigen::VectorXd a = p.target_rows.row(mid).transpose();
+  const auto sol = lp.solve(a);
+  CATCH_REQUIRE(sol);
+  CATCH_CHECK(a.dot(sol->z) == Approx(1.0).epsilon(1e-9));
+  CATCH_CHECK((p.off_rows * sol->z).maxCoeff() == Approx(sol->value).epsilon(1e-8));
+  // No random zero-sum pattern, scaled to the same target AF, does better.
+  std::srand(3);
+  for (int k = 0; k < 2000; ++k) {
+    Eigen::VectorXd z = Eigen::VectorXd::Random(a.size());
+    const double t = a.dot(z);
+    if (!(t > 1e-6)) continue;
+    z /= t;
+    CATCH_CHECK((p.off_rows * z).maxCoeff() >= sol->value - 1e-9);
+  }
+}
+
+CATCH_TEST_CASE("weights sum to zero and peak at |w| = 1; the answer is reproducible", "[opt]") {
+  Setup s;
+  OptimizeOptions o;
+  for (const std::string mode : {"RA", "SAI", "PC"}) {
+    const OptimizeResult r = optimize_mode(s, mode, o);
+    double sum = 0, peak = 0;
+    for (double w : r.weights) {
+      sum += w;
+      peak = std::max(peak, std::fabs(w));
+    }
+    CATCH_CHECK(std::fabs(sum) < 1e-12);
+    CATCH_CHECK(peak == Approx(1.0).epsilon(1e-15));
+    for (std::size_t i = 0; i < r.weights.size(); ++i) CATCH_CHECK(r.currents_mA[i] == r.weights[i] * 2.0);
+    CATCH_CHECK(r.target_max_af > 0.0);
+    const OptimizeResult again = optimize_mode(s, mode, o);
+    CATCH_CHECK(again.weights == r.weights);
+  }
+}
+
+CATCH_TEST_CASE("physics: the PC ratio cannot fall below 1 with equal SAI and PC diameters", "[opt][physics]") {
+  for (int n : {4, 8, 12}) {
+    Setup s;
+    s.array = ElectrodeArray::uniform(n, 1.0);
+    const OptimizeResult r = optimize_mode(s, "PC", OptimizeOptions{});
+    CATCH_INFO("n " << n << " PC ratio " << r.ratio);
+    CATCH_CHECK(r.ratio >= 1.0);
+  }
+}
+
+CATCH_TEST_CASE("each mode comes within 1% of the certified global optimum", "[opt][global]") {
+  struct Case { int n; double pitch; };
+  for (const Case c : {Case{4, 2.0}, Case{8, 1.0}, Case{12, 0.75}, Case{16, 0.5}}) {
+    Setup s;
+    s.array = ElectrodeArray::uniform(c.n, c.pitch);
+    for (const std::string mode : {"RA", "SAI", "PC"}) {
+      const OptimizeResult r = optimize_mode(s, mode, OptimizeOptions{});
+      const Certificate cert = certify_mode(s, mode, 0.02);
+      CATCH_INFO(c.n << " electrodes at " << c.pitch << " mm, " << mode << ": ratio " << r.ratio
+               << ", certified optimum " << cert.optimum << " (target at x = " << cert.x_mm << ")");
+      CATCH_CHECK(r.ratio <= 1.01 * cert.optimum);
+      // ... and no better than the optimum, up to the sampling of the certificate.
+      CATCH_CHECK(r.ratio >= (1.0 - 1e-3) * cert.optimum);
+    }
+  }
+}
+
+CATCH_TEST_CASE("the efficiency bound trades selectivity for target drive", "[opt][efficiency]") {
+  Setup s;
+  const OptimizeResult free = optimize_mode(s, "PC", OptimizeOptions{});
+  OptimizeOptions o;
+  o.min_target_af = 1.5 * free.target_max_af;
+  const OptimizeResult bounded = optimize_mode(s, "PC", o);
+  CATCH_INFO("free: ratio " << free.ratio << " AF " << free.target_max_af << "; bounded: ratio "
+                      << bounded.ratio << " AF " << bounded.target_max_af);
+  CATCH_CHECK(bounded.target_max_af >= 0.999 * o.min_target_af);
+  CATCH_CHECK(bounded.ratio >= free.ratio * (1 - 1e-3));  // selectivity can only get worse
+  CATCH_CHECK(bounded.ratio <= free.ratio * 1.1);         // ... but only a little here
+  o.min_target_af = 1e6;                             // unreachable
+  CATCH_CHECK_THROWS_AS(optimize_mode(s, "PC", o), Error);
+}
+
+CATCH_TEST_CASE("unknown modes and too-small arrays are bad input", "[opt]") {
+  Setup s;
+  CATCH_CHECK_THROWS_AS(optimize_mode(s, "XYZ", OptimizeOptions{}), Error);
+  s.array = ElectrodeArray::uniform(1, 1.0);
+  CATCH_CHECK_THROWS_AS(optimize_mode(s, "SAI", OptimizeOptions{}), Error);
+}

@@ -1,0 +1,91 @@
+// optimize-weights: minimax electrode weights for the RA, SAI or PC mode (Eq. 32-34).
+//
+//   optimize-weights --mode SAI > sai.json
+//   optimize-weights --mode PC --electrodes 12 --pitch 0.75 | af-field --config - --summary
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include "cli/entry.hpp"
+#include "core/error.hpp"
+#include "io/document.hpp"
+#include "io/reports.hpp"
+#include "opt/minimax.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Electrode weights that make one receptor fire first: minimise the largest off-target "
+      "activating function over the target's (Kajimoto et al., Eq. 32-34), with Sum w = 0.\n"
+      "Prints the project's JSON document (weights positive = cathodic, max |w| = 1 at the "
+      "current limit), or one CSV row.",
+      "optimize-weights"};
+  std::string mode, config, electrodes, pitch, max_current, min_af, format = "json";
+  int random_starts = 4;
+  bool timing = false, certify = false, no_header = false;
+  app.add_option("--mode", mode, "Target receptor: RA, SAI or PC (any name in the receptor table)")
+      ->required()
+      ->type_name("MODE");
+  auto* o_config = app.add_option("--config", config, "Document with array, model and receptors (JSON; - for stdin)")
+                       ->type_name("FILE");
+  auto* o_n = app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")->type_name("N");
+  auto* o_p = app.add_option("--pitch", pitch, "Electrode pitch, mm [1]")->type_name("MM");
+  o_config->excludes(o_n)->excludes(o_p);
+  app.add_option("--max-current", max_current, "Current limit per electrode, mA [the document's, or 2]")
+      ->type_name("MA");
+  app.add_option("--min-target-af", min_af,
+                 "Trade selectivity for efficiency: the target's largest AF at the current limit "
+                 "must reach this, V/ms [0: the paper's problem]")
+      ->type_name("V/MS");
+  app.add_option("--random-starts", random_starts, "Random starts besides the paper's patterns [4]")
+      ->check(CLI::Range(0, 1000))
+      ->type_name("K");
+  app.add_option("--format", format, "Output: json or csv [json]")->check(CLI::IsMember({"json", "csv"}));
+  app.add_flag("--no-header", no_header, "CSV without its header row (for sweeps)");
+  app.add_flag("--timing", timing, "Add solver.time_s to the JSON (output is then not reproducible)");
+  app.add_flag("--certify", certify,
+               "Also solve the LP at every sampled target point and report the certified global "
+               "optimum (slow: seconds)");
+
+  return tp::cli::run(app, argc, argv, [&] {
+    tp::Document doc;
+    if (!config.empty()) {
+      doc = tp::document_from_json(tp::read_json(config, "--config"));
+    } else {
+      const long n = electrodes.empty() ? 8 : tp::parse_integer(electrodes, "--electrodes");
+      if (n < 2) tp::bad_input("--electrodes: need at least 2, got " + electrodes);
+      const double p = pitch.empty() ? 1.0 : tp::parse_finite(pitch, "--pitch");
+      if (!(p > 0.0)) tp::bad_input("--pitch: must be > 0 mm");
+      doc.setup.array = tp::ElectrodeArray::uniform(static_cast<int>(n), p);
+    }
+    if (doc.setup.array.size() < 2) tp::bad_input("array: optimisation needs at least 2 electrodes");
+    tp::OptimizeOptions opt;
+    if (!max_current.empty()) doc.max_current_mA = tp::parse_finite(max_current, "--max-current");
+    if (!(doc.max_current_mA > 0.0)) tp::bad_input("--max-current: must be > 0 mA");
+    opt.max_current_mA = doc.max_current_mA;
+    if (!min_af.empty()) opt.min_target_af = tp::parse_finite(min_af, "--min-target-af");
+    if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
+    opt.random_starts = random_starts;
+
+    const tp::OptimizeResult r = tp::optimize_mode(doc.setup, mode, opt);
+    std::optional<double> certified;
+    if (certify) {
+      const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
+      certified = tp::certify_mode(doc.setup, mode, opt.polish_step_mm, bound).optimum;
+    }
+    std::fprintf(stderr, "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
+                 mode.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
+    if (format == "csv") {
+      std::string out;
+      if (!no_header) {
+        const auto h = tp::optimize_csv_header(doc.setup);
+        for (std::size_t i = 0; i < h.size(); ++i) out += (i ? "," : "") + h[i];
+        out += "\n";
+      }
+      tp::cli::write_stdout(out + tp::optimize_csv_row(doc.setup, r));
+    } else {
+      tp::cli::write_stdout(tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified)));
+    }
+  });
+}
