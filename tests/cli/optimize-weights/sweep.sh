@@ -1,0 +1,13 @@
+# scripts/sweep-spacing writes one CSV row per (electrodes, pitch, mode), and plot-sweep a PNG.
+"$TP_SOURCE/scripts/sweep-spacing" --electrodes 4,6 --pitch 0.5:1.5:0.5 --modes SAI,PC > sweep.csv 2> err.txt \
+  || fail "sweep-spacing: $(cat err.txt)"
+[[ $(head -1 sweep.csv) == electrodes,pitch_mm,mode,ratio,target_max_af,max_af_RA,max_af_SAI,max_af_PC,w0,w1,w2,w3,w4,w5 ]] \
+  || fail "header: $(head -1 sweep.csv)"
+rows=$(tail -n +2 sweep.csv | wc -l)
+[[ $rows -eq 12 ]] || fail "expected 12 rows, got $rows"
+# every row's weights sum to zero
+tail -n +2 sweep.csv | awk -F, '{ s = 0; for (i = 9; i <= NF; i++) s += $i; if (s > 1e-9 || s < -1e-9) { print "row " NR " sums to " s; exit 1 } }' \
+  || fail "weights do not sum to zero"
+"$TP_SOURCE/scripts/plot-sweep" -o sweep.png sweep.csv 2> /dev/null || fail "plot-sweep"
+[[ $(head -c 4 sweep.png | od -An -tx1 | tr -d ' \n') == 89504e47 ]] || fail "not a PNG"
+echo "ok: $rows rows"
