@@ -161,7 +161,7 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const 
       ceres::GradientProblemSolver::Summary summary;
       ceres::Solve(so, problem, trial.data(), &summary);
       res.iterations += static_cast<int>(summary.iterations.size());
-      res.evaluations += summary.num_cost_evaluations;
+      res.evaluations += summary.num_cost_evaluations + summary.num_gradient_evaluations;
       if (!summary.IsSolutionUsable() || !trial.allFinite()) break;
       z = trial / trial.norm();
     }
