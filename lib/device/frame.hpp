@@ -1,0 +1,52 @@
+#pragma once
+// Byte-level framing of the stimulator protocol (docs/protocol.md), with no OS calls so
+// that firmware can embed it.
+//
+//   0x7E | escaped( seq | type | payload (0..kMaxPayload bytes) | crc16 (big-endian) ) | 0x7E
+//
+// 0x7E and 0x7D inside a frame are sent as 0x7D followed by the byte XOR 0x20 (HDLC byte
+// stuffing).  The CRC is CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF) over seq, type and
+// payload.  A frame that fails its CRC, is too short or too long, or holds a bad escape is
+// dropped whole: a receiver never acts on a damaged frame.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace tp::device {
+
+inline constexpr std::uint8_t kFlag = 0x7E;
+inline constexpr std::uint8_t kEscape = 0x7D;
+inline constexpr std::size_t kMaxPayload = 200;
+
+std::uint16_t crc16(const std::uint8_t* data, std::size_t n, std::uint16_t crc = 0xFFFF);
+
+struct Frame {
+  std::uint8_t seq = 0;
+  std::uint8_t type = 0;
+  std::vector<std::uint8_t> payload;
+};
+
+// Appends the encoded frame to out.
+void encode_frame(const Frame& f, std::vector<std::uint8_t>& out);
+
+class FrameDecoder {
+ public:
+  // Feeds one byte; true when it completed a valid frame, then available in frame().
+  bool push(std::uint8_t byte);
+  const Frame& frame() const { return frame_; }
+  std::uint32_t errors() const { return errors_; }  // damaged frames dropped
+
+ private:
+  void reset() { len_ = 0; escaped_ = false; broken_ = false; }
+  std::array<std::uint8_t, kMaxPayload + 4> buf_{};
+  std::size_t len_ = 0;
+  bool escaped_ = false;
+  bool broken_ = false;
+  bool started_ = false;
+  std::uint32_t errors_ = 0;
+  Frame frame_;
+};
+
+}  // namespace tp::device

@@ -1,0 +1,155 @@
+#include "pulse/stimulus.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+
+namespace tp {
+
+void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
+  const PulseShape& p = s.shape;
+  if (s.currents_mA.empty()) bad_input("stimulus: no channels");
+  auto range = [](double v, double lo, double hi, const std::string& what, const std::string& unit) {
+    if (!std::isfinite(v) || v < lo || v > hi)
+      bad_input(what + " " + number_text(v) + " " + unit + " outside [" + number_text(lo) + ", " +
+                number_text(hi) + "] " + unit);
+  };
+  range(p.width_us, lim.min_width_us, lim.max_width_us, "pulse width", "us");
+  range(p.balance_width_us, p.width_us, lim.max_balance_width_us, "balance width", "us");
+  range(p.interphase_us, 0.0, lim.max_width_us, "interphase gap", "us");
+  range(p.frequency_hz, 1e-3, lim.max_frequency_hz, "frequency", "Hz");
+  if (p.length_us() >= p.period_us())
+    bad_input("pulse of " + number_text(p.length_us()) + " us does not fit its period of " +
+              number_text(p.period_us()) + " us");
+  if (s.count < 1) bad_input("stimulus: pulse count must be >= 1");
+  if (s.duration_s() > lim.max_duration_s)
+    bad_input("duration " + number_text(s.duration_s()) + " s above the limit of " +
+              number_text(lim.max_duration_s) + " s");
+  const double limit = std::min(lim.max_current_mA, s.max_current_mA);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < s.currents_mA.size(); ++i) {
+    const double c = s.currents_mA[i];
+    if (!std::isfinite(c)) bad_input("channel " + std::to_string(i) + ": non-finite current");
+    if (std::fabs(c) > limit + 1e-12)
+      bad_input("channel " + std::to_string(i) + ": current " + number_text(c) +
+                " mA exceeds the limit of " + number_text(limit) + " mA");
+    sum += c;
+  }
+  // Every phase is the same shape times each channel's current, so the instantaneous sum
+  // is a multiple of the sum of the main-phase currents.
+  if (std::fabs(sum) > lim.sum_tolerance_mA)
+    bad_input("channel currents sum to " + number_text(sum) +
+              " mA, not 0: the current would not stay local (weights must sum to zero)");
+  const SafetyFigures f = safety_figures(s);
+  if (f.max_net_charge_nC > 1e-9) bad_input("pulse is not charge balanced");
+}
+
+SafetyFigures safety_figures(const Stimulus& s) {
+  SafetyFigures f;
+  const PulseShape& p = s.shape;
+  double sum_main = 0.0;
+  for (double c : s.currents_mA) {
+    const double main_nC = std::fabs(c) * p.width_us;  // mA * us = nC
+    const double balance_mA = std::fabs(c) * p.balance_scale();
+    const double balance_nC = balance_mA * p.balance_width_us;
+    f.peak_current_mA = std::max(f.peak_current_mA, std::max(std::fabs(c), balance_mA));
+    f.charge_per_phase_nC.push_back(main_nC);
+    f.max_charge_per_phase_nC = std::max(f.max_charge_per_phase_nC, main_nC);
+    f.max_net_charge_nC = std::max(f.max_net_charge_nC, std::fabs(main_nC - balance_nC));
+    // RMS over a period: main^2 * w + balance^2 * wb, over the period.
+    const double ms = (c * c * p.width_us + balance_mA * balance_mA * p.balance_width_us) / p.period_us();
+    f.rms_current_mA.push_back(std::sqrt(ms));
+    f.max_rms_current_mA = std::max(f.max_rms_current_mA, std::sqrt(ms));
+    sum_main += c;
+  }
+  f.max_instant_sum_mA = std::fabs(sum_main) * std::max(1.0, p.balance_scale());
+  // nC / mm^2 -> uC / cm^2: 1 nC/mm^2 = 1e-3 uC / 1e-2 cm^2 = 0.1 uC/cm^2.
+  f.max_charge_density_uC_per_cm2 = f.max_charge_per_phase_nC / s.electrode_area_mm2 * 0.1;
+  return f;
+}
+
+Json stimulus_to_json(const Stimulus& s) {
+  Json j;
+  j["format"] = "tactile-primaries/stimulus/1";
+  j["channels"] = s.currents_mA.size();
+  j["currents_mA"] = s.currents_mA;
+  j["max_current_mA"] = s.max_current_mA;
+  j["pulse"] = Json{{"width_us", s.shape.width_us},
+                    {"interphase_us", s.shape.interphase_us},
+                    {"balance_width_us", s.shape.balance_width_us},
+                    {"frequency_hz", s.shape.frequency_hz}};
+  j["count"] = s.count;
+  j["duration_s"] = s.duration_s();
+  j["electrode_area_mm2"] = s.electrode_area_mm2;
+  const SafetyFigures f = safety_figures(s);
+  j["safety"] = Json{{"peak_current_mA", f.peak_current_mA},
+                     {"charge_per_phase_nC", f.charge_per_phase_nC},
+                     {"max_charge_density_uC_per_cm2", f.max_charge_density_uC_per_cm2},
+                     {"rms_current_mA", f.rms_current_mA},
+                     {"net_charge_per_pulse_nC", f.max_net_charge_nC},
+                     {"max_instant_sum_mA", f.max_instant_sum_mA}};
+  for (auto it = s.carried.begin(); it != s.carried.end(); ++it) j[it.key()] = it.value();
+  return j;
+}
+
+Stimulus stimulus_from_json(const Json& j) {
+  if (!j.is_object()) bad_input("stimulus: expected a JSON object");
+  if (!j.contains("format") || j["format"] != "tactile-primaries/stimulus/1")
+    bad_input("stimulus: 'format' must be \"tactile-primaries/stimulus/1\" (make-pulse's output)");
+  Stimulus s;
+  if (!j.contains("currents_mA") || !j["currents_mA"].is_array())
+    bad_input("stimulus: missing 'currents_mA'");
+  for (std::size_t i = 0; i < j["currents_mA"].size(); ++i)
+    s.currents_mA.push_back(json_finite(j["currents_mA"][i], "currents_mA[" + std::to_string(i) + "]"));
+  if (j.contains("channels") && json_int(j["channels"], "channels") != static_cast<int>(s.currents_mA.size()))
+    bad_input("stimulus: 'channels' disagrees with 'currents_mA'");
+  if (!j.contains("pulse") || !j["pulse"].is_object()) bad_input("stimulus: missing 'pulse'");
+  const Json& p = j["pulse"];
+  auto field = [&](const char* k) {
+    if (!p.contains(k)) bad_input(std::string("stimulus: missing pulse.") + k);
+    return json_finite(p[k], std::string("pulse.") + k);
+  };
+  s.shape.width_us = field("width_us");
+  s.shape.interphase_us = field("interphase_us");
+  s.shape.balance_width_us = field("balance_width_us");
+  s.shape.frequency_hz = field("frequency_hz");
+  if (!j.contains("count")) bad_input("stimulus: missing 'count'");
+  s.count = json_int(j["count"], "count");
+  if (j.contains("max_current_mA")) s.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
+  if (j.contains("electrode_area_mm2"))
+    s.electrode_area_mm2 = json_finite(j["electrode_area_mm2"], "electrode_area_mm2");
+  static const std::set<std::string> own = {"format", "channels", "currents_mA", "max_current_mA", "pulse",
+                                            "count", "duration_s", "electrode_area_mm2", "safety"};
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!own.count(it.key())) s.carried[it.key()] = it.value();
+  return s;
+}
+
+std::vector<std::vector<double>> waveform_points(const Stimulus& s, long max_pulses) {
+  std::vector<std::vector<double>> rows;
+  const PulseShape& p = s.shape;
+  const long n = std::min(s.count, max_pulses);
+  auto row = [&](double t, double scale) {
+    std::vector<double> r{t};
+    for (double c : s.currents_mA) r.push_back(c * scale);
+    rows.push_back(std::move(r));
+  };
+  for (long k = 0; k < n; ++k) {
+    const double t0 = static_cast<double>(k) * p.period_us();
+    const double t1 = t0 + p.width_us, t2 = t1 + p.interphase_us, t3 = t2 + p.balance_width_us;
+    row(t0, 0.0);
+    row(t0, 1.0);
+    row(t1, 1.0);
+    row(t1, 0.0);
+    if (p.interphase_us > 0) row(t2, 0.0);
+    row(t2, -p.balance_scale());
+    row(t3, -p.balance_scale());
+    row(t3, 0.0);
+  }
+  row(static_cast<double>(n) * p.period_us(), 0.0);
+  return rows;
+}
+
+}  // namespace tp

@@ -1,0 +1,69 @@
+#pragma once
+// A stimulus: charge-balanced biphasic pulses on N channels, the paper's Fig. 11-12 design.
+// One pulse shape (a main phase, an optional gap, a balancing phase of opposite sign)
+// is multiplied by each channel's weight; a positive current is cathodic.  The balancing
+// phase carries exactly the main phase's charge: its current is the main current times
+// width / balance_width, so every channel's net charge per pulse is zero by construction.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/json.hpp"
+
+namespace tp {
+
+struct PulseShape {
+  double width_us = 200.0;          // main phase (paper: 200 us)
+  double interphase_us = 0.0;       // gap between the phases
+  double balance_width_us = 200.0;  // balancing phase; longer and lower keeps the charge
+  double frequency_hz = 200.0;      // pulse rate
+  double period_us() const { return 1e6 / frequency_hz; }
+  double balance_scale() const { return width_us / balance_width_us; }  // |balance I| / |main I|
+  double length_us() const { return width_us + interphase_us + balance_width_us; }
+};
+
+// Limits every stimulus is checked against before it is printed or sent.
+struct StimulusLimits {
+  double max_current_mA = 2.0;       // per electrode (paper, Sec. 6)
+  double min_width_us = 10.0;
+  double max_width_us = 1000.0;
+  double max_balance_width_us = 8000.0;
+  double max_frequency_hz = 1000.0;
+  double max_duration_s = 3600.0;
+  double sum_tolerance_mA = 1e-6;    // |Sum of channel currents| at any instant
+};
+
+struct Stimulus {
+  std::vector<double> currents_mA;   // main-phase current per channel, + = cathodic
+  PulseShape shape;
+  long count = 0;                    // number of pulses
+  double electrode_area_mm2 = 5.0;   // for the charge density (paper: 0.5 x 10 mm)
+  double max_current_mA = 2.0;       // the limit the stimulus was made for
+  Json carried = Json::object();     // e.g. mode, from the weights document
+  double duration_s() const { return static_cast<double>(count) / shape.frequency_hz; }
+};
+
+// Throws tp::Error (bad input) naming the first violated limit.
+void check_stimulus(const Stimulus& s, const StimulusLimits& limits);
+
+// The figures a safety review asks for.
+struct SafetyFigures {
+  double peak_current_mA = 0;
+  double max_charge_per_phase_nC = 0;
+  double max_charge_density_uC_per_cm2 = 0;
+  double max_rms_current_mA = 0;
+  double max_net_charge_nC = 0;            // per pulse per channel, must be 0
+  double max_instant_sum_mA = 0;           // |Sum over channels| at any instant
+  std::vector<double> charge_per_phase_nC;
+  std::vector<double> rms_current_mA;
+};
+SafetyFigures safety_figures(const Stimulus& s);
+
+Json stimulus_to_json(const Stimulus& s);
+Stimulus stimulus_from_json(const Json& j);  // checks structure; call check_stimulus after
+
+// Corner points of the waveform, for plotting: t_us then one current per channel (mA).
+std::vector<std::vector<double>> waveform_points(const Stimulus& s, long max_pulses);
+
+}  // namespace tp
