@@ -1,0 +1,250 @@
+#include "host/emulator.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <deque>
+#include <thread>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "host/transport.hpp"
+#include "io/number.hpp"
+
+namespace tp::host {
+
+std::uint64_t monotonic_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::uint64_t>(ts.tv_sec) * 1000000u + static_cast<std::uint64_t>(ts.tv_nsec) / 1000u;
+}
+
+PulseRecorder::PulseRecorder(const std::string& path) {
+  if (path.empty()) return;
+  out_ = std::fopen(path.c_str(), "w");
+  if (!out_) bad_input("--record: cannot open '" + path + "': " + std::strerror(errno));
+}
+
+PulseRecorder::~PulseRecorder() {
+  if (out_) std::fclose(out_);
+}
+
+void PulseRecorder::record(const device::DeliveredPulse& p) {
+  ++pulses_;
+  const double step_mA = p.caps.dac_step_nA * 1e-6;
+  for (std::int16_t c : p.codes) peak_mA_ = std::max(peak_mA_, std::fabs(c * step_mA));
+  if (!out_) return;
+  std::string line = "{\"t_s\": " + number_text(static_cast<double>(p.t_us - p.start_us) * 1e-6) +
+                     ", \"currents_mA\": [";
+  std::string charge = "], \"net_charge_nC\": [";
+  const double scale = static_cast<double>(p.config.width_us) / p.config.balance_width_us;
+  for (std::size_t i = 0; i < p.codes.size(); ++i) {
+    const double main = p.codes[i] * step_mA;
+    const double balance = -main * scale;  // the balancing phase of the same channel
+    line += (i ? ", " : "") + number_text(main);
+    charge += (i ? ", " : "") + number_text(main * p.config.width_us + balance * p.config.balance_width_us);
+  }
+  line += charge + "]}\n";
+  std::fputs(line.c_str(), out_);
+}
+
+void PulseRecorder::flush() {
+  if (out_) std::fflush(out_);
+}
+
+// ---------------------------------------------------------------------------------------
+// In-process emulator: the device core behind an in-memory link.  Replies are produced
+// synchronously on write; pulses are delivered (recorded) whenever the host touches the
+// link, each with its scheduled time.
+
+namespace {
+
+class LoopbackTransport final : public Transport {
+ public:
+  explicit LoopbackTransport(const EmulatorOptions& o) : core_(o.caps), recorder_(o.record_path) {}
+  ~LoopbackTransport() override {
+    advance();
+    core_.link_lost();
+    recorder_.flush();
+  }
+  std::string name() const override { return "emu (in-process emulator)"; }
+
+  void write(const std::uint8_t* data, std::size_t n) override {
+    advance();
+    std::vector<std::uint8_t> out;
+    core_.receive(data, n, monotonic_us(), out);
+    rx_.insert(rx_.end(), out.begin(), out.end());
+  }
+
+  std::size_t read(std::uint8_t* buf, std::size_t max, int timeout_ms) override {
+    advance();
+    if (rx_.empty()) {
+      // Nothing more will come: the device answers synchronously.  Let time pass.
+      std::this_thread::sleep_for(std::chrono::milliseconds(timeout_ms));
+      advance();
+      return 0;
+    }
+    std::size_t n = 0;
+    while (n < max && !rx_.empty()) {
+      buf[n++] = rx_.front();
+      rx_.pop_front();
+    }
+    return n;
+  }
+
+ private:
+  void advance() {
+    core_.advance(monotonic_us(), [this](const device::DeliveredPulse& p) { recorder_.record(p); });
+  }
+  device::DeviceCore core_;
+  PulseRecorder recorder_;
+  std::deque<std::uint8_t> rx_;
+};
+
+}  // namespace
+
+std::unique_ptr<Transport> make_serial_transport(const std::string& path, int baud);
+std::unique_ptr<Transport> make_posix_transport(const std::string& path, int baud);
+bool is_pseudo_terminal(const std::string& path);
+
+std::unique_ptr<Transport> open_transport(const std::string& port, int baud, const EmulatorOptions& emu,
+                                          const std::string& backend) {
+  if (port == "emu") return std::make_unique<LoopbackTransport>(emu);
+  if (backend == "libserialport") return make_serial_transport(port, baud);
+  if (backend == "posix") return make_posix_transport(port, baud);
+  if (backend != "auto") bad_input("--backend: expected auto, libserialport or posix");
+  return is_pseudo_terminal(port) ? make_posix_transport(port, baud) : make_serial_transport(port, baud);
+}
+
+// ---------------------------------------------------------------------------------------
+// stim-emu: the device on a pseudo-terminal.
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+struct Rng {  // splitmix64, for reproducible fault injection
+  std::uint64_t s;
+  double uniform() {
+    std::uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  }
+};
+
+// Applies drop/corrupt injection to a byte buffer in place.
+void inject(std::vector<std::uint8_t>& bytes, const FaultInjection& f, Rng& rng) {
+  if (f.drop <= 0 && f.corrupt <= 0) return;
+  std::vector<std::uint8_t> out;
+  out.reserve(bytes.size());
+  for (std::uint8_t b : bytes) {
+    if (rng.uniform() < f.drop) continue;
+    if (rng.uniform() < f.corrupt) b = static_cast<std::uint8_t>(b ^ (1u << static_cast<int>(rng.uniform() * 8)));
+    out.push_back(b);
+  }
+  bytes.swap(out);
+}
+
+}  // namespace
+
+int run_pty_emulator(const PtyEmulatorOptions& opt) {
+  PulseRecorder recorder(opt.record_path);
+  std::FILE* apply_log = nullptr;
+  if (!opt.apply_log_path.empty()) {
+    apply_log = std::fopen(opt.apply_log_path.c_str(), "w");
+    if (!apply_log) bad_input("--apply-log: cannot open '" + opt.apply_log_path + "'");
+  }
+  const int master = posix_openpt(O_RDWR | O_NOCTTY);
+  if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0)
+    failure(std::string("cannot open a pseudo-terminal: ") + std::strerror(errno));
+  const char* name = ptsname(master);
+  if (!name) failure("ptsname failed");
+  const std::string path = name;
+  // Keep the slave open ourselves, in raw mode: the line then behaves like a serial port
+  // (no echo, no line editing) and reads on the master never fail while no host is attached.
+  const int slave = open(path.c_str(), O_RDWR | O_NOCTTY);
+  if (slave < 0) failure("cannot open " + path + ": " + std::strerror(errno));
+  termios tio{};
+  tcgetattr(slave, &tio);
+  cfmakeraw(&tio);
+  tcsetattr(slave, TCSANOW, &tio);
+  fcntl(master, F_SETFL, fcntl(master, F_GETFL) | O_NONBLOCK);
+
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+
+  std::printf("%s\n", path.c_str());
+  std::fflush(stdout);
+
+  device::DeviceCore core(opt.caps);
+  Rng rng{opt.faults.seed};
+  const std::uint64_t t0 = monotonic_us();
+  std::uint32_t applied = 0;
+  auto sink = [&](const device::DeliveredPulse& p) { recorder.record(p); };
+  std::vector<std::uint8_t> in(4096), out;
+  int status = 0;
+  while (!g_stop) {
+    const std::uint64_t now = monotonic_us();
+    const double up_s = static_cast<double>(now - t0) * 1e-6;
+    if (opt.faults.disconnect_after_s >= 0 && up_s >= opt.faults.disconnect_after_s) {
+      std::fprintf(stderr, "stim-emu: disconnecting (fault injection)\n");
+      break;
+    }
+    const bool stalled = opt.faults.stall_after_s >= 0 && up_s >= opt.faults.stall_after_s &&
+                         up_s < opt.faults.stall_after_s + opt.faults.stall_s;
+    core.advance(now, sink);
+    // Sleep until the next pulse or watchdog deadline, at most 5 ms.
+    const std::uint64_t next = core.next_event_us();
+    int timeout_ms = 5;
+    if (next != UINT64_MAX) timeout_ms = next <= now ? 0 : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
+    pollfd pfd{master, static_cast<short>(stalled ? 0 : POLLIN), 0};
+    const int pr = poll(&pfd, 1, timeout_ms);
+    if (pr < 0 && errno != EINTR) break;
+    if (pr > 0 && (pfd.revents & POLLIN)) {
+      const ssize_t n = read(master, in.data(), in.size());
+      if (n > 0) {
+        std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
+        inject(bytes, opt.faults, rng);
+        out.clear();
+        const std::uint64_t t_rx = monotonic_us();
+        core.advance(t_rx, sink);
+        core.receive(bytes.data(), bytes.size(), t_rx, out);
+        if (apply_log) {
+          timespec ts{};
+          clock_gettime(CLOCK_MONOTONIC, &ts);
+          for (; applied < core.status().weight_updates; ++applied)
+            std::fprintf(apply_log, "%u %lld\n", applied + 1,
+                         static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec);
+        }
+        inject(out, opt.faults, rng);
+        std::size_t off = 0;
+        while (off < out.size()) {
+          const ssize_t w = ::write(master, out.data() + off, out.size() - off);
+          if (w > 0) off += static_cast<std::size_t>(w);
+          else if (w < 0 && errno != EAGAIN && errno != EINTR) break;
+        }
+      }
+    }
+    recorder.flush();
+  }
+  core.advance(monotonic_us(), sink);
+  core.link_lost();  // output stops before the emulator goes
+  recorder.flush();
+  if (apply_log) std::fclose(apply_log);
+  close(slave);
+  close(master);
+  return status;
+}
+
+}  // namespace tp::host

@@ -1,0 +1,52 @@
+#pragma once
+// Emulated stimulators around the portable device core: a pulse recorder, the in-process
+// link used by `stimctl --port emu`, and the pseudo-terminal device of `stim-emu`.
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "device/device_core.hpp"
+
+namespace tp::host {
+
+// Writes one JSON object per delivered pulse:
+//   {"t_s": 0.005, "currents_mA": [...], "net_charge_nC": [...]}
+// t_s from the start command; currents are the main phase as the DAC makes them
+// (code x step), positive = cathodic; net_charge_nC is main minus balancing charge.
+class PulseRecorder {
+ public:
+  explicit PulseRecorder(const std::string& path);  // empty path: record nothing
+  ~PulseRecorder();
+  void record(const device::DeliveredPulse& p);
+  void flush();
+  std::uint64_t pulses() const { return pulses_; }
+  double peak_mA() const { return peak_mA_; }
+
+ private:
+  std::FILE* out_ = nullptr;
+  std::uint64_t pulses_ = 0;
+  double peak_mA_ = 0.0;
+};
+
+struct FaultInjection {
+  double drop = 0.0;        // fraction of bytes dropped, each direction
+  double corrupt = 0.0;     // fraction of bytes with one bit flipped, each direction
+  double stall_after_s = -1.0;  // stop answering (and reading) at this time after start-up...
+  double stall_s = 0.0;         // ... for this long
+  double disconnect_after_s = -1.0;  // close the line at this time after start-up
+  std::uint64_t seed = 1;
+};
+
+struct PtyEmulatorOptions {
+  device::Capabilities caps;
+  std::string record_path;
+  std::string apply_log_path;  // "n t_ns" per applied weight frame (benchmarks)
+  FaultInjection faults;
+};
+
+// Opens a pseudo-terminal, prints its path on stdout's first line, and runs the device until
+// SIGINT/SIGTERM (returns 0) or a fault-injected disconnect.  Output stops first, always.
+int run_pty_emulator(const PtyEmulatorOptions& opt);
+
+}  // namespace tp::host

@@ -1,0 +1,120 @@
+#include "host/stimulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <numeric>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tp::host {
+namespace {
+std::int64_t now_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+const char* msg_name(device::Msg m) {
+  switch (m) {
+    case device::Msg::identify: return "identify";
+    case device::Msg::configure: return "configure";
+    case device::Msg::set_weights: return "set-weights";
+    case device::Msg::start: return "start";
+    case device::Msg::stop: return "stop";
+    case device::Msg::status: return "status";
+    case device::Msg::keepalive: return "keep-alive";
+    default: return "message";
+  }
+}
+}  // namespace
+
+std::vector<std::uint8_t> StimulatorClient::request(device::Msg type, const std::vector<std::uint8_t>& payload) {
+  const std::uint8_t seq = ++seq_;
+  std::vector<std::uint8_t> bytes;
+  device::encode_frame(device::Frame{seq, static_cast<std::uint8_t>(type), payload}, bytes);
+  std::uint8_t buf[512];
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    if (attempt == 0) last_write_ns_ = now_ns();
+    else ++retransmissions_;
+    t_.write(bytes.data(), bytes.size());
+    const std::int64_t deadline = now_ns() + std::int64_t{kAckTimeoutMs} * 1000000;
+    while (true) {
+      const std::int64_t left_ms = (deadline - now_ns()) / 1000000;
+      if (left_ms < 0) break;
+      const std::size_t n = t_.read(buf, sizeof buf, static_cast<int>(std::max<std::int64_t>(left_ms, 1)));
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!decoder_.push(buf[i])) continue;
+        const device::Frame& f = decoder_.frame();
+        // Only the acknowledgement of this request counts; stale ones are ignored.
+        if (f.type != static_cast<std::uint8_t>(device::Msg::ack) || f.seq != seq || f.payload.size() < 2 ||
+            f.payload[0] != static_cast<std::uint8_t>(type))
+          continue;
+        const auto result = static_cast<device::Result>(f.payload[1]);
+        if (result != device::Result::ok)
+          failure(std::string("device refused ") + msg_name(type) + ": " + device::to_string(result));
+        return std::vector<std::uint8_t>(f.payload.begin() + 2, f.payload.end());
+      }
+    }
+  }
+  failure(std::string("device not responding on ") + t_.name() + " (no acknowledgement of " +
+          msg_name(type) + " after " + std::to_string(kAttempts) + " attempts)");
+}
+
+device::Capabilities StimulatorClient::identify() {
+  std::vector<std::uint8_t> body = request(device::Msg::identify, {});
+  const auto caps = device::decode_capabilities(body, 0);
+  if (!caps) failure("device sent malformed capabilities");
+  return *caps;
+}
+void StimulatorClient::configure(const device::PulseConfig& c) { request(device::Msg::configure, device::encode(c)); }
+void StimulatorClient::set_weights(const std::vector<std::int16_t>& codes) {
+  request(device::Msg::set_weights, device::encode_weights(codes));
+}
+void StimulatorClient::start() { request(device::Msg::start, {}); }
+void StimulatorClient::stop() { request(device::Msg::stop, {}); }
+void StimulatorClient::keepalive() { request(device::Msg::keepalive, {}); }
+device::Status StimulatorClient::status() {
+  const auto body = request(device::Msg::status, {});
+  const auto s = device::decode_status(body, 0);
+  if (!s) failure("device sent a malformed status");
+  return *s;
+}
+
+std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_mA,
+                                            const device::Capabilities& caps) {
+  const double step_mA = caps.dac_step_nA * 1e-6;
+  const int max_code = caps.max_code();
+  std::vector<std::int16_t> codes;
+  std::vector<double> err;  // exact - rounded, in codes
+  long sum = 0;
+  for (double c : currents_mA) {
+    const double exact = c / step_mA;
+    long code = std::lround(exact);
+    if (std::labs(code) > max_code) bad_input("current " + std::to_string(c) + " mA exceeds the device's limit");
+    codes.push_back(static_cast<std::int16_t>(code));
+    err.push_back(exact - static_cast<double>(code));
+    sum += code;
+  }
+  // Move the sum to zero one code at a time, where rounding erred most in that direction.
+  std::vector<std::size_t> order(codes.size());
+  while (sum != 0) {
+    const int dir = sum > 0 ? -1 : 1;
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return dir * err[a] > dir * err[b]; });
+    bool moved = false;
+    for (std::size_t i : order) {
+      if (std::abs(codes[i] + dir) > max_code) continue;
+      codes[i] = static_cast<std::int16_t>(codes[i] + dir);
+      err[i] -= dir;
+      sum += dir;
+      moved = true;
+      break;
+    }
+    if (!moved) bad_input("currents cannot be made to sum to zero within the device's range");
+  }
+  return codes;
+}
+
+}  // namespace tp::host

@@ -1,0 +1,58 @@
+#pragma once
+// The host's side of the stimulator protocol: requests with sequence numbers, each
+// answered by an acknowledgement with a result code, retransmitted on time-out.
+
+#include <cstdint>
+#include <vector>
+
+#include "device/frame.hpp"
+#include "device/protocol.hpp"
+#include "host/transport.hpp"
+
+namespace tp::host {
+
+// Why each time-out is what it is:
+// An acknowledgement normally arrives within a millisecond on a pty and a few on a
+// USB-serial adapter at 115200 baud (a frame is < 50 bytes); 40 ms leaves room for a
+// loaded host without letting a lost frame stall the keep-alive schedule.
+inline constexpr int kAckTimeoutMs = 40;
+// Six attempts ride out a burst of damaged frames (1 % byte errors lose ~25 % of frames)
+// and still give up within 240 ms, before a 300 ms device watchdog would fire.
+inline constexpr int kAttempts = 6;
+// Keep-alive period: several per watchdog period (the device's is 300 ms).
+inline constexpr int kKeepAliveMs = 50;
+
+class StimulatorClient {
+ public:
+  explicit StimulatorClient(Transport& t) : t_(t) {}
+
+  device::Capabilities identify();
+  void configure(const device::PulseConfig& c);
+  void set_weights(const std::vector<std::int16_t>& codes);
+  void start();
+  void stop();
+  device::Status status();
+  void keepalive();
+
+  // Monotonic time (ns) at which the last request's first attempt was written.
+  std::int64_t last_write_ns() const { return last_write_ns_; }
+  int retransmissions() const { return retransmissions_; }
+
+ private:
+  // Sends a request and returns the acknowledgement's body (after type and result);
+  // throws tp::Error (failure) when the device refuses it or stops answering.
+  std::vector<std::uint8_t> request(device::Msg type, const std::vector<std::uint8_t>& payload);
+
+  Transport& t_;
+  device::FrameDecoder decoder_;
+  std::uint8_t seq_ = 0;
+  std::int64_t last_write_ns_ = 0;
+  int retransmissions_ = 0;
+};
+
+// DAC codes for the main-phase currents: rounded to the DAC step, then adjusted by single
+// codes (largest rounding error first) so that they sum to exactly zero.
+std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_mA,
+                                            const device::Capabilities& caps);
+
+}  // namespace tp::host

@@ -1,0 +1,44 @@
+#pragma once
+// The byte transport under the stimulator client, chosen by the port name (as libsigrok's
+// serial backends): "emu" is the in-process emulator (the device core behind an in-memory
+// link); a pseudo-terminal (stim-emu's) goes through POSIX termios, because libserialport
+// cannot open ptys on Linux; anything else is a serial port opened through libserialport.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "device/protocol.hpp"
+
+namespace tp::host {
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual std::string name() const = 0;
+  // Writes all bytes or throws tp::Error (failure).
+  virtual void write(const std::uint8_t* data, std::size_t n) = 0;
+  // Waits up to timeout_ms for at least one byte; returns how many were read (0: timeout).
+  // Throws tp::Error (failure) when the link is lost.
+  virtual std::size_t read(std::uint8_t* buf, std::size_t max, int timeout_ms) = 0;
+};
+
+struct EmulatorOptions {
+  device::Capabilities caps;
+  std::string record_path;  // JSON lines, one per delivered pulse (empty: none)
+};
+
+// Opens "emu" or a port at `baud`.  backend: "auto" (by the port, as above),
+// "libserialport" or "posix".
+std::unique_ptr<Transport> open_transport(const std::string& port, int baud, const EmulatorOptions& emu,
+                                          const std::string& backend = "auto");
+
+// Serial ports known to libserialport: "name\tdescription" each.
+std::vector<std::string> list_serial_ports();
+
+// The monotonic clock in microseconds (used by the emulators and the host).
+std::uint64_t monotonic_us();
+
+}  // namespace tp::host

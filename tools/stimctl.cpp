@@ -1,0 +1,92 @@
+// stimctl: deliver a stimulus document through a stimulator (serial port or emulator).
+//
+//   optimize-weights --mode SAI | make-pulse --amplitude 1 --frequency 200 | stimctl --port emu --duration 1
+//   stimctl --port /dev/ttyACM0 < stimulus.json
+//   producer | stimctl --port /dev/ttyACM0 --live --stimulus stimulus.json   # weight frames as JSON lines
+
+#include <csignal>
+#include <cstdio>
+#include <string>
+
+#include "cli/entry.hpp"
+#include "core/error.hpp"
+#include "host/session.hpp"
+#include "io/number.hpp"
+
+namespace {
+volatile std::sig_atomic_t g_signal = 0;
+void on_signal(int sig) { g_signal = sig; }
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Delivers a stimulus document (make-pulse's JSON, on stdin) through a stimulator: "
+      "identifies the device, checks the stimulus against its capabilities and the host's "
+      "limits, configures it, starts, feeds its watchdog, and stops the output on completion, "
+      "--duration, end of input, SIGINT, SIGTERM or any error.  --port emu runs the device "
+      "emulator in-process.  Exit status: 0 done, 1 device or I/O failure, 2 bad input "
+      "(nothing started), 128+N after signal N.",
+      "stimctl"};
+  std::string port = "emu", stimulus_path = "-", duration, record, latency_log, backend = "auto";
+  int baud = 115200, emu_channels = 8;
+  bool list = false, live = false;
+  app.add_option("--port", port, "Serial port path, or emu for the in-process emulator [emu]")->type_name("PORT");
+  app.add_option("--baud", baud, "Baud rate [115200]")->check(CLI::Range(300, 4000000));
+  app.add_option("--backend", backend,
+                 "Serial backend: auto (libserialport; POSIX termios for pseudo-terminals), "
+                 "libserialport or posix [auto]")
+      ->check(CLI::IsMember({"auto", "libserialport", "posix"}));
+  app.add_flag("--list", list, "List serial ports (CSV: port,description) and exit");
+  app.add_option("--stimulus", stimulus_path, "Stimulus document, - for stdin [-]")->type_name("FILE");
+  app.add_option("--duration", duration, "Stop after this long, s [the stimulus' own duration]")->type_name("S");
+  app.add_flag("--live", live,
+               "After starting, read weight frames from stdin as JSON lines {\"currents_mA\": [...]}, "
+               "applied at the next pulse; needs --stimulus FILE");
+  app.add_option("--record", record, "Emulator only: write each delivered pulse as a JSON line")->type_name("FILE");
+  app.add_option("--emu-channels", emu_channels, "Emulator only: channel count [8]")->check(CLI::Range(1, 64));
+  app.add_option("--latency-log", latency_log, "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
+      ->type_name("FILE");
+
+  return tp::cli::run(app, argc, argv, [&] {
+    if (list) {
+      std::string out = "port,description\n";
+      for (const std::string& p : tp::host::list_serial_ports()) {
+        const auto tab = p.find('\t');
+        out += p.substr(0, tab) + "," + p.substr(tab + 1) + "\n";
+      }
+      tp::cli::write_stdout(out);
+      return;
+    }
+    if (live && stimulus_path == "-") tp::bad_input("--live: give the stimulus with --stimulus FILE (stdin carries the frames)");
+    if (port != "emu" && !record.empty()) tp::bad_input("--record: only with --port emu (stim-emu has its own)");
+    const tp::Stimulus s = tp::stimulus_from_json(tp::read_json(stimulus_path, "stimulus"));
+    tp::check_stimulus(s, tp::StimulusLimits{});
+    tp::host::SessionOptions opt;
+    opt.live = live;
+    opt.latency_log = latency_log;
+    if (!duration.empty()) opt.duration_s = tp::parse_finite(duration, "--duration");
+    if (!duration.empty() && !(opt.duration_s > 0)) tp::bad_input("--duration: must be > 0 s");
+
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+    sigaction(SIGHUP, &sa, nullptr);
+    std::signal(SIGPIPE, SIG_IGN);  // a closed pipe must not kill us before the output stops
+
+    tp::host::EmulatorOptions emu;
+    emu.caps.channels = static_cast<std::uint8_t>(emu_channels);
+    emu.record_path = record;
+    const auto transport = tp::host::open_transport(port, baud, emu, backend);
+    const tp::host::SessionReport r = tp::host::run_session(*transport, s, opt, &g_signal);
+    double peak = 0;
+    for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
+    std::fprintf(stderr,
+                 "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s; %s; output stopped\n",
+                 r.port.c_str(), r.pulses, s.currents_mA.size(), tp::number_text(s.shape.frequency_hz).c_str(),
+                 tp::number_text(peak).c_str(), tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
+                 live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
+                 r.end.c_str());
+    if (r.exit_code != 0) throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
+  });
+}
