@@ -16,6 +16,7 @@ void encode_frame(const Frame& f, std::vector<std::uint8_t>& out) {
   raw.reserve(f.payload.size() + 4);
   raw.push_back(f.seq);
   raw.push_back(f.type);
+  raw.push_back(static_cast<std::uint8_t>(f.payload.size()));
   raw.insert(raw.end(), f.payload.begin(), f.payload.end());
   const std::uint16_t crc = crc16(raw.data(), raw.size());
   raw.push_back(static_cast<std::uint8_t>(crc >> 8));
@@ -36,12 +37,13 @@ bool FrameDecoder::push(std::uint8_t byte) {
   if (byte == kFlag) {
     const bool had_content = len_ > 0 || broken_;
     bool ok = false;
-    if (started_ && !broken_ && !escaped_ && len_ >= 4) {
+    // seq, type, length, payload, crc: the length must match, then the CRC.
+    if (started_ && !broken_ && !escaped_ && len_ >= 5 && buf_[2] == len_ - 5) {
       const std::uint16_t crc = static_cast<std::uint16_t>((buf_[len_ - 2] << 8) | buf_[len_ - 1]);
       if (crc16(buf_.data(), len_ - 2) == crc) {
         frame_.seq = buf_[0];
         frame_.type = buf_[1];
-        frame_.payload.assign(buf_.begin() + 2, buf_.begin() + static_cast<std::ptrdiff_t>(len_ - 2));
+        frame_.payload.assign(buf_.begin() + 3, buf_.begin() + static_cast<std::ptrdiff_t>(len_ - 2));
         ok = true;
       }
     }

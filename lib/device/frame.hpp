@@ -2,12 +2,14 @@
 // Byte-level framing of the stimulator protocol (docs/protocol.md), with no OS calls so
 // that firmware can embed it.
 //
-//   0x7E | escaped( seq | type | payload (0..kMaxPayload bytes) | crc16 (big-endian) ) | 0x7E
+//   0x7E | escaped( seq | type | length | payload (length bytes, <= kMaxPayload) | crc16 ) | 0x7E
 //
 // 0x7E and 0x7D inside a frame are sent as 0x7D followed by the byte XOR 0x20 (HDLC byte
-// stuffing).  The CRC is CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF) over seq, type and
-// payload.  A frame that fails its CRC, is too short or too long, or holds a bad escape is
-// dropped whole: a receiver never acts on a damaged frame.
+// stuffing).  The CRC is CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF), big-endian, over
+// seq, type, length and payload.  A frame whose length byte disagrees with what arrived,
+// that fails its CRC, is too long or holds a bad escape is dropped whole: a receiver never
+// acts on a damaged frame.  (The length byte matters: without it, a lost byte before a CRC
+// ending in 0x00 passes the CRC far more often than 1 in 65536.)
 
 #include <array>
 #include <cstddef>
@@ -40,7 +42,7 @@ class FrameDecoder {
 
  private:
   void reset() { len_ = 0; escaped_ = false; broken_ = false; }
-  std::array<std::uint8_t, kMaxPayload + 4> buf_{};
+  std::array<std::uint8_t, kMaxPayload + 5> buf_{};
   std::size_t len_ = 0;
   bool escaped_ = false;
   bool broken_ = false;
