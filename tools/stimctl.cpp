@@ -82,11 +82,12 @@ int main(int argc, char** argv) {
     double peak = 0;
     for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
     std::fprintf(stderr,
-                 "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s; %s; output stopped\n",
+                 "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s, %d retransmissions; %s; "
+                 "output stopped\n",
                  r.port.c_str(), r.pulses, s.currents_mA.size(), tp::number_text(s.shape.frequency_hz).c_str(),
                  tp::number_text(peak).c_str(), tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
                  live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
-                 r.end.c_str());
+                 r.retransmissions, r.end.c_str());
     if (r.exit_code != 0) throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
   });
 }
