@@ -13,16 +13,18 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "core/splitmix.hpp"
 #include "host/transport.hpp"
 #include "io/number.hpp"
 
 namespace tp::host {
 
-std::uint64_t monotonic_us() {
+std::int64_t monotonic_ns() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1000000u + static_cast<std::uint64_t>(ts.tv_nsec) / 1000u;
+  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
+std::uint64_t monotonic_us() { return static_cast<std::uint64_t>(monotonic_ns() / 1000); }
 
 PulseRecorder::PulseRecorder(const std::string& path) {
   if (path.empty()) return;
@@ -129,24 +131,14 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-struct Rng {  // splitmix64, for reproducible fault injection
-  std::uint64_t s;
-  double uniform() {
-    std::uint64_t z = (s += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  }
-};
-
 // Applies drop/corrupt injection to a byte buffer in place.
-void inject(std::vector<std::uint8_t>& bytes, const FaultInjection& f, Rng& rng) {
+void inject(std::vector<std::uint8_t>& bytes, const FaultInjection& f, SplitMix64& rng) {
   if (f.drop <= 0 && f.corrupt <= 0) return;
   std::vector<std::uint8_t> out;
   out.reserve(bytes.size());
   for (std::uint8_t b : bytes) {
-    if (rng.uniform() < f.drop) continue;
-    if (rng.uniform() < f.corrupt) b = static_cast<std::uint8_t>(b ^ (1u << static_cast<int>(rng.uniform() * 8)));
+    if (rng.unit() < f.drop) continue;
+    if (rng.unit() < f.corrupt) b = static_cast<std::uint8_t>(b ^ (1u << static_cast<int>(rng.unit() * 8)));
     out.push_back(b);
   }
   bytes.swap(out);
@@ -188,7 +180,7 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
   std::fflush(stdout);
 
   device::DeviceCore core(opt.caps);
-  Rng rng{opt.faults.seed};
+  SplitMix64 rng{opt.faults.seed};  // reproducible fault injection
   const std::uint64_t t0 = monotonic_us();
   std::uint32_t applied = 0;
   auto sink = [&](const device::DeliveredPulse& p) { recorder.record(p); };
@@ -221,11 +213,9 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
         core.advance(t_rx, sink);
         core.receive(bytes.data(), bytes.size(), t_rx, out);
         if (apply_log) {
-          timespec ts{};
-          clock_gettime(CLOCK_MONOTONIC, &ts);
+          const auto t = static_cast<long long>(monotonic_ns());
           for (; applied < core.status().weight_updates; ++applied)
-            std::fprintf(apply_log, "%u %lld\n", applied + 1,
-                         static_cast<long long>(ts.tv_sec) * 1000000000LL + ts.tv_nsec);
+            std::fprintf(apply_log, "%u %lld\n", applied + 1, t);
         }
         inject(out, opt.faults, rng);
         std::size_t off = 0;

@@ -90,11 +90,7 @@ std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line
   return quantize_currents(c, caps);
 }
 
-std::int64_t now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
+std::int64_t now_ns() { return monotonic_ns(); }
 
 }  // namespace
 

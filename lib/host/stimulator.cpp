@@ -7,14 +7,11 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "io/number.hpp"
 
 namespace tp::host {
 namespace {
-std::int64_t now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
-}
+std::int64_t now_ns() { return monotonic_ns(); }
 const char* msg_name(device::Msg m) {
   switch (m) {
     case device::Msg::identify: return "identify";
@@ -91,7 +88,9 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
   for (double c : currents_mA) {
     const double exact = c / step_mA;
     long code = std::lround(exact);
-    if (std::labs(code) > max_code) bad_input("current " + std::to_string(c) + " mA exceeds the device's limit");
+    if (std::labs(code) > max_code)
+      bad_input("current " + number_text(c) + " mA exceeds the device's limit of " +
+                number_text(caps.max_current_uA * 1e-3) + " mA");
     codes.push_back(static_cast<std::int16_t>(code));
     err.push_back(exact - static_cast<double>(code));
     sum += code;

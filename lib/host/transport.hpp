@@ -38,7 +38,8 @@ std::unique_ptr<Transport> open_transport(const std::string& port, int baud, con
 // Serial ports known to libserialport: "name\tdescription" each.
 std::vector<std::string> list_serial_ports();
 
-// The monotonic clock in microseconds (used by the emulators and the host).
+// The monotonic clock (used by the emulators and the host).
+std::int64_t monotonic_ns();
 std::uint64_t monotonic_us();
 
 }  // namespace tp::host

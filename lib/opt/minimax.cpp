@@ -9,6 +9,7 @@
 #include <ceres/gradient_problem_solver.h>
 
 #include "core/error.hpp"
+#include "core/splitmix.hpp"
 #include "io/number.hpp"
 #include "opt/lp.hpp"
 
@@ -40,18 +41,6 @@ bool log_pnorm(const Eigen::VectorXd& a, int log2_p, double& log_p, Eigen::Vecto
   return true;
 }
 
-// Deterministic, portable random numbers (splitmix64): the same starts everywhere.
-struct SplitMix {
-  std::uint64_t state;
-  double uniform() {  // in [-1, 1)
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
-  }
-};
-
 struct Start {
   std::string label;
   Eigen::VectorXd w;
@@ -82,10 +71,10 @@ std::vector<Start> make_starts(std::size_t n, int random_starts, std::uint64_t s
     for (Eigen::Index i = N / 4; i < N - N / 4; ++i) w(i) = 1.0;
     s.push_back({"widened-cathode", balanced(w)});
   }
-  SplitMix rng{seed};
+  SplitMix64 rng{seed};  // portable: the same starts everywhere
   for (int k = 0; k < random_starts; ++k) {
     Eigen::VectorXd w(N);
-    for (Eigen::Index i = 0; i < N; ++i) w(i) = rng.uniform();
+    for (Eigen::Index i = 0; i < N; ++i) w(i) = 2.0 * rng.unit() - 1.0;
     s.push_back({"random-" + std::to_string(k + 1), balanced(w)});
   }
   return s;
