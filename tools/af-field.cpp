@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
                       ->type_name("FILE");
   auto* o_n = app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")->type_name("N");
   auto* o_pitch = app.add_option("--pitch", pitch, "Electrode pitch, mm [1]")->type_name("MM");
-  auto* o_w = app.add_option("--weights", weights, "Comma-separated weights, one per electrode (positive = cathodic)")
+  auto* o_w = app.add_option("--weights", weights, "Comma-separated weights, one per electrode (positive = cathodic) "
+                 "[one cathode on the centre electrode]")
                  ->type_name("W1,W2,...");
   o_config->excludes(o_n)->excludes(o_pitch)->excludes(o_w);
   app.add_option("--amplitude", amplitude,
