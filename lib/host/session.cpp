@@ -119,10 +119,8 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   cfg.width_us = whole_us(s.shape.width_us, "pulse width");
   cfg.interphase_us = whole_us(s.shape.interphase_us, "interphase gap");
   cfg.balance_width_us = whole_us(s.shape.balance_width_us, "balance width");
-  const double period = s.shape.period_us();
-  if (std::fabs(period - std::round(period)) > 1e-6)
-    bad_input("frequency " + number_text(s.shape.frequency_hz) + " Hz: the period must be a whole number of microseconds");
-  cfg.period_us = static_cast<std::uint32_t>(std::round(period));
+  // The device counts whole microseconds: the period is rounded (150 Hz: 6667 us, 149.993 Hz).
+  cfg.period_us = static_cast<std::uint32_t>(std::lround(s.shape.period_us()));
   cfg.channels = static_cast<std::uint8_t>(s.currents_mA.size());
   // The device stops itself after the stimulus' pulses (live mode without --duration: open-ended).
   cfg.max_pulses = opt.live && opt.duration_s < 0 ? 0u : static_cast<std::uint32_t>(run.count);

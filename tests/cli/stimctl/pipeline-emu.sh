@@ -7,3 +7,8 @@ n=$(lines rec.jsonl)
 grep -q "200 pulses on 8 channels" err.txt || fail "summary: $(cat err.txt)"
 jq -se 'map(.currents_mA | add | fabs) | max <= 1e-9' rec.jsonl > /dev/null || fail "currents do not sum to zero"
 echo "ok: $(cat err.txt)"
+# A rate whose period is not a whole number of microseconds: rounded to 6667 us.
+make-pulse --amplitude 1 --frequency 150 --count 30 < "$TP_INPUTS/sai-weights.json" 2> /dev/null \
+  | stimctl --port emu --record r150.jsonl 2> /dev/null || fail "150 Hz"
+[[ $(lines r150.jsonl) -eq 30 ]] || fail "150 Hz: $(lines r150.jsonl) pulses"
+jq -se 'to_entries | map((.value.t_s - .key * 0.006667) | fabs) | max < 1e-9' r150.jsonl > /dev/null || fail "150 Hz period"
