@@ -45,10 +45,7 @@ int main(int argc, char** argv) {
     if (!config.empty()) {
       doc = tp::document_from_json(tp::read_json(config, "--config"));
     } else {
-      const int n = electrodes.empty() ? 8 : static_cast<int>(tp::parse_integer(electrodes, "--electrodes"));
-      const double p = pitch.empty() ? 1.0 : tp::parse_finite(pitch, "--pitch");
-      if (!(p > 0.0)) tp::bad_input("--pitch: must be > 0 mm");
-      doc.setup.array = tp::ElectrodeArray::uniform(n, p);
+      doc.setup.array = tp::array_from_flags(electrodes, pitch, 1);
       if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     }
     if (!model.empty()) doc.setup.conductor.model = model;

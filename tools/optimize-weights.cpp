@@ -53,11 +53,7 @@ int main(int argc, char** argv) {
     if (!config.empty()) {
       doc = tp::document_from_json(tp::read_json(config, "--config"));
     } else {
-      const long n = electrodes.empty() ? 8 : tp::parse_integer(electrodes, "--electrodes");
-      if (n < 2) tp::bad_input("--electrodes: need at least 2, got " + electrodes);
-      const double p = pitch.empty() ? 1.0 : tp::parse_finite(pitch, "--pitch");
-      if (!(p > 0.0)) tp::bad_input("--pitch: must be > 0 mm");
-      doc.setup.array = tp::ElectrodeArray::uniform(static_cast<int>(n), p);
+      doc.setup.array = tp::array_from_flags(electrodes, pitch, 2);
     }
     if (doc.setup.array.size() < 2) tp::bad_input("array: optimisation needs at least 2 electrodes");
     tp::OptimizeOptions opt;
@@ -77,13 +73,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
                  mode.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
     if (format == "csv") {
-      std::string out;
-      if (!no_header) {
-        const auto h = tp::optimize_csv_header(doc.setup);
-        for (std::size_t i = 0; i < h.size(); ++i) out += (i ? "," : "") + h[i];
-        out += "\n";
-      }
-      tp::cli::write_stdout(out + tp::optimize_csv_row(doc.setup, r));
+      tp::cli::write_stdout((no_header ? "" : tp::optimize_csv_header(doc.setup)) + tp::optimize_csv_row(doc.setup, r));
     } else {
       tp::cli::write_stdout(tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified)));
     }

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "io/number.hpp"
 #include "model/constants.hpp"
 
 namespace tp {
@@ -91,6 +92,16 @@ Document document_from_json(const Json& j) {
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!own.count(it.key())) d.extra[it.key()] = it.value();
   return d;
+}
+
+ElectrodeArray array_from_flags(const std::string& electrodes, const std::string& pitch, int min_electrodes) {
+  const long n = electrodes.empty() ? 8 : parse_integer(electrodes, "--electrodes");
+  if (n < min_electrodes)
+    bad_input("--electrodes: need at least " + std::to_string(min_electrodes) + ", got " + electrodes);
+  if (n > 4096) bad_input("--electrodes: at most 4096, got " + electrodes);
+  const double p = pitch.empty() ? 1.0 : parse_finite(pitch, "--pitch");
+  if (!(p > 0.0)) bad_input("--pitch: must be > 0 mm");
+  return ElectrodeArray::uniform(static_cast<int>(n), p);
 }
 
 Json array_to_json(const ElectrodeArray& a) {

@@ -99,11 +99,11 @@ Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool 
   return j;
 }
 
-std::vector<std::string> optimize_csv_header(const Setup& setup) {
-  std::vector<std::string> h = {"electrodes", "pitch_mm", "mode", "ratio", "target_max_af"};
-  for (const auto& rec : setup.receptors) h.push_back("max_af_" + rec.name);
-  for (std::size_t i = 0; i < setup.array.size(); ++i) h.push_back("w" + std::to_string(i));
-  return h;
+std::string optimize_csv_header(const Setup& setup) {
+  std::string h = "electrodes,pitch_mm,mode,ratio,target_max_af";
+  for (const auto& rec : setup.receptors) h += ",max_af_" + rec.name;
+  for (std::size_t i = 0; i < setup.array.size(); ++i) h += ",w" + std::to_string(i);
+  return h + "\n";
 }
 
 std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r) {

@@ -32,7 +32,7 @@ Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool 
                              const std::optional<double>& certified);
 
 // One CSV row per result: electrodes,pitch_mm,mode,ratio,target_max_af,max_af_<R>...,w0,w1,...
-std::vector<std::string> optimize_csv_header(const Setup& setup);
+std::string optimize_csv_header(const Setup& setup);  // the header line, with its newline
 std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r);
 
 }  // namespace tp

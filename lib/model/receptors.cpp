@@ -6,19 +6,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "io/json.hpp"
 
 namespace tp {
 
 extern const char* const kDefaultReceptorsJson;  // generated from data/receptors.json
 
 namespace {
-
-double finite_number(const nlohmann::ordered_json& j, const std::string& what) {
-  if (!j.is_number()) bad_input(what + ": expected a number");
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) bad_input(what + ": non-finite number");
-  return v;
-}
 
 Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) {
   const std::string where = "receptors[" + std::to_string(index) + "]";
@@ -44,16 +38,16 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
   const auto& d = j["depth_mm"];
   if (d.is_array()) {
     if (d.size() != 2) bad_input(at + ": 'depth_mm' range must be [min, max]");
-    r.depth_min_mm = finite_number(d[0], at + " depth_mm[0]");
-    r.depth_max_mm = finite_number(d[1], at + " depth_mm[1]");
+    r.depth_min_mm = json_finite(d[0], at + " depth_mm[0]");
+    r.depth_max_mm = json_finite(d[1], at + " depth_mm[1]");
   } else {
-    r.depth_min_mm = r.depth_max_mm = finite_number(d, at + " depth_mm");
+    r.depth_min_mm = r.depth_max_mm = json_finite(d, at + " depth_mm");
   }
   if (!(r.depth_min_mm > 0.0)) bad_input(at + ": depth must be > 0 mm");
   if (r.depth_max_mm < r.depth_min_mm) bad_input(at + ": depth range has max < min");
 
   if (!j.contains("diameter_um")) bad_input(at + ": missing 'diameter_um'");
-  r.fibre.diameter_um = finite_number(j["diameter_um"], at + " diameter_um");
+  r.fibre.diameter_um = json_finite(j["diameter_um"], at + " diameter_um");
   if (!(r.fibre.diameter_um > 0.0)) bad_input(at + ": diameter_um must be > 0");
 
   if (j.contains("myelinated")) {
