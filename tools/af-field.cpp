@@ -21,19 +21,24 @@ int main(int argc, char** argv) {
       "af-field"};
   std::string config, electrodes, pitch, weights, x_spec, y_spec, amplitude, model;
   bool summary = false;
-  auto* o_config = app.add_option("--config", config,
-                                  "Document with array, model, receptors and weights (JSON; - for stdin)")
-                      ->type_name("FILE");
-  auto* o_n = app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")->type_name("N");
+  auto* o_config =
+      app.add_option("--config", config,
+                     "Document with array, model, receptors and weights (JSON; - for stdin)")
+          ->type_name("FILE");
+  auto* o_n =
+      app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")
+          ->type_name("N");
   auto* o_pitch = app.add_option("--pitch", pitch, "Electrode pitch, mm [1]")->type_name("MM");
-  auto* o_w = app.add_option("--weights", weights, "Comma-separated weights, one per electrode (positive = cathodic) "
-                 "[one cathode on the centre electrode]")
-                 ->type_name("W1,W2,...");
+  auto* o_w = app.add_option("--weights", weights,
+                             "Comma-separated weights, one per electrode (positive = cathodic) "
+                             "[one cathode on the centre electrode]")
+                  ->type_name("W1,W2,...");
   o_config->excludes(o_n)->excludes(o_pitch)->excludes(o_w);
   app.add_option("--amplitude", amplitude,
                  "Current of an electrode with |weight| = 1, mA [the document's max_current_mA, 2]")
       ->type_name("MA");
-  app.add_option("--model", model, "Conductor model: line2d (the paper's) or strip2d [line2d]")->type_name("NAME");
+  app.add_option("--model", model, "Conductor model: line2d (the paper's) or strip2d [line2d]")
+      ->type_name("NAME");
   app.add_option("--x", x_spec, "Grid along the skin MIN:MAX:STEP, mm [array +-5 mm, step 0.1]")
       ->type_name("MIN:MAX:STEP");
   app.add_option("--y", y_spec, "Grid in depth MIN:MAX:STEP, mm, MIN > 0 [0.2:3:0.05]")
@@ -57,7 +62,8 @@ int main(int argc, char** argv) {
     if (doc.weights->size() != doc.setup.array.size())
       tp::bad_input("--weights: expected " + std::to_string(doc.setup.array.size()) +
                     " values (one per electrode), got " + std::to_string(doc.weights->size()));
-    const double amp = amplitude.empty() ? doc.max_current_mA : tp::parse_finite(amplitude, "--amplitude");
+    const double amp =
+        amplitude.empty() ? doc.max_current_mA : tp::parse_finite(amplitude, "--amplitude");
     if (!(amp > 0.0)) tp::bad_input("--amplitude: must be > 0 mA");
     std::vector<double> currents_mA;
     for (double w : *doc.weights) currents_mA.push_back(w * amp);
@@ -69,7 +75,8 @@ int main(int argc, char** argv) {
       tp::cli::write_stdout(tp::dump_json(tp::summary_to_json(doc.setup, currents_mA, s)));
       return;
     }
-    const tp::Axis x = x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
+    const tp::Axis x =
+        x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
     const tp::Axis y = y_spec.empty() ? tp::default_y_axis() : tp::parse_axis(y_spec, "--y");
     tp::write_af_grid(stdout, field, x, y);
   });

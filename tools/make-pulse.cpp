@@ -1,7 +1,8 @@
 // make-pulse: turn a weights document into a checked, charge-balanced biphasic stimulus.
 //
-//   optimize-weights --mode SAI | make-pulse --amplitude 1 --frequency 200 --duration 1 | stimctl --port emu
-//   optimize-weights --mode SAI | make-pulse --amplitude 1 --format csv | scripts/plot-pulse -o pulse.png
+//   optimize-weights --mode SAI | make-pulse --amplitude 1 --frequency 200 --duration 1 | stimctl
+//   --port emu optimize-weights --mode SAI | make-pulse --amplitude 1 --format csv |
+//   scripts/plot-pulse -o pulse.png
 
 #include <cstdio>
 #include <string>
@@ -20,13 +21,14 @@ int main(int argc, char** argv) {
       "(positive = cathodic main phase), balanced to zero net charge.  Every limit is "
       "checked first: peak current, zero sum at every instant, charge balance, width, rate.",
       "make-pulse"};
-  std::string input = "-", amplitude, frequency = "200", width = "200", balance_width, interphase = "0",
-              duration, count, format = "json", csv_pulses = "3";
+  std::string input = "-", amplitude, frequency = "200", width = "200", balance_width,
+              interphase = "0", duration, count, format = "json", csv_pulses = "3";
   app.add_option("--input", input, "Weights document, - for stdin [-]")->type_name("FILE");
   app.add_option("--amplitude", amplitude, "Current of a channel with |weight| = 1, mA")
       ->required()
       ->type_name("MA");
-  app.add_option("--frequency", frequency, "Pulse rate, Hz [200; the paper: 200 for SAI, < 100 for RA]")
+  app.add_option("--frequency", frequency,
+                 "Pulse rate, Hz [200; the paper: 200 for SAI, < 100 for RA]")
       ->type_name("HZ");
   app.add_option("--width", width, "Main phase width, us [200]")->type_name("US");
   app.add_option("--balance-width", balance_width,
@@ -35,7 +37,8 @@ int main(int argc, char** argv) {
       ->type_name("US");
   app.add_option("--interphase", interphase, "Gap between the phases, us [0]")->type_name("US");
   auto* o_d = app.add_option("--duration", duration, "Stimulus length, s [1]")->type_name("S");
-  auto* o_c = app.add_option("--count", count, "Number of pulses (instead of --duration)")->type_name("N");
+  auto* o_c =
+      app.add_option("--count", count, "Number of pulses (instead of --duration)")->type_name("N");
   o_d->excludes(o_c);
   app.add_option("--format", format, "json (stimulus document) or csv (waveform corners) [json]")
       ->check(CLI::IsMember({"json", "csv"}));
@@ -51,8 +54,9 @@ int main(int argc, char** argv) {
     s.max_current_mA = doc.max_current_mA;
     s.shape.frequency_hz = tp::parse_finite(frequency, "--frequency");
     s.shape.width_us = tp::parse_finite(width, "--width");
-    s.shape.balance_width_us = balance_width.empty() ? s.shape.width_us
-                                                     : tp::parse_finite(balance_width, "--balance-width");
+    s.shape.balance_width_us = balance_width.empty()
+                                   ? s.shape.width_us
+                                   : tp::parse_finite(balance_width, "--balance-width");
     s.shape.interphase_us = tp::parse_finite(interphase, "--interphase");
     if (!(s.shape.frequency_hz > 0.0)) tp::bad_input("--frequency: must be > 0 Hz");
     if (!count.empty()) {
@@ -74,14 +78,17 @@ int main(int argc, char** argv) {
                  "make-pulse: %zu channels, %ld pulses at %s Hz; peak %s mA, charge/phase %s nC, "
                  "%s uC/cm2, RMS %s mA, net charge %s nC\n",
                  s.currents_mA.size(), s.count, tp::number_text(s.shape.frequency_hz).c_str(),
-                 tp::number_text(f.peak_current_mA).c_str(), tp::number_text(f.max_charge_per_phase_nC).c_str(),
+                 tp::number_text(f.peak_current_mA).c_str(),
+                 tp::number_text(f.max_charge_per_phase_nC).c_str(),
                  tp::number_text(f.max_charge_density_uC_per_cm2).c_str(),
-                 tp::number_text(f.max_rms_current_mA).c_str(), tp::number_text(f.max_net_charge_nC).c_str());
+                 tp::number_text(f.max_rms_current_mA).c_str(),
+                 tp::number_text(f.max_net_charge_nC).c_str());
     if (format == "csv") {
       const long pulses = tp::parse_integer(csv_pulses, "--csv-pulses");
       if (pulses < 1 || pulses > 100000) tp::bad_input("--csv-pulses: must be 1 to 100000");
       std::vector<std::string> header{"t_us"};
-      for (std::size_t i = 0; i < s.currents_mA.size(); ++i) header.push_back("ch" + std::to_string(i) + "_mA");
+      for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
+        header.push_back("ch" + std::to_string(i) + "_mA");
       tp::CsvWriter csv(stdout);
       csv.header(header);
       for (const auto& row : tp::waveform_points(s, pulses)) csv.row(row);

@@ -27,12 +27,16 @@ int main(int argc, char** argv) {
   app.add_option("--mode", mode, "Target receptor: RA, SAI or PC (any name in the receptor table)")
       ->required()
       ->type_name("MODE");
-  auto* o_config = app.add_option("--config", config, "Document with array, model and receptors (JSON; - for stdin)")
+  auto* o_config = app.add_option("--config", config,
+                                  "Document with array, model and receptors (JSON; - for stdin)")
                        ->type_name("FILE");
-  auto* o_n = app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")->type_name("N");
+  auto* o_n =
+      app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")
+          ->type_name("N");
   auto* o_p = app.add_option("--pitch", pitch, "Electrode pitch, mm [1]")->type_name("MM");
   o_config->excludes(o_n)->excludes(o_p);
-  app.add_option("--max-current", max_current, "Current limit per electrode, mA [the document's, or 2]")
+  app.add_option("--max-current", max_current,
+                 "Current limit per electrode, mA [the document's, or 2]")
       ->type_name("MA");
   app.add_option("--min-target-af", min_af,
                  "Trade selectivity for efficiency: the target's largest AF at the current limit "
@@ -41,9 +45,11 @@ int main(int argc, char** argv) {
   app.add_option("--random-starts", random_starts, "Random starts besides the paper's patterns [4]")
       ->check(CLI::Range(0, 1000))
       ->type_name("K");
-  app.add_option("--format", format, "Output: json or csv [json]")->check(CLI::IsMember({"json", "csv"}));
+  app.add_option("--format", format, "Output: json or csv [json]")
+      ->check(CLI::IsMember({"json", "csv"}));
   app.add_flag("--no-header", no_header, "CSV without its header row (for sweeps)");
-  app.add_flag("--timing", timing, "Add solver.time_s to the JSON (output is then not reproducible)");
+  app.add_flag("--timing", timing,
+               "Add solver.time_s to the JSON (output is then not reproducible)");
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");
@@ -55,7 +61,8 @@ int main(int argc, char** argv) {
     } else {
       doc.setup.array = tp::array_from_flags(electrodes, pitch, 2);
     }
-    if (doc.setup.array.size() < 2) tp::bad_input("array: optimisation needs at least 2 electrodes");
+    if (doc.setup.array.size() < 2)
+      tp::bad_input("array: optimisation needs at least 2 electrodes");
     tp::OptimizeOptions opt;
     if (!max_current.empty()) doc.max_current_mA = tp::parse_finite(max_current, "--max-current");
     if (!(doc.max_current_mA > 0.0)) tp::bad_input("--max-current: must be > 0 mA");
@@ -70,10 +77,13 @@ int main(int argc, char** argv) {
       const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
       certified = tp::certify_mode(doc.setup, mode, opt.polish_step_mm, bound).optimum;
     }
-    std::fprintf(stderr, "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
-                 mode.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
+    std::fprintf(
+        stderr,
+        "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
+        mode.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
     if (format == "csv") {
-      tp::cli::write_stdout((no_header ? "" : tp::optimize_csv_header(doc.setup)) + tp::optimize_csv_row(doc.setup, r));
+      tp::cli::write_stdout((no_header ? "" : tp::optimize_csv_header(doc.setup)) +
+                            tp::optimize_csv_row(doc.setup, r));
     } else {
       tp::cli::write_stdout(tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified)));
     }

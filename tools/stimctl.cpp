@@ -1,8 +1,8 @@
 // stimctl: deliver a stimulus document through a stimulator (serial port or emulator).
 //
-//   optimize-weights --mode SAI | make-pulse --amplitude 1 --frequency 200 | stimctl --port emu --duration 1
-//   stimctl --port /dev/ttyACM0 < stimulus.json
-//   producer | stimctl --port /dev/ttyACM0 --live --stimulus stimulus.json   # weight frames as JSON lines
+//   optimize-weights --mode SAI | make-pulse --amplitude 1 --frequency 200 | stimctl --port emu
+//   --duration 1 stimctl --port /dev/ttyACM0 < stimulus.json producer | stimctl --port /dev/ttyACM0
+//   --live --stimulus stimulus.json   # weight frames as JSON lines
 
 #include <csignal>
 #include <cstdio>
@@ -15,7 +15,9 @@
 
 namespace {
 volatile std::sig_atomic_t g_signal = 0;
-void on_signal(int sig) { g_signal = sig; }
+void on_signal(int sig) {
+  g_signal = sig;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -30,21 +32,28 @@ int main(int argc, char** argv) {
   std::string port = "emu", stimulus_path = "-", duration, record, latency_log, backend = "auto";
   int baud = 115200, emu_channels = 8;
   bool list = false, live = false;
-  app.add_option("--port", port, "Serial port path, or emu for the in-process emulator [emu]")->type_name("PORT");
+  app.add_option("--port", port, "Serial port path, or emu for the in-process emulator [emu]")
+      ->type_name("PORT");
   app.add_option("--baud", baud, "Baud rate [115200]")->check(CLI::Range(300, 4000000));
   app.add_option("--backend", backend,
                  "Serial backend: auto (libserialport; POSIX termios for pseudo-terminals), "
                  "libserialport or posix [auto]")
       ->check(CLI::IsMember({"auto", "libserialport", "posix"}));
   app.add_flag("--list", list, "List serial ports (CSV: port,description) and exit");
-  app.add_option("--stimulus", stimulus_path, "Stimulus document, - for stdin [-]")->type_name("FILE");
-  app.add_option("--duration", duration, "Stop after this long, s [the stimulus' own duration]")->type_name("S");
-  app.add_flag("--live", live,
-               "After starting, read weight frames from stdin as JSON lines {\"currents_mA\": [...]}, "
-               "applied at the next pulse; needs --stimulus FILE");
-  app.add_option("--record", record, "Emulator only: write each delivered pulse as a JSON line")->type_name("FILE");
-  app.add_option("--emu-channels", emu_channels, "Emulator only: channel count [8]")->check(CLI::Range(1, 64));
-  app.add_option("--latency-log", latency_log, "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
+  app.add_option("--stimulus", stimulus_path, "Stimulus document, - for stdin [-]")
+      ->type_name("FILE");
+  app.add_option("--duration", duration, "Stop after this long, s [the stimulus' own duration]")
+      ->type_name("S");
+  app.add_flag(
+      "--live", live,
+      "After starting, read weight frames from stdin as JSON lines {\"currents_mA\": [...]}, "
+      "applied at the next pulse; needs --stimulus FILE");
+  app.add_option("--record", record, "Emulator only: write each delivered pulse as a JSON line")
+      ->type_name("FILE");
+  app.add_option("--emu-channels", emu_channels, "Emulator only: channel count [8]")
+      ->check(CLI::Range(1, 64));
+  app.add_option("--latency-log", latency_log,
+                 "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
       ->type_name("FILE");
 
   return tp::cli::run(app, argc, argv, [&] {
@@ -57,8 +66,10 @@ int main(int argc, char** argv) {
       tp::cli::write_stdout(out);
       return;
     }
-    if (live && stimulus_path == "-") tp::bad_input("--live: give the stimulus with --stimulus FILE (stdin carries the frames)");
-    if (port != "emu" && !record.empty()) tp::bad_input("--record: only with --port emu (stim-emu has its own)");
+    if (live && stimulus_path == "-")
+      tp::bad_input("--live: give the stimulus with --stimulus FILE (stdin carries the frames)");
+    if (port != "emu" && !record.empty())
+      tp::bad_input("--record: only with --port emu (stim-emu has its own)");
     const tp::Stimulus s = tp::stimulus_from_json(tp::read_json(stimulus_path, "stimulus"));
     tp::check_stimulus(s, tp::StimulusLimits{});
     tp::host::SessionOptions opt;
@@ -82,12 +93,15 @@ int main(int argc, char** argv) {
     double peak = 0;
     for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
     std::fprintf(stderr,
-                 "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s, %d retransmissions; %s; "
+                 "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s, %d "
+                 "retransmissions; %s; "
                  "output stopped\n",
-                 r.port.c_str(), r.pulses, s.currents_mA.size(), tp::number_text(s.shape.frequency_hz).c_str(),
-                 tp::number_text(peak).c_str(), tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
+                 r.port.c_str(), r.pulses, s.currents_mA.size(),
+                 tp::number_text(s.shape.frequency_hz).c_str(), tp::number_text(peak).c_str(),
+                 tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
                  live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
                  r.retransmissions, r.end.c_str());
-    if (r.exit_code != 0) throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
+    if (r.exit_code != 0)
+      throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
   });
 }

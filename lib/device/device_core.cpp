@@ -22,7 +22,8 @@ void DeviceCore::receive(const std::uint8_t* data, std::size_t n, std::uint64_t 
     have_last_ = true;
     out.insert(out.end(), last_reply_.begin(), last_reply_.end());
   }
-  status_.rx_errors = static_cast<std::uint16_t>(std::min<std::uint32_t>(decoder_.errors(), 0xFFFF));
+  status_.rx_errors =
+      static_cast<std::uint16_t>(std::min<std::uint32_t>(decoder_.errors(), 0xFFFF));
 }
 
 std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_us) {
@@ -38,8 +39,10 @@ std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_u
       body.insert(body.end(), c.begin(), c.end());
       return body;
     }
-    case Msg::configure: return result(configure(f.payload));
-    case Msg::set_weights: return result(set_weights(f.payload));
+    case Msg::configure:
+      return result(configure(f.payload));
+    case Msg::set_weights:
+      return result(set_weights(f.payload));
     case Msg::start:
       if (!f.payload.empty()) return result(Result::bad_length);
       if (!configured_ || !weights_set_) return result(Result::not_configured);
@@ -71,7 +74,8 @@ Result DeviceCore::configure(const std::vector<std::uint8_t>& payload) {
   const auto c = decode_config(payload);
   if (!c) return Result::bad_length;
   if (c->channels == 0 || c->channels > caps_.channels) return Result::channel_mismatch;
-  if (c->width_us < caps_.min_width_us || c->width_us > caps_.max_width_us) return Result::out_of_range;
+  if (c->width_us < caps_.min_width_us || c->width_us > caps_.max_width_us)
+    return Result::out_of_range;
   if (c->balance_width_us < c->width_us || c->balance_width_us > caps_.max_balance_width_us)
     return Result::out_of_range;
   if (c->interphase_us > caps_.max_width_us) return Result::out_of_range;
@@ -102,7 +106,8 @@ Result DeviceCore::set_weights(const std::vector<std::uint8_t>& payload) {
   return Result::ok;
 }
 
-void DeviceCore::advance(std::uint64_t now_us, const std::function<void(const DeliveredPulse&)>& sink) {
+void DeviceCore::advance(std::uint64_t now_us,
+                         const std::function<void(const DeliveredPulse&)>& sink) {
   if (status_.state != State::running) return;
   const std::uint64_t deadline = last_valid_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
   while (status_.state == State::running && next_pulse_us_ <= now_us && next_pulse_us_ < deadline) {

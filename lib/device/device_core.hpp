@@ -23,8 +23,8 @@
 namespace tp::device {
 
 struct DeliveredPulse {
-  std::uint64_t t_us;                 // device time of the pulse's start
-  std::uint64_t start_us;             // device time of the start command
+  std::uint64_t t_us;                      // device time of the pulse's start
+  std::uint64_t start_us;                  // device time of the start command
   const std::vector<std::int16_t>& codes;  // main-phase DAC codes, + = cathodic
   const PulseConfig& config;
   const Capabilities& caps;
@@ -35,7 +35,8 @@ class DeviceCore {
   explicit DeviceCore(Capabilities caps) : caps_(caps) {}
 
   // Bytes received at now_us; replies are appended to out.
-  void receive(const std::uint8_t* data, std::size_t n, std::uint64_t now_us, std::vector<std::uint8_t>& out);
+  void receive(const std::uint8_t* data, std::size_t n, std::uint64_t now_us,
+               std::vector<std::uint8_t>& out);
   // Emits every pulse due by now_us, then applies the watchdog.
   void advance(std::uint64_t now_us, const std::function<void(const DeliveredPulse&)>& sink);
   // The link is gone (port closed): stop output.

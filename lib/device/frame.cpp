@@ -43,7 +43,8 @@ bool FrameDecoder::push(std::uint8_t byte) {
       if (crc16(buf_.data(), len_ - 2) == crc) {
         frame_.seq = buf_[0];
         frame_.type = buf_[1];
-        frame_.payload.assign(buf_.begin() + 3, buf_.begin() + static_cast<std::ptrdiff_t>(len_ - 2));
+        frame_.payload.assign(buf_.begin() + 3,
+                              buf_.begin() + static_cast<std::ptrdiff_t>(len_ - 2));
         ok = true;
       }
     }

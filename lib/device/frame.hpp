@@ -41,7 +41,11 @@ class FrameDecoder {
   std::uint32_t errors() const { return errors_; }  // damaged frames dropped
 
  private:
-  void reset() { len_ = 0; escaped_ = false; broken_ = false; }
+  void reset() {
+    len_ = 0;
+    escaped_ = false;
+    broken_ = false;
+  }
   std::array<std::uint8_t, kMaxPayload + 5> buf_{};
   std::size_t len_ = 0;
   bool escaped_ = false;

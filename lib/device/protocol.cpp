@@ -4,24 +4,36 @@ namespace tp::device {
 
 const char* to_string(Result r) {
   switch (r) {
-    case Result::ok: return "ok";
-    case Result::unknown_type: return "unknown message type";
-    case Result::bad_length: return "bad message length";
-    case Result::out_of_range: return "value outside the device's limits";
-    case Result::not_configured: return "not configured";
-    case Result::sum_not_zero: return "channel currents do not sum to zero";
-    case Result::channel_mismatch: return "channel count does not match the device";
-    case Result::bad_state: return "not allowed while running";
+    case Result::ok:
+      return "ok";
+    case Result::unknown_type:
+      return "unknown message type";
+    case Result::bad_length:
+      return "bad message length";
+    case Result::out_of_range:
+      return "value outside the device's limits";
+    case Result::not_configured:
+      return "not configured";
+    case Result::sum_not_zero:
+      return "channel currents do not sum to zero";
+    case Result::channel_mismatch:
+      return "channel count does not match the device";
+    case Result::bad_state:
+      return "not allowed while running";
   }
   return "unknown result";
 }
 
 const char* to_string(Fault f) {
   switch (f) {
-    case Fault::none: return "none";
-    case Fault::watchdog: return "watchdog (no keep-alive)";
-    case Fault::link_lost: return "link lost";
-    case Fault::completed: return "completed";
+    case Fault::none:
+      return "none";
+    case Fault::watchdog:
+      return "watchdog (no keep-alive)";
+    case Fault::link_lost:
+      return "link lost";
+    case Fault::completed:
+      return "completed";
   }
   return "unknown fault";
 }
@@ -33,7 +45,9 @@ void put_u16(std::vector<std::uint8_t>& b, std::uint16_t v) {
 void put_u32(std::vector<std::uint8_t>& b, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xFF));
 }
-std::uint16_t get_u16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
+std::uint16_t get_u16(const std::uint8_t* p) {
+  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
+}
 std::uint32_t get_u32(const std::uint8_t* p) {
   return std::uint32_t{p[0]} | (std::uint32_t{p[1]} << 8) | (std::uint32_t{p[2]} << 16) |
          (std::uint32_t{p[3]} << 24);
@@ -55,7 +69,8 @@ std::vector<std::uint8_t> encode(const Capabilities& c) {
   return b;
 }
 
-std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>& b, std::size_t at) {
+std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>& b,
+                                                std::size_t at) {
   if (b.size() != at + 18) return std::nullopt;
   const std::uint8_t* p = b.data() + at;
   Capabilities c;

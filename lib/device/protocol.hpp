@@ -25,11 +25,11 @@ enum class Result : std::uint8_t {
   ok = 0,
   unknown_type = 1,
   bad_length = 2,
-  out_of_range = 3,       // a width, rate or current outside the device's limits
-  not_configured = 4,     // set_weights/start before configure, start before set_weights
-  sum_not_zero = 5,       // channel codes do not sum to zero
-  channel_mismatch = 6,   // more channels than the device has, or not the configured count
-  bad_state = 7,          // configure while running
+  out_of_range = 3,      // a width, rate or current outside the device's limits
+  not_configured = 4,    // set_weights/start before configure, start before set_weights
+  sum_not_zero = 5,      // channel codes do not sum to zero
+  channel_mismatch = 6,  // more channels than the device has, or not the configured count
+  bad_state = 7,         // configure while running
 };
 const char* to_string(Result r);
 
@@ -45,7 +45,7 @@ struct Capabilities {
   std::uint16_t max_width_us = 1000;
   std::uint16_t max_balance_width_us = 8000;
   std::uint16_t max_rate_hz = 1000;
-  std::uint16_t watchdog_ms = 300;      // output stops this long after the last valid frame
+  std::uint16_t watchdog_ms = 300;  // output stops this long after the last valid frame
   std::uint8_t fw_major = 0, fw_minor = 1, fw_patch = 0;
   std::int16_t max_code() const {
     return static_cast<std::int16_t>(std::uint32_t{max_current_uA} * 1000u / dac_step_nA);
@@ -64,9 +64,9 @@ struct PulseConfig {
 struct Status {
   State state = State::idle;
   Fault fault = Fault::none;
-  std::uint32_t pulses = 0;        // delivered since the last start
+  std::uint32_t pulses = 0;  // delivered since the last start
   std::uint32_t weight_updates = 0;
-  std::uint16_t rx_errors = 0;     // damaged frames dropped
+  std::uint16_t rx_errors = 0;  // damaged frames dropped
 };
 
 void put_u16(std::vector<std::uint8_t>& b, std::uint16_t v);

@@ -24,7 +24,9 @@ std::int64_t monotonic_ns() {
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
 }
-std::uint64_t monotonic_us() { return static_cast<std::uint64_t>(monotonic_ns() / 1000); }
+std::uint64_t monotonic_us() {
+  return static_cast<std::uint64_t>(monotonic_ns() / 1000);
+}
 
 PulseRecorder::PulseRecorder(const std::string& path) {
   if (path.empty()) return;
@@ -49,7 +51,8 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
     const double main = p.codes[i] * step_mA;
     const double balance = -main * scale;  // the balancing phase of the same channel
     line += (i ? ", " : "") + number_text(main);
-    charge += (i ? ", " : "") + number_text(main * p.config.width_us + balance * p.config.balance_width_us);
+    charge += (i ? ", " : "") +
+              number_text(main * p.config.width_us + balance * p.config.balance_width_us);
   }
   line += charge + "]}\n";
   std::fputs(line.c_str(), out_);
@@ -114,13 +117,14 @@ std::unique_ptr<Transport> make_serial_transport(const std::string& path, int ba
 std::unique_ptr<Transport> make_posix_transport(const std::string& path, int baud);
 bool is_pseudo_terminal(const std::string& path);
 
-std::unique_ptr<Transport> open_transport(const std::string& port, int baud, const EmulatorOptions& emu,
-                                          const std::string& backend) {
+std::unique_ptr<Transport> open_transport(const std::string& port, int baud,
+                                          const EmulatorOptions& emu, const std::string& backend) {
   if (port == "emu") return std::make_unique<LoopbackTransport>(emu);
   if (backend == "libserialport") return make_serial_transport(port, baud);
   if (backend == "posix") return make_posix_transport(port, baud);
   if (backend != "auto") bad_input("--backend: expected auto, libserialport or posix");
-  return is_pseudo_terminal(port) ? make_posix_transport(port, baud) : make_serial_transport(port, baud);
+  return is_pseudo_terminal(port) ? make_posix_transport(port, baud)
+                                  : make_serial_transport(port, baud);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -129,7 +133,9 @@ std::unique_ptr<Transport> open_transport(const std::string& port, int baud, con
 namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
+void on_signal(int) {
+  g_stop = 1;
+}
 
 // Applies drop/corrupt injection to a byte buffer in place.
 void inject(std::vector<std::uint8_t>& bytes, const FaultInjection& f, SplitMix64& rng) {
@@ -138,7 +144,8 @@ void inject(std::vector<std::uint8_t>& bytes, const FaultInjection& f, SplitMix6
   out.reserve(bytes.size());
   for (std::uint8_t b : bytes) {
     if (rng.unit() < f.drop) continue;
-    if (rng.unit() < f.corrupt) b = static_cast<std::uint8_t>(b ^ (1u << static_cast<int>(rng.unit() * 8)));
+    if (rng.unit() < f.corrupt)
+      b = static_cast<std::uint8_t>(b ^ (1u << static_cast<int>(rng.unit() * 8)));
     out.push_back(b);
   }
   bytes.swap(out);
@@ -199,7 +206,9 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     // Sleep until the next pulse or watchdog deadline, at most 5 ms.
     const std::uint64_t next = core.next_event_us();
     int timeout_ms = 5;
-    if (next != UINT64_MAX) timeout_ms = next <= now ? 0 : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
+    if (next != UINT64_MAX)
+      timeout_ms =
+          next <= now ? 0 : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
     pollfd pfd{master, static_cast<short>(stalled ? 0 : POLLIN), 0};
     const int pr = poll(&pfd, 1, timeout_ms);
     if (pr < 0 && errno != EINTR) break;
@@ -221,8 +230,10 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
         std::size_t off = 0;
         while (off < out.size()) {
           const ssize_t w = ::write(master, out.data() + off, out.size() - off);
-          if (w > 0) off += static_cast<std::size_t>(w);
-          else if (w < 0 && errno != EAGAIN && errno != EINTR) break;
+          if (w > 0)
+            off += static_cast<std::size_t>(w);
+          else if (w < 0 && errno != EAGAIN && errno != EINTR)
+            break;
         }
       }
     }

@@ -30,10 +30,10 @@ class PulseRecorder {
 };
 
 struct FaultInjection {
-  double drop = 0.0;        // fraction of bytes dropped, each direction
-  double corrupt = 0.0;     // fraction of bytes with one bit flipped, each direction
-  double stall_after_s = -1.0;  // stop answering (and reading) at this time after start-up...
-  double stall_s = 0.0;         // ... for this long
+  double drop = 0.0;                 // fraction of bytes dropped, each direction
+  double corrupt = 0.0;              // fraction of bytes with one bit flipped, each direction
+  double stall_after_s = -1.0;       // stop answering (and reading) at this time after start-up...
+  double stall_s = 0.0;              // ... for this long
   double disconnect_after_s = -1.0;  // close the line at this time after start-up
   std::uint64_t seed = 1;
 };

@@ -25,15 +25,24 @@ constexpr int kWriteTimeoutMs = 1000;
 
 speed_t speed_of(int baud) {
   switch (baud) {
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    case 230400: return B230400;
-    case 460800: return B460800;
-    case 921600: return B921600;
-    default: bad_input("--baud: " + std::to_string(baud) + " is not a standard rate for this port");
+    case 9600:
+      return B9600;
+    case 19200:
+      return B19200;
+    case 38400:
+      return B38400;
+    case 57600:
+      return B57600;
+    case 115200:
+      return B115200;
+    case 230400:
+      return B230400;
+    case 460800:
+      return B460800;
+    case 921600:
+      return B921600;
+    default:
+      bad_input("--baud: " + std::to_string(baud) + " is not a standard rate for this port");
   }
 }
 
@@ -51,7 +60,8 @@ class PosixTtyTransport final : public Transport {
     t.c_cflag |= CLOCAL | CREAD;
     cfsetispeed(&t, speed_of(baud));
     cfsetospeed(&t, speed_of(baud));
-    if (tcsetattr(fd_, TCSANOW, &t) != 0) failure(path + ": cannot configure: " + std::strerror(errno));
+    if (tcsetattr(fd_, TCSANOW, &t) != 0)
+      failure(path + ": cannot configure: " + std::strerror(errno));
     tcflush(fd_, TCIOFLUSH);
   }
   ~PosixTtyTransport() override { ::close(fd_); }
@@ -86,7 +96,8 @@ class PosixTtyTransport final : public Transport {
       const ssize_t n = ::read(fd_, buf, max);
       if (n > 0) return static_cast<std::size_t>(n);
       if (n < 0 && (errno == EAGAIN || errno == EINTR)) return 0;
-      failure(path_ + ": device lost (" + (n == 0 ? std::string("end of file") : std::strerror(errno)) + ")");
+      failure(path_ + ": device lost (" +
+              (n == 0 ? std::string("end of file") : std::strerror(errno)) + ")");
     }
     if (p.revents & (POLLERR | POLLHUP | POLLNVAL)) failure(path_ + ": device lost (line hung up)");
     return 0;

@@ -52,8 +52,10 @@ class SerialTransport final : public Transport {
   std::string name() const override { return path_; }
 
   void write(const std::uint8_t* data, std::size_t n) override {
-    const int written = check(sp_blocking_write(port_, data, n, kWriteTimeoutMs), path_ + ": write");
-    if (static_cast<std::size_t>(written) != n) failure(path_ + ": write timed out (device not reading)");
+    const int written =
+        check(sp_blocking_write(port_, data, n, kWriteTimeoutMs), path_ + ": write");
+    if (static_cast<std::size_t>(written) != n)
+      failure(path_ + ": write timed out (device not reading)");
   }
 
   std::size_t read(std::uint8_t* buf, std::size_t max, int timeout_ms) override {

@@ -20,7 +20,8 @@ namespace {
 std::uint16_t whole_us(double v, const char* what) {
   const double r = std::round(v);
   if (std::fabs(v - r) > 1e-6 || r < 0 || r > 65535)
-    bad_input(std::string(what) + ": the device takes whole microseconds up to 65535, got " + number_text(v));
+    bad_input(std::string(what) + ": the device takes whole microseconds up to 65535, got " +
+              number_text(v));
   return static_cast<std::uint16_t>(r);
 }
 
@@ -29,7 +30,8 @@ StimulusLimits device_limits(StimulusLimits l, const device::Capabilities& c) {
   l.max_current_mA = std::min(l.max_current_mA, c.max_current_uA * 1e-3);
   l.min_width_us = std::max(l.min_width_us, static_cast<double>(c.min_width_us));
   l.max_width_us = std::min(l.max_width_us, static_cast<double>(c.max_width_us));
-  l.max_balance_width_us = std::min(l.max_balance_width_us, static_cast<double>(c.max_balance_width_us));
+  l.max_balance_width_us =
+      std::min(l.max_balance_width_us, static_cast<double>(c.max_balance_width_us));
   l.max_frequency_hz = std::min(l.max_frequency_hz, static_cast<double>(c.max_rate_hz));
   return l;
 }
@@ -77,7 +79,8 @@ std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line
     bad_input(where + ": expected {\"currents_mA\": [...]}");
   std::vector<double> c;
   for (std::size_t i = 0; i < j["currents_mA"].size(); ++i)
-    c.push_back(json_finite(j["currents_mA"][i], where + " currents_mA[" + std::to_string(i) + "]"));
+    c.push_back(
+        json_finite(j["currents_mA"][i], where + " currents_mA[" + std::to_string(i) + "]"));
   if (c.size() != shape_of.currents_mA.size())
     bad_input(where + ": " + std::to_string(c.size()) + " currents for " +
               std::to_string(shape_of.currents_mA.size()) + " channels");
@@ -90,7 +93,9 @@ std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line
   return quantize_currents(c, caps);
 }
 
-std::int64_t now_ns() { return monotonic_ns(); }
+std::int64_t now_ns() {
+  return monotonic_ns();
+}
 
 }  // namespace
 
@@ -104,13 +109,14 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   //    before every check has passed.
   rep.caps = dev.identify();
   if (s.currents_mA.size() > rep.caps.channels)
-    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) + " channels; the device has " +
-              std::to_string(rep.caps.channels));
+    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
+              " channels; the device has " + std::to_string(rep.caps.channels));
   const StimulusLimits lim = device_limits(opt.limits, rep.caps);
   check_stimulus(s, lim);
   Stimulus run = s;
   if (opt.duration_s >= 0) {
-    if (!(opt.duration_s > 0) || !std::isfinite(opt.duration_s)) bad_input("--duration: must be > 0 s");
+    if (!(opt.duration_s > 0) || !std::isfinite(opt.duration_s))
+      bad_input("--duration: must be > 0 s");
     run.count = std::min<long>(s.count, std::lround(opt.duration_s * s.shape.frequency_hz));
     if (opt.live) run.count = std::lround(opt.duration_s * s.shape.frequency_hz);
     if (run.count < 1) bad_input("--duration: shorter than one pulse period");
@@ -145,7 +151,9 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
     std::int64_t last_keepalive = now_ns();
     while (true) {
       if (signal_flag && *signal_flag) {
-        rep.end = *signal_flag == SIGINT ? "interrupted (SIGINT)" : *signal_flag == SIGTERM ? "terminated (SIGTERM)" : "signal";
+        rep.end = *signal_flag == SIGINT    ? "interrupted (SIGINT)"
+                  : *signal_flag == SIGTERM ? "terminated (SIGTERM)"
+                                            : "signal";
         rep.exit_code = 128 + *signal_flag;
         break;
       }
@@ -161,7 +169,9 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
           const auto frame = live_frame(line, n_line, s, lim, rep.caps);
           dev.set_weights(frame);
           ++rep.weight_frames;
-          if (latency) std::fprintf(latency, "%u %lld\n", rep.weight_frames, static_cast<long long>(dev.last_write_ns()));
+          if (latency)
+            std::fprintf(latency, "%u %lld\n", rep.weight_frames,
+                         static_cast<long long>(dev.last_write_ns()));
           last_keepalive = now_ns();  // every acknowledged frame feeds the watchdog
         }
         if (!more) {

@@ -13,18 +13,18 @@
 namespace tp::host {
 
 struct SessionOptions {
-  double duration_s = -1.0;     // stop after this long (< 0: the stimulus' own duration)
-  bool live = false;            // after starting, read weight frames (JSON lines) from input_fd
+  double duration_s = -1.0;  // stop after this long (< 0: the stimulus' own duration)
+  bool live = false;         // after starting, read weight frames (JSON lines) from input_fd
   int input_fd = 0;
-  std::string latency_log;      // live mode: "n t_ns" per weight frame written (benchmarks)
-  StimulusLimits limits;        // the host's limits
+  std::string latency_log;  // live mode: "n t_ns" per weight frame written (benchmarks)
+  StimulusLimits limits;    // the host's limits
 };
 
 struct SessionReport {
   std::string port;
-  std::string end;              // why the output stopped
-  int exit_code = 0;            // 0, or 128 + signal
-  std::uint32_t pulses = 0;     // delivered, per the device
+  std::string end;           // why the output stopped
+  int exit_code = 0;         // 0, or 128 + signal
+  std::uint32_t pulses = 0;  // delivered, per the device
   std::uint32_t weight_frames = 0;
   double seconds = 0.0;
   int retransmissions = 0;

@@ -11,45 +11,60 @@
 
 namespace tp::host {
 namespace {
-std::int64_t now_ns() { return monotonic_ns(); }
+std::int64_t now_ns() {
+  return monotonic_ns();
+}
 const char* msg_name(device::Msg m) {
   switch (m) {
-    case device::Msg::identify: return "identify";
-    case device::Msg::configure: return "configure";
-    case device::Msg::set_weights: return "set-weights";
-    case device::Msg::start: return "start";
-    case device::Msg::stop: return "stop";
-    case device::Msg::status: return "status";
-    case device::Msg::keepalive: return "keep-alive";
-    default: return "message";
+    case device::Msg::identify:
+      return "identify";
+    case device::Msg::configure:
+      return "configure";
+    case device::Msg::set_weights:
+      return "set-weights";
+    case device::Msg::start:
+      return "start";
+    case device::Msg::stop:
+      return "stop";
+    case device::Msg::status:
+      return "status";
+    case device::Msg::keepalive:
+      return "keep-alive";
+    default:
+      return "message";
   }
 }
 }  // namespace
 
-std::vector<std::uint8_t> StimulatorClient::request(device::Msg type, const std::vector<std::uint8_t>& payload) {
+std::vector<std::uint8_t> StimulatorClient::request(device::Msg type,
+                                                    const std::vector<std::uint8_t>& payload) {
   const std::uint8_t seq = ++seq_;
   std::vector<std::uint8_t> bytes;
   device::encode_frame(device::Frame{seq, static_cast<std::uint8_t>(type), payload}, bytes);
   std::uint8_t buf[512];
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
-    if (attempt == 0) last_write_ns_ = now_ns();
-    else ++retransmissions_;
+    if (attempt == 0)
+      last_write_ns_ = now_ns();
+    else
+      ++retransmissions_;
     t_.write(bytes.data(), bytes.size());
     const std::int64_t deadline = now_ns() + std::int64_t{kAckTimeoutMs} * 1000000;
     while (true) {
       const std::int64_t left_ms = (deadline - now_ns()) / 1000000;
       if (left_ms < 0) break;
-      const std::size_t n = t_.read(buf, sizeof buf, static_cast<int>(std::max<std::int64_t>(left_ms, 1)));
+      const std::size_t n =
+          t_.read(buf, sizeof buf, static_cast<int>(std::max<std::int64_t>(left_ms, 1)));
       for (std::size_t i = 0; i < n; ++i) {
         if (!decoder_.push(buf[i])) continue;
         const device::Frame& f = decoder_.frame();
         // Only the acknowledgement of this request counts; stale ones are ignored.
-        if (f.type != static_cast<std::uint8_t>(device::Msg::ack) || f.seq != seq || f.payload.size() < 2 ||
-            f.payload[0] != static_cast<std::uint8_t>(type))
+        if (f.type != static_cast<std::uint8_t>(device::Msg::ack) || f.seq != seq ||
+            f.payload.size() < 2 || f.payload[0] != static_cast<std::uint8_t>(type))
           continue;
         const auto result = static_cast<device::Result>(f.payload[1]);
         if (result != device::Result::ok)
-          failure(std::string("device refused ") + msg_name(type) + ": " + device::to_string(result));
+          failure(std::string("device refused ") + msg_name(type) + ": " +
+                  device::to_string(result));
         return std::vector<std::uint8_t>(f.payload.begin() + 2, f.payload.end());
       }
     }
@@ -64,13 +79,21 @@ device::Capabilities StimulatorClient::identify() {
   if (!caps) failure("device sent malformed capabilities");
   return *caps;
 }
-void StimulatorClient::configure(const device::PulseConfig& c) { request(device::Msg::configure, device::encode(c)); }
+void StimulatorClient::configure(const device::PulseConfig& c) {
+  request(device::Msg::configure, device::encode(c));
+}
 void StimulatorClient::set_weights(const std::vector<std::int16_t>& codes) {
   request(device::Msg::set_weights, device::encode_weights(codes));
 }
-void StimulatorClient::start() { request(device::Msg::start, {}); }
-void StimulatorClient::stop() { request(device::Msg::stop, {}); }
-void StimulatorClient::keepalive() { request(device::Msg::keepalive, {}); }
+void StimulatorClient::start() {
+  request(device::Msg::start, {});
+}
+void StimulatorClient::stop() {
+  request(device::Msg::stop, {});
+}
+void StimulatorClient::keepalive() {
+  request(device::Msg::keepalive, {});
+}
 device::Status StimulatorClient::status() {
   const auto body = request(device::Msg::status, {});
   const auto s = device::decode_status(body, 0);

@@ -32,7 +32,8 @@ struct EmulatorOptions {
 
 // Opens "emu" or a port at `baud`.  backend: "auto" (by the port, as above),
 // "libserialport" or "posix".
-std::unique_ptr<Transport> open_transport(const std::string& port, int baud, const EmulatorOptions& emu,
+std::unique_ptr<Transport> open_transport(const std::string& port, int baud,
+                                          const EmulatorOptions& emu,
                                           const std::string& backend = "auto");
 
 // Serial ports known to libserialport: "name\tdescription" each.

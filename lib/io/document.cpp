@@ -28,7 +28,8 @@ ElectrodeArray array_from_json(const Json& j) {
   reject_unknown(j, {"electrodes", "pitch_mm", "positions_mm", "width_mm", "length_mm"}, "array");
   ElectrodeArray a;
   const double width = j.contains("width_mm") ? json_finite(j["width_mm"], "array.width_mm") : 0.5;
-  const double length = j.contains("length_mm") ? json_finite(j["length_mm"], "array.length_mm") : 10.0;
+  const double length =
+      j.contains("length_mm") ? json_finite(j["length_mm"], "array.length_mm") : 10.0;
   if (j.contains("positions_mm")) {
     a.positions_mm = finite_list(j["positions_mm"], "array.positions_mm");
     a.width_mm = width;
@@ -67,8 +68,10 @@ Document document_from_json(const Json& j) {
       d.setup.conductor.model = m["conductor"].get<std::string>();
     }
     if (m.contains("resistivity_ohm_m")) {
-      d.setup.conductor.resistivity_ohm_m = json_finite(m["resistivity_ohm_m"], "model.resistivity_ohm_m");
-      if (!(d.setup.conductor.resistivity_ohm_m > 0)) bad_input("model.resistivity_ohm_m: must be > 0");
+      d.setup.conductor.resistivity_ohm_m =
+          json_finite(m["resistivity_ohm_m"], "model.resistivity_ohm_m");
+      if (!(d.setup.conductor.resistivity_ohm_m > 0))
+        bad_input("model.resistivity_ohm_m: must be > 0");
     }
     if (m.contains("lateral_margin_mm")) {
       d.setup.lateral_margin_mm = json_finite(m["lateral_margin_mm"], "model.lateral_margin_mm");
@@ -87,17 +90,19 @@ Document document_from_json(const Json& j) {
     d.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
     if (!(d.max_current_mA > 0)) bad_input("max_current_mA: must be > 0");
   }
-  static const std::set<std::string> own = {"format", "array", "model", "receptors", "weights",
-                                            "max_current_mA"};
+  static const std::set<std::string> own = {"format",    "array",   "model",
+                                            "receptors", "weights", "max_current_mA"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!own.count(it.key())) d.extra[it.key()] = it.value();
   return d;
 }
 
-ElectrodeArray array_from_flags(const std::string& electrodes, const std::string& pitch, int min_electrodes) {
+ElectrodeArray array_from_flags(const std::string& electrodes, const std::string& pitch,
+                                int min_electrodes) {
   const long n = electrodes.empty() ? 8 : parse_integer(electrodes, "--electrodes");
   if (n < min_electrodes)
-    bad_input("--electrodes: need at least " + std::to_string(min_electrodes) + ", got " + electrodes);
+    bad_input("--electrodes: need at least " + std::to_string(min_electrodes) + ", got " +
+              electrodes);
   if (n > 4096) bad_input("--electrodes: at most 4096, got " + electrodes);
   const double p = pitch.empty() ? 1.0 : parse_finite(pitch, "--pitch");
   if (!(p > 0.0)) bad_input("--pitch: must be > 0 mm");

@@ -27,7 +27,8 @@ Document document_from_json(const Json& j);
 
 // A uniform array from the --electrodes and --pitch flags (empty: 8 electrodes, 1 mm);
 // bad input names the flag.
-ElectrodeArray array_from_flags(const std::string& electrodes, const std::string& pitch, int min_electrodes);
+ElectrodeArray array_from_flags(const std::string& electrodes, const std::string& pitch,
+                                int min_electrodes);
 
 Json array_to_json(const ElectrodeArray& a);
 Json model_to_json(const Setup& s);

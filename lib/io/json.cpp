@@ -25,7 +25,8 @@ Json read_json(const std::string& path, const std::string& what) {
     if (in.bad()) bad_input(what + ": cannot read '" + path + "'");
   }
   const std::string name = path == "-" ? "stdin" : "'" + path + "'";
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) bad_input(what + ": " + name + " is empty");
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    bad_input(what + ": " + name + " is empty");
   try {
     return Json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
@@ -37,7 +38,9 @@ Json read_json(const std::string& path, const std::string& what) {
   }
 }
 
-std::string dump_json(const Json& j) { return j.dump(2) + "\n"; }
+std::string dump_json(const Json& j) {
+  return j.dump(2) + "\n";
+}
 
 double json_finite(const Json& j, const std::string& what) {
   if (!j.is_number()) bad_input(what + ": expected a number");
@@ -47,7 +50,8 @@ double json_finite(const Json& j, const std::string& what) {
 }
 
 int json_int(const Json& j, const std::string& what) {
-  if (!j.is_number_integer() && !(j.is_number_float() && std::floor(j.get<double>()) == j.get<double>()))
+  if (!j.is_number_integer() &&
+      !(j.is_number_float() && std::floor(j.get<double>()) == j.get<double>()))
     bad_input(what + ": expected an integer");
   const double v = j.get<double>();
   if (std::fabs(v) > 1e9) bad_input(what + ": out of range");

@@ -1,8 +1,8 @@
 #include "io/number.hpp"
 
 #include <charconv>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <system_error>
 
 #include "core/error.hpp"
@@ -39,8 +39,8 @@ std::vector<double> parse_list(std::string_view text, const std::string& what) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = text.find(',', start);
-    const std::string_view item =
-        text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    const std::string_view item = text.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
     out.push_back(parse_finite(item, what + " item " + std::to_string(out.size() + 1)));
     if (comma == std::string_view::npos) break;
     start = comma + 1;
@@ -79,8 +79,8 @@ std::size_t format_number(char* buf, double value) {
   static const double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                   1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                   1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-  static const double kPow10Neg[] = {1e0,   1e-1,  1e-2,  1e-3,  1e-4,  1e-5,  1e-6,
-                                     1e-7,  1e-8,  1e-9,  1e-10, 1e-11, 1e-12, 1e-13};
+  static const double kPow10Neg[] = {1e0,  1e-1, 1e-2, 1e-3,  1e-4,  1e-5,  1e-6,
+                                     1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13};
   static const char kPairs[] =
       "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
       "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
@@ -97,8 +97,10 @@ std::size_t format_number(char* buf, double value) {
   auto pow10 = [](int k) { return k >= 0 ? kPow10[k] : kPow10Neg[-k]; };
   // Decimal exponent from the binary one: floor(e2 * log10(2)), corrected by one step.
   int e = (std::ilogb(a) * 78913) >> 18;
-  if (a < pow10(e)) --e;
-  else if (a >= pow10(e + 1)) ++e;
+  if (a < pow10(e))
+    --e;
+  else if (a >= pow10(e + 1))
+    ++e;
   const int k = 9 - e;  // -2 <= k <= 21
   long long m = std::llrint(k >= 0 ? a * kPow10[k] : a / kPow10[-k]);
   if (m >= 10000000000LL) {

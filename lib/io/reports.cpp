@@ -5,8 +5,8 @@
 #include "core/error.hpp"
 #include "io/csv.hpp"
 #include "io/document.hpp"
-#include "opt/minimax.hpp"
 #include "model/constants.hpp"
+#include "opt/minimax.hpp"
 
 namespace tp {
 
@@ -18,8 +18,8 @@ void validate_grid(const Axis& x, const Axis& y) {
 
 void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y) {
   validate_grid(x, y);
-  const double k = fibre_factor_mm2_per_ms(Fibre{Orientation::horizontal,
-                                                 constants::reference_diameter_um, true});
+  const double k = fibre_factor_mm2_per_ms(
+      Fibre{Orientation::horizontal, constants::reference_diameter_um, true});
   CsvWriter csv(out, 1 << 20);
   csv.header({"x_mm", "y_mm", "af_h", "af_v"});
   const std::size_t nx = x.count(), ny = y.count();
@@ -41,7 +41,9 @@ void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis
 Axis default_x_axis(const ElectrodeArray& a) {
   return Axis{std::floor(a.x_min_mm() - 5.0), std::ceil(a.x_max_mm() + 5.0), 0.1};
 }
-Axis default_y_axis() { return Axis{0.2, 3.0, 0.05}; }
+Axis default_y_axis() {
+  return Axis{0.2, 3.0, 0.05};
+}
 
 Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA, const Summary& s) {
   Json j;

@@ -19,7 +19,8 @@ ElectrodeArray ElectrodeArray::uniform(int count, double pitch_mm, double width_
   a.pitch_mm = pitch_mm;
   a.positions_mm.resize(static_cast<std::size_t>(count));
   const double centre = 0.5 * (count - 1);
-  for (int i = 0; i < count; ++i) a.positions_mm[static_cast<std::size_t>(i)] = (i - centre) * pitch_mm;
+  for (int i = 0; i < count; ++i)
+    a.positions_mm[static_cast<std::size_t>(i)] = (i - centre) * pitch_mm;
   a.validate();
   return a;
 }

@@ -16,7 +16,7 @@
 namespace tp {
 
 struct ConductorParams {
-  std::string model = "line2d";  // "line2d" (the paper's) or "strip2d"
+  std::string model = "line2d";    // "line2d" (the paper's) or "strip2d"
   double resistivity_ohm_m = 0.0;  // 0: constants::tissue_resistivity_ohm_m
 };
 

@@ -55,11 +55,13 @@ Peak Field::peak(const Receptor& r) const {
     first = false;
   };
   auto along_x = [&](double y) {
-    auto [x, v] = maximize_1d([&](double xv) { return af(r.fibre, xv, y); }, reg.x0_mm, reg.x1_mm, step);
+    auto [x, v] =
+        maximize_1d([&](double xv) { return af(r.fibre, xv, y); }, reg.x0_mm, reg.x1_mm, step);
     consider(v, x, y);
   };
   auto along_y = [&](double x) {
-    auto [y, v] = maximize_1d([&](double yv) { return af(r.fibre, x, yv); }, reg.y0_mm, reg.y1_mm, step);
+    auto [y, v] =
+        maximize_1d([&](double yv) { return af(r.fibre, x, yv); }, reg.y0_mm, reg.y1_mm, step);
     consider(v, x, y);
   };
   along_x(reg.y0_mm);
@@ -81,8 +83,10 @@ std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>
   const Peak* target = nullptr;
   double off = -INFINITY;
   for (const auto& [name, p] : peaks) {
-    if (name == mode) target = &p;
-    else off = std::max(off, p.af);
+    if (name == mode)
+      target = &p;
+    else
+      off = std::max(off, p.af);
   }
   if (!target) bad_input("unknown mode '" + mode + "'");
   if (!(target->af > 0.0) || peaks.size() < 2) return std::nullopt;

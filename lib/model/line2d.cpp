@@ -106,8 +106,8 @@ const std::vector<std::string>& conductor_models() {
 
 std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
                                           const ElectrodeArray& array) {
-  const double rho =
-      params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m : constants::tissue_resistivity_ohm_m;
+  const double rho = params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m
+                                                    : constants::tissue_resistivity_ohm_m;
   if (params.model == "line2d") return std::make_unique<Line2d>(array, rho);
   if (params.model == "strip2d") return std::make_unique<Strip2d>(array, rho);
   bad_input("unknown conductor model '" + params.model + "' (expected line2d or strip2d)");

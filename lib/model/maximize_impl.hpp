@@ -30,9 +30,17 @@ std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
     double fc = f(c), fd = f(d);
     for (int it = 0; it < 200 && hi - lo > 1e-12 * (1.0 + std::fabs(t)); ++it) {
       if (fc >= fd) {
-        hi = d; d = c; fd = fc; c = hi - g * (hi - lo); fc = f(c);
+        hi = d;
+        d = c;
+        fd = fc;
+        c = hi - g * (hi - lo);
+        fc = f(c);
       } else {
-        lo = c; c = d; fc = fd; d = lo + g * (hi - lo); fd = f(d);
+        lo = c;
+        c = d;
+        fc = fd;
+        d = lo + g * (hi - lo);
+        fd = f(d);
       }
     }
     const double tm = fc >= fd ? c : d;

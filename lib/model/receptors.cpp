@@ -30,9 +30,12 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
   if (!j.contains("orientation") || !j["orientation"].is_string())
     bad_input(at + ": 'orientation' must be \"horizontal\" or \"vertical\"");
   const std::string o = j["orientation"].get<std::string>();
-  if (o == "horizontal") r.fibre.orientation = Orientation::horizontal;
-  else if (o == "vertical") r.fibre.orientation = Orientation::vertical;
-  else bad_input(at + ": 'orientation' must be \"horizontal\" or \"vertical\", got '" + o + "'");
+  if (o == "horizontal")
+    r.fibre.orientation = Orientation::horizontal;
+  else if (o == "vertical")
+    r.fibre.orientation = Orientation::vertical;
+  else
+    bad_input(at + ": 'orientation' must be \"horizontal\" or \"vertical\", got '" + o + "'");
 
   if (!j.contains("depth_mm")) bad_input(at + ": missing 'depth_mm'");
   const auto& d = j["depth_mm"];
@@ -86,8 +89,10 @@ nlohmann::ordered_json receptors_to_json(const std::vector<Receptor>& receptors)
     nlohmann::ordered_json e;
     e["name"] = r.name;
     e["orientation"] = to_string(r.fibre.orientation);
-    if (r.depth_min_mm == r.depth_max_mm) e["depth_mm"] = r.depth_min_mm;
-    else e["depth_mm"] = {r.depth_min_mm, r.depth_max_mm};
+    if (r.depth_min_mm == r.depth_max_mm)
+      e["depth_mm"] = r.depth_min_mm;
+    else
+      e["depth_mm"] = {r.depth_min_mm, r.depth_max_mm};
     e["diameter_um"] = r.fibre.diameter_um;
     e["myelinated"] = r.fibre.myelinated;
     list.push_back(std::move(e));

@@ -11,10 +11,10 @@
 namespace tp {
 
 struct Receptor {
-  std::string name;        // "RA", "SAI", "PC": also the name of the mode that targets it
-  Fibre fibre;             // orientation, diameter, myelination
-  double depth_min_mm = 0; // horizontal: fibres at every depth in [min, max];
-  double depth_max_mm = 0; // vertical: the segment from the top (min) down to max
+  std::string name;         // "RA", "SAI", "PC": also the name of the mode that targets it
+  Fibre fibre;              // orientation, diameter, myelination
+  double depth_min_mm = 0;  // horizontal: fibres at every depth in [min, max];
+  double depth_max_mm = 0;  // vertical: the segment from the top (min) down to max
 };
 
 // Parses {"receptors": [...]} or a bare array (format in docs/document-format.md).

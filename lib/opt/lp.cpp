@@ -6,7 +6,8 @@
 
 namespace tp {
 
-TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis, double weight_bound)
+TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis,
+                   double weight_bound)
     : lp_(glp_create_prob()), nz_(static_cast<int>(off_rows.cols())) {
   glp_term_out(GLP_OFF);
   const int n_off = static_cast<int>(off_rows.rows());
@@ -50,7 +51,9 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
   glp_load_matrix(lp_, static_cast<int>(ia.size()) - 1, ia.data(), ja.data(), ar.data());
 }
 
-TargetLp::~TargetLp() { glp_delete_prob(lp_); }
+TargetLp::~TargetLp() {
+  glp_delete_prob(lp_);
+}
 
 std::optional<LpSolution> TargetLp::solve(const Eigen::VectorXd& target_row) {
   std::vector<int> ind(static_cast<std::size_t>(nz_) + 1);

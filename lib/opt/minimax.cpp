@@ -106,7 +106,8 @@ double true_ratio(const Setup& setup, const std::string& mode, const std::vector
   return r ? *r : kInf;
 }
 
-OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const OptimizeOptions& opt) {
+OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
+                             const OptimizeOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!(opt.max_current_mA > 0.0)) bad_input("max current must be > 0 mA");
   if (opt.min_target_af < 0.0) bad_input("minimum target AF must be >= 0");
@@ -143,7 +144,8 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const 
     Eigen::VectorXd z = B.transpose() * start.w;
     z /= z.norm();
     for (int log2_p = 3; log2_p <= 8; ++log2_p) {
-      ceres::GradientProblem problem(new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
+      ceres::GradientProblem problem(
+          new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
       double cost = 0.0;
       if (!problem.Evaluate(z.data(), &cost, nullptr)) break;  // target never depolarised
       Eigen::VectorXd trial = z;
@@ -167,11 +169,13 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const 
   TargetLp lp(fine.off_rows, B, weight_bound);
   for (std::size_t i = 0; i < setup.array.size(); ++i) {
     const double x = setup.array.positions_mm[i];
-    const Eigen::VectorXd row = B.transpose() * unit_af(setup, *conductor, target, x, target.depth_min_mm);
+    const Eigen::VectorXd row =
+        B.transpose() * unit_af(setup, *conductor, target, x, target.depth_min_mm);
     ++res.lp_solves;
     if (const auto sol = lp.solve(row)) {
       const double r = ratio_of(sol->z);
-      if (std::isfinite(r)) candidates.push_back({r, sol->z, "lp-under-electrode-" + std::to_string(i)});
+      if (std::isfinite(r))
+        candidates.push_back({r, sol->z, "lp-under-electrode-" + std::to_string(i)});
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(),
@@ -196,7 +200,8 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const 
     for (int it = 0; it < 10; ++it) {
       const Field field(setup, weights_of(z));
       const Peak pk = field.peak(target);
-      const Eigen::VectorXd row = B.transpose() * unit_af(setup, *conductor, target, pk.x_mm, pk.y_mm);
+      const Eigen::VectorXd row =
+          B.transpose() * unit_af(setup, *conductor, target, pk.x_mm, pk.y_mm);
       ++res.lp_solves;
       const auto sol = lp.solve(row);
       if (!sol) break;
@@ -233,7 +238,8 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const 
   return res;
 }
 
-Certificate certify_mode(const Setup& setup, const std::string& mode, double step_mm, double weight_bound) {
+Certificate certify_mode(const Setup& setup, const std::string& mode, double step_mm,
+                         double weight_bound) {
   const ModeProblem p = make_mode_problem(setup, mode, step_mm);
   // A mirror-symmetric array has a mirror-symmetric problem: x >= 0 suffices.
   const auto& x = setup.array.positions_mm;

@@ -31,8 +31,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Dense>
 #include <ceres/first_order_function.h>
+#include <Eigen/Dense>
 
 #include "model/field.hpp"
 #include "opt/problem.hpp"
@@ -72,13 +72,14 @@ struct OptimizeResult {
   double target_max_af = 0.0;       // target's largest AF at the current limit, V/ms
   std::string best_start;           // which start led to the answer
   int starts = 0;
-  int iterations = 0;               // L-BFGS iterations, all starts and stages
-  int evaluations = 0;              // surrogate evaluations
+  int iterations = 0;   // L-BFGS iterations, all starts and stages
+  int evaluations = 0;  // surrogate evaluations
   int lp_solves = 0;
   double time_s = 0.0;
 };
 
-OptimizeResult optimize_mode(const Setup& setup, const std::string& mode, const OptimizeOptions& opt);
+OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
+                             const OptimizeOptions& opt);
 
 struct Certificate {
   double optimum = 0.0;  // min over sampled target points of the LP value

@@ -47,7 +47,8 @@ void sample_boundary(const Setup& s, std::size_t r, double step, std::vector<Sam
 
 Eigen::MatrixXd rows_for(const Setup& s, const Conductor& c, const std::vector<SamplePoint>& pts,
                          const Eigen::MatrixXd& basis) {
-  Eigen::MatrixXd g(static_cast<Eigen::Index>(pts.size()), static_cast<Eigen::Index>(s.array.size()));
+  Eigen::MatrixXd g(static_cast<Eigen::Index>(pts.size()),
+                    static_cast<Eigen::Index>(s.array.size()));
   for (std::size_t i = 0; i < pts.size(); ++i)
     g.row(static_cast<Eigen::Index>(i)) =
         unit_af(s, c, s.receptors[pts[i].receptor], pts[i].x_mm, pts[i].y_mm).transpose();

@@ -11,7 +11,8 @@ namespace tp {
 void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
   const PulseShape& p = s.shape;
   if (s.currents_mA.empty()) bad_input("stimulus: no channels");
-  auto range = [](double v, double lo, double hi, const std::string& what, const std::string& unit) {
+  auto range = [](double v, double lo, double hi, const std::string& what,
+                  const std::string& unit) {
     if (!std::isfinite(v) || v < lo || v > hi)
       bad_input(what + " " + number_text(v) + " " + unit + " outside [" + number_text(lo) + ", " +
                 number_text(hi) + "] " + unit);
@@ -59,7 +60,8 @@ SafetyFigures safety_figures(const Stimulus& s) {
     f.max_charge_per_phase_nC = std::max(f.max_charge_per_phase_nC, main_nC);
     f.max_net_charge_nC = std::max(f.max_net_charge_nC, std::fabs(main_nC - balance_nC));
     // RMS over a period: main^2 * w + balance^2 * wb, over the period.
-    const double ms = (c * c * p.width_us + balance_mA * balance_mA * p.balance_width_us) / p.period_us();
+    const double ms =
+        (c * c * p.width_us + balance_mA * balance_mA * p.balance_width_us) / p.period_us();
     f.rms_current_mA.push_back(std::sqrt(ms));
     f.max_rms_current_mA = std::max(f.max_rms_current_mA, std::sqrt(ms));
     sum_main += c;
@@ -102,8 +104,10 @@ Stimulus stimulus_from_json(const Json& j) {
   if (!j.contains("currents_mA") || !j["currents_mA"].is_array())
     bad_input("stimulus: missing 'currents_mA'");
   for (std::size_t i = 0; i < j["currents_mA"].size(); ++i)
-    s.currents_mA.push_back(json_finite(j["currents_mA"][i], "currents_mA[" + std::to_string(i) + "]"));
-  if (j.contains("channels") && json_int(j["channels"], "channels") != static_cast<int>(s.currents_mA.size()))
+    s.currents_mA.push_back(
+        json_finite(j["currents_mA"][i], "currents_mA[" + std::to_string(i) + "]"));
+  if (j.contains("channels") &&
+      json_int(j["channels"], "channels") != static_cast<int>(s.currents_mA.size()))
     bad_input("stimulus: 'channels' disagrees with 'currents_mA'");
   if (!j.contains("pulse") || !j["pulse"].is_object()) bad_input("stimulus: missing 'pulse'");
   const Json& p = j["pulse"];
@@ -117,11 +121,13 @@ Stimulus stimulus_from_json(const Json& j) {
   s.shape.frequency_hz = field("frequency_hz");
   if (!j.contains("count")) bad_input("stimulus: missing 'count'");
   s.count = json_int(j["count"], "count");
-  if (j.contains("max_current_mA")) s.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
+  if (j.contains("max_current_mA"))
+    s.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
   if (j.contains("electrode_area_mm2"))
     s.electrode_area_mm2 = json_finite(j["electrode_area_mm2"], "electrode_area_mm2");
-  static const std::set<std::string> own = {"format", "channels", "currents_mA", "max_current_mA", "pulse",
-                                            "count", "duration_s", "electrode_area_mm2", "safety"};
+  static const std::set<std::string> own = {
+      "format", "channels",   "currents_mA",        "max_current_mA", "pulse",
+      "count",  "duration_s", "electrode_area_mm2", "safety"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!own.count(it.key())) s.carried[it.key()] = it.value();
   return s;

@@ -25,22 +25,22 @@ struct PulseShape {
 
 // Limits every stimulus is checked against before it is printed or sent.
 struct StimulusLimits {
-  double max_current_mA = 2.0;       // per electrode (paper, Sec. 6)
+  double max_current_mA = 2.0;  // per electrode (paper, Sec. 6)
   double min_width_us = 10.0;
   double max_width_us = 1000.0;
   double max_balance_width_us = 8000.0;
   double max_frequency_hz = 1000.0;
   double max_duration_s = 3600.0;
-  double sum_tolerance_mA = 1e-6;    // |Sum of channel currents| at any instant
+  double sum_tolerance_mA = 1e-6;  // |Sum of channel currents| at any instant
 };
 
 struct Stimulus {
-  std::vector<double> currents_mA;   // main-phase current per channel, + = cathodic
+  std::vector<double> currents_mA;  // main-phase current per channel, + = cathodic
   PulseShape shape;
-  long count = 0;                    // number of pulses
-  double electrode_area_mm2 = 5.0;   // for the charge density (paper: 0.5 x 10 mm)
-  double max_current_mA = 2.0;       // the limit the stimulus was made for
-  Json carried = Json::object();     // e.g. mode, from the weights document
+  long count = 0;                   // number of pulses
+  double electrode_area_mm2 = 5.0;  // for the charge density (paper: 0.5 x 10 mm)
+  double max_current_mA = 2.0;      // the limit the stimulus was made for
+  Json carried = Json::object();    // e.g. mode, from the weights document
   double duration_s() const { return static_cast<double>(count) / shape.frequency_hz; }
 };
 
@@ -53,8 +53,8 @@ struct SafetyFigures {
   double max_charge_per_phase_nC = 0;
   double max_charge_density_uC_per_cm2 = 0;
   double max_rms_current_mA = 0;
-  double max_net_charge_nC = 0;            // per pulse per channel, must be 0
-  double max_instant_sum_mA = 0;           // |Sum over channels| at any instant
+  double max_net_charge_nC = 0;   // per pulse per channel, must be 0
+  double max_instant_sum_mA = 0;  // |Sum over channels| at any instant
   std::vector<double> charge_per_phase_nC;
   std::vector<double> rms_current_mA;
 };

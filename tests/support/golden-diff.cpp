@@ -73,7 +73,8 @@ int diff_csv(const std::string& a, const std::string& b) {
   for (std::size_t r = 1; r < std::min(ea.size(), eb.size()); ++r) {
     const auto ca = split(ea[r]), cb = split(eb[r]);
     if (ca.size() != cb.size()) {
-      std::cerr << "golden-diff: row " << r << ": expected " << ca.size() << " cells, got " << cb.size() << "\n";
+      std::cerr << "golden-diff: row " << r << ": expected " << ca.size() << " cells, got "
+                << cb.size() << "\n";
       return 1;
     }
     for (std::size_t c = 0; c < ca.size(); ++c) {
@@ -81,27 +82,33 @@ int diff_csv(const std::string& a, const std::string& b) {
       const bool na = parse_number(ca[c], va), nb = parse_number(cb[c], vb);
       const bool same = (na && nb) ? close(va, vb) : ca[c] == cb[c];
       if (!same) {
-        std::cerr << "golden-diff: row " << r << ", column " << (c < header.size() ? header[c] : std::to_string(c))
-                  << ": expected " << ca[c] << ", got " << cb[c] << "\n";
+        std::cerr << "golden-diff: row " << r << ", column "
+                  << (c < header.size() ? header[c] : std::to_string(c)) << ": expected " << ca[c]
+                  << ", got " << cb[c] << "\n";
         return 1;
       }
     }
   }
   if (ea.size() != eb.size()) {
-    std::cerr << "golden-diff: expected " << ea.size() - 1 << " data rows, got " << eb.size() - 1 << "\n";
+    std::cerr << "golden-diff: expected " << ea.size() - 1 << " data rows, got " << eb.size() - 1
+              << "\n";
     return 1;
   }
   return 0;
 }
 
 // Keys whose values legitimately vary between runs (timings) are not compared.
-bool ignored_key(const std::string& k) { return k == "time_s" || k == "time_ms"; }
+bool ignored_key(const std::string& k) {
+  return k == "time_s" || k == "time_ms";
+}
 
-bool diff_json(const nlohmann::ordered_json& a, const nlohmann::ordered_json& b, const std::string& path) {
+bool diff_json(const nlohmann::ordered_json& a, const nlohmann::ordered_json& b,
+               const std::string& path) {
   const std::string where = path.empty() ? "(root)" : path;
   if (a.is_number() && b.is_number()) {
     if (close(a.get<double>(), b.get<double>())) return true;
-    std::cerr << "golden-diff: " << where << ": expected " << a.dump() << ", got " << b.dump() << "\n";
+    std::cerr << "golden-diff: " << where << ": expected " << a.dump() << ", got " << b.dump()
+              << "\n";
     return false;
   }
   if (a.type() != b.type()) {
@@ -113,21 +120,25 @@ bool diff_json(const nlohmann::ordered_json& a, const nlohmann::ordered_json& b,
     for (auto it = a.begin(); it != a.end(); ++it) {
       if (ignored_key(it.key())) continue;
       if (!b.contains(it.key())) {
-        std::cerr << "golden-diff: " << (path.empty() ? "" : path + ".") << it.key() << ": missing\n";
+        std::cerr << "golden-diff: " << (path.empty() ? "" : path + ".") << it.key()
+                  << ": missing\n";
         return false;
       }
-      if (!diff_json(it.value(), b[it.key()], (path.empty() ? "" : path + ".") + it.key())) return false;
+      if (!diff_json(it.value(), b[it.key()], (path.empty() ? "" : path + ".") + it.key()))
+        return false;
     }
     for (auto it = b.begin(); it != b.end(); ++it)
       if (!a.contains(it.key())) {
-        std::cerr << "golden-diff: " << (path.empty() ? "" : path + ".") << it.key() << ": unexpected key\n";
+        std::cerr << "golden-diff: " << (path.empty() ? "" : path + ".") << it.key()
+                  << ": unexpected key\n";
         return false;
       }
     return true;
   }
   if (a.is_array()) {
     if (a.size() != b.size()) {
-      std::cerr << "golden-diff: " << where << ": expected " << a.size() << " elements, got " << b.size() << "\n";
+      std::cerr << "golden-diff: " << where << ": expected " << a.size() << " elements, got "
+                << b.size() << "\n";
       return false;
     }
     for (std::size_t i = 0; i < a.size(); ++i)
@@ -135,7 +146,8 @@ bool diff_json(const nlohmann::ordered_json& a, const nlohmann::ordered_json& b,
     return true;
   }
   if (a != b) {
-    std::cerr << "golden-diff: " << where << ": expected " << a.dump() << ", got " << b.dump() << "\n";
+    std::cerr << "golden-diff: " << where << ": expected " << a.dump() << ", got " << b.dump()
+              << "\n";
     return false;
   }
   return true;
@@ -175,7 +187,8 @@ int main(int argc, char** argv) {
   const bool is_json = files[0].size() > 5 && files[0].substr(files[0].size() - 5) == ".json";
   if (is_json) {
     try {
-      return diff_json(nlohmann::ordered_json::parse(a), nlohmann::ordered_json::parse(b), "") ? 0 : 1;
+      return diff_json(nlohmann::ordered_json::parse(a), nlohmann::ordered_json::parse(b), "") ? 0
+                                                                                               : 1;
     } catch (const std::exception& e) {
       std::cerr << "golden-diff: invalid JSON: " << e.what() << "\n";
       return 1;

@@ -20,7 +20,8 @@ using namespace tp::device;
 
 namespace {
 
-std::vector<std::uint8_t> frame_bytes(std::uint8_t seq, Msg type, const std::vector<std::uint8_t>& payload) {
+std::vector<std::uint8_t> frame_bytes(std::uint8_t seq, Msg type,
+                                      const std::vector<std::uint8_t>& payload) {
   std::vector<std::uint8_t> out;
   encode_frame(Frame{seq, static_cast<std::uint8_t>(type), payload}, out);
   return out;
@@ -60,7 +61,8 @@ TEST_CASE("CRC-16/CCITT-FALSE check value", "[device][frame]") {
   CHECK(crc16(reinterpret_cast<const std::uint8_t*>(s), 9) == 0x29B1);
 }
 
-TEST_CASE("frames round-trip through stuffing, with flags and escapes in the payload", "[device][frame]") {
+TEST_CASE("frames round-trip through stuffing, with flags and escapes in the payload",
+          "[device][frame]") {
   const Frame f{0x7E, 0x7D, {0x7E, 0x7D, 0x00, 0xFF, 0x7E, 0x20, 0x5E}};
   std::vector<std::uint8_t> bytes;
   encode_frame(f, bytes);
@@ -115,7 +117,8 @@ TEST_CASE("randomised decoder fuzz: no crash, no damaged frame accepted", "[devi
         bytes[pos] = static_cast<std::uint8_t>(bytes[pos] ^ (1u << (pick(rng) % 8)));
       }
     } else if (kind < 60) {  // a dropped byte
-      bytes.erase(bytes.begin() + 1 + static_cast<long>(static_cast<std::size_t>(pick(rng) * 31) % (bytes.size() - 2)));
+      bytes.erase(bytes.begin() + 1 +
+                  static_cast<long>(static_cast<std::size_t>(pick(rng) * 31) % (bytes.size() - 2)));
       ++drop_trials;
     } else if (kind < 70) {  // pure noise
       for (auto& b : bytes) b = static_cast<std::uint8_t>(byte(rng));
@@ -124,7 +127,8 @@ TEST_CASE("randomised decoder fuzz: no crash, no damaged frame accepted", "[devi
     bool got = false;
     for (std::uint8_t b : bytes) {
       if (!d.push(b)) continue;
-      const bool same = d.frame().seq == f.seq && d.frame().type == f.type && d.frame().payload == f.payload;
+      const bool same =
+          d.frame().seq == f.seq && d.frame().type == f.type && d.frame().payload == f.payload;
       if (intact) {
         CHECK(same);
         got = true;
@@ -142,13 +146,15 @@ TEST_CASE("randomised decoder fuzz: no crash, no damaged frame accepted", "[devi
     }
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  WARN("decoder fuzz: " << iterations << " cases (" << frames_checked << " intact frames) in " << secs
-       << " s; frames with a dropped byte accepted by CRC collision: " << accepted_wrong_drop << " of "
-       << drop_trials << "; noise runs forming a valid frame: " << noise_accepted);
+  WARN("decoder fuzz: " << iterations << " cases (" << frames_checked << " intact frames) in "
+                        << secs << " s; frames with a dropped byte accepted by CRC collision: "
+                        << accepted_wrong_drop << " of " << drop_trials
+                        << "; noise runs forming a valid frame: " << noise_accepted);
   CHECK(accepted_wrong_drop <= drop_trials / 100000);
 }
 
-TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing", "[device][core]") {
+TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing",
+          "[device][core]") {
   DeviceCore core(Capabilities{});
   const std::int16_t max = Capabilities{}.max_code();
   std::vector<std::int16_t> ok = {100, -50, -50, 0, 0, 0, 0, 0};
@@ -168,11 +174,13 @@ TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing
   CHECK(send(core, 6, Msg::configure, encode(bad), 0) == Result::channel_mismatch);
   CHECK(send(core, 7, Msg::configure, encode(config8()), 0) == Result::ok);
   CHECK(send(core, 8, Msg::set_weights, encode_weights(ok), 0) == Result::ok);
-  std::vector<std::int16_t> over = {static_cast<std::int16_t>(max + 1), static_cast<std::int16_t>(-max - 1), 0, 0, 0, 0, 0, 0};
+  std::vector<std::int16_t> over = {
+      static_cast<std::int16_t>(max + 1), static_cast<std::int16_t>(-max - 1), 0, 0, 0, 0, 0, 0};
   CHECK(send(core, 9, Msg::set_weights, encode_weights(over), 0) == Result::out_of_range);
   std::vector<std::int16_t> unbalanced = {100, -99, 0, 0, 0, 0, 0, 0};
   CHECK(send(core, 10, Msg::set_weights, encode_weights(unbalanced), 0) == Result::sum_not_zero);
-  CHECK(send(core, 11, Msg::set_weights, encode_weights({100, -100}), 0) == Result::channel_mismatch);
+  CHECK(send(core, 11, Msg::set_weights, encode_weights({100, -100}), 0) ==
+        Result::channel_mismatch);
   CHECK(send(core, 12, Msg::set_weights, {3, 1}, 0) == Result::bad_length);
   CHECK(send(core, 13, Msg::start, {}, 0) == Result::ok);
   CHECK(send(core, 14, Msg::configure, encode(config8()), 0) == Result::bad_state);
@@ -234,7 +242,8 @@ TEST_CASE("a retransmitted request is answered again but executed once", "[devic
   CHECK(core.status().weight_updates == 2);
 }
 
-TEST_CASE("host quantisation: codes sum to exactly zero and stay within half a step or so", "[device][quantize]") {
+TEST_CASE("host quantisation: codes sum to exactly zero and stay within half a step or so",
+          "[device][quantize]") {
   Capabilities caps;
   const double step = caps.dac_step_nA * 1e-6;
   std::mt19937 rng(4);
@@ -246,7 +255,8 @@ TEST_CASE("host quantisation: codes sum to exactly zero and stay within half a s
     for (auto& v : c) v -= mean;
     const auto codes = host::quantize_currents(c, caps);
     CHECK(std::accumulate(codes.begin(), codes.end(), 0L) == 0);
-    for (std::size_t i = 0; i < c.size(); ++i) CHECK(std::fabs(codes[i] * step - c[i]) <= 1.5 * step);
+    for (std::size_t i = 0; i < c.size(); ++i)
+      CHECK(std::fabs(codes[i] * step - c[i]) <= 1.5 * step);
   }
 }
 

@@ -75,7 +75,8 @@ TEST_CASE("format_number writes what printf(\"%.10g\") writes", "[io][number]") 
     }
   }
   CHECK(mismatches <= 2);
-  for (double v : {1.0, 10.0, 9.9999999999, 0.00012345, 1e-5, 123456789012.0, 99999.999995, 1e-13, 5e13})
+  for (double v :
+       {1.0, 10.0, 9.9999999999, 0.00012345, 1e-5, 123456789012.0, 99999.999995, 1e-13, 5e13})
     CHECK(std::string(buf, format_number(buf, v)) == [&] {
       std::snprintf(ref, sizeof ref, "%.10g", v);
       return std::string(ref);
@@ -109,11 +110,16 @@ TEST_CASE("malformed documents are bad input", "[io][document]") {
   CHECK(bad(R"({"array": {"electrodes": 2}})") == ExitCode::bad_input);
   CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 0}})") == ExitCode::bad_input);
   CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1, "bogus": 1}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1]})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, "a"]})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1]})") ==
+        ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, "a"]})") ==
+        ExitCode::bad_input);
   CHECK(bad(R"({"array": {"positions_mm": [0, 0.1]}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "model": {"conductor": "x"}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "receptors": []})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "format": "other"})") == ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "model": {"conductor": "x"}})") ==
+        ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "receptors": []})") ==
+        ExitCode::bad_input);
+  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "format": "other"})") ==
+        ExitCode::bad_input);
   CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, -1]})") == ExitCode::ok);
 }

@@ -59,12 +59,14 @@ TEST_CASE("an array's AF is the superposition of Eq. 23 (Eq. 25)", "[model][eq25
   for (double x = -6; x <= 6; x += 0.31)
     for (double y = 0.2; y <= 3; y += 0.23) {
       double expect = 0;
-      for (std::size_t i = 0; i < I.size(); ++i) expect += eq23(I[i], s.array.positions_mm[i], x, y);
+      for (std::size_t i = 0; i < I.size(); ++i)
+        expect += eq23(I[i], s.array.positions_mm[i], x, y);
       CHECK(f.af(kHorizontal, x, y) == Approx(expect).epsilon(1e-11).margin(1e-11));
     }
 }
 
-TEST_CASE("analytic second derivatives match finite differences of the potential", "[model][laplace]") {
+TEST_CASE("analytic second derivatives match finite differences of the potential",
+          "[model][laplace]") {
   for (const std::string model : {"line2d", "strip2d"}) {
     Setup s;
     s.array = ElectrodeArray::uniform(4, 1.0);
@@ -155,7 +157,8 @@ TEST_CASE("fibre factor scales with d^2 (myelinated) and d (unmyelinated)", "[mo
   CHECK(fibre_factor_mm2_per_ms(m10) > 10.0 * fibre_factor_mm2_per_ms(u10));
 }
 
-TEST_CASE("maximum principle: SAI's largest AF is at least PC's for equal diameters", "[model][maxprinciple]") {
+TEST_CASE("maximum principle: SAI's largest AF is at least PC's for equal diameters",
+          "[model][maxprinciple]") {
   std::mt19937 rng(2024);
   for (int n : {2, 4, 8, 12}) {
     for (int trial = 0; trial < 25; ++trial) {

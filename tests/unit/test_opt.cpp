@@ -35,7 +35,8 @@ class AsCostFunction : public ceres::CostFunction {
 
 }  // namespace
 
-CATCH_TEST_CASE("the surrogate's gradient matches finite differences (Ceres GradientChecker)", "[opt][gradient]") {
+CATCH_TEST_CASE("the surrogate's gradient matches finite differences (Ceres GradientChecker)",
+                "[opt][gradient]") {
   Setup s;
   for (const std::string mode : {"RA", "SAI", "PC"}) {
     const ModeProblem p = make_mode_problem(s, mode, 0.1);
@@ -73,7 +74,8 @@ CATCH_TEST_CASE("the zero-sum basis is orthonormal and sums to zero", "[opt]") {
   }
 }
 
-CATCH_TEST_CASE("the target-point LP meets its constraints and is optimal among random weights", "[opt][lp]") {
+CATCH_TEST_CASE("the target-point LP meets its constraints and is optimal among random weights",
+                "[opt][lp]") {
   Setup s;
   const ModeProblem p = make_mode_problem(s, "SAI", 0.05);
   TargetLp lp(p.off_rows, p.basis, 0.0);
@@ -106,14 +108,16 @@ CATCH_TEST_CASE("weights sum to zero and peak at |w| = 1; the answer is reproduc
     }
     CATCH_CHECK(std::fabs(sum) < 1e-12);
     CATCH_CHECK(peak == Approx(1.0).epsilon(1e-15));
-    for (std::size_t i = 0; i < r.weights.size(); ++i) CATCH_CHECK(r.currents_mA[i] == r.weights[i] * 2.0);
+    for (std::size_t i = 0; i < r.weights.size(); ++i)
+      CATCH_CHECK(r.currents_mA[i] == r.weights[i] * 2.0);
     CATCH_CHECK(r.target_max_af > 0.0);
     const OptimizeResult again = optimize_mode(s, mode, o);
     CATCH_CHECK(again.weights == r.weights);
   }
 }
 
-CATCH_TEST_CASE("physics: the PC ratio cannot fall below 1 with equal SAI and PC diameters", "[opt][physics]") {
+CATCH_TEST_CASE("physics: the PC ratio cannot fall below 1 with equal SAI and PC diameters",
+                "[opt][physics]") {
   for (int n : {4, 8, 12}) {
     Setup s;
     s.array = ElectrodeArray::uniform(n, 1.0);
@@ -124,7 +128,10 @@ CATCH_TEST_CASE("physics: the PC ratio cannot fall below 1 with equal SAI and PC
 }
 
 CATCH_TEST_CASE("each mode comes within 1% of the certified global optimum", "[opt][global]") {
-  struct Case { int n; double pitch; };
+  struct Case {
+    int n;
+    double pitch;
+  };
   for (const Case c : {Case{4, 2.0}, Case{8, 1.0}, Case{12, 0.75}, Case{16, 0.5}}) {
     Setup s;
     s.array = ElectrodeArray::uniform(c.n, c.pitch);
@@ -132,7 +139,8 @@ CATCH_TEST_CASE("each mode comes within 1% of the certified global optimum", "[o
       const OptimizeResult r = optimize_mode(s, mode, OptimizeOptions{});
       const Certificate cert = certify_mode(s, mode, 0.02);
       CATCH_INFO(c.n << " electrodes at " << c.pitch << " mm, " << mode << ": ratio " << r.ratio
-               << ", certified optimum " << cert.optimum << " (target at x = " << cert.x_mm << ")");
+                     << ", certified optimum " << cert.optimum << " (target at x = " << cert.x_mm
+                     << ")");
       CATCH_CHECK(r.ratio <= 1.01 * cert.optimum);
       // ... and no better than the optimum, up to the sampling of the certificate.
       CATCH_CHECK(r.ratio >= (1.0 - 1e-3) * cert.optimum);
@@ -147,11 +155,11 @@ CATCH_TEST_CASE("the efficiency bound trades selectivity for target drive", "[op
   o.min_target_af = 1.5 * free.target_max_af;
   const OptimizeResult bounded = optimize_mode(s, "PC", o);
   CATCH_INFO("free: ratio " << free.ratio << " AF " << free.target_max_af << "; bounded: ratio "
-                      << bounded.ratio << " AF " << bounded.target_max_af);
+                            << bounded.ratio << " AF " << bounded.target_max_af);
   CATCH_CHECK(bounded.target_max_af >= 0.999 * o.min_target_af);
   CATCH_CHECK(bounded.ratio >= free.ratio * (1 - 1e-3));  // selectivity can only get worse
   CATCH_CHECK(bounded.ratio <= free.ratio * 1.1);         // ... but only a little here
-  o.min_target_af = 1e6;                             // unreachable
+  o.min_target_af = 1e6;                                  // unreachable
   CATCH_CHECK_THROWS_AS(optimize_mode(s, "PC", o), Error);
 }
 

@@ -15,7 +15,8 @@ namespace {
 // every depth of the range, not just the boundary), from Eq. 25 written out here.
 double brute_force_max(const ElectrodeArray& a, const std::vector<double>& I, double x0, double x1,
                        double y0, double y1, bool vertical, double diameter_um) {
-  const double k = 100.0 * 1e-10 / (4.0 * 1.1 * 0.02 * 2.5e-6) * 1e3 * std::pow(diameter_um / 10.0, 2);
+  const double k =
+      100.0 * 1e-10 / (4.0 * 1.1 * 0.02 * 2.5e-6) * 1e3 * std::pow(diameter_um / 10.0, 2);
   const double c = 3.0 / (2.0 * M_PI * a.length_mm);
   const double dx = 0.001, dy = 0.005;
   double best = -INFINITY;
@@ -42,8 +43,9 @@ void check_against_brute_force(const Setup& s, const std::vector<double>& I) {
   for (std::size_t r = 0; r < s.receptors.size(); ++r) {
     const Receptor& rec = s.receptors[r];
     const Region reg = fibre_region(s, rec);
-    const double bf = brute_force_max(s.array, I, reg.x0_mm, reg.x1_mm, reg.y0_mm, reg.y1_mm,
-                                      rec.fibre.orientation == Orientation::vertical, rec.fibre.diameter_um);
+    const double bf =
+        brute_force_max(s.array, I, reg.x0_mm, reg.x1_mm, reg.y0_mm, reg.y1_mm,
+                        rec.fibre.orientation == Orientation::vertical, rec.fibre.diameter_um);
     const Peak& p = sum.peaks[r].second;
     INFO(rec.name << ": model " << p.af << " brute force " << bf);
     CHECK(p.af == Approx(bf).epsilon(1e-4).margin(1e-9));
@@ -72,8 +74,12 @@ void check_against_brute_force(const Setup& s, const std::vector<double>& I) {
 
 TEST_CASE("summary ratios match brute force for the paper's patterns", "[summary]") {
   Setup s;  // the paper's array: 8 electrodes, 1 mm pitch
-  SECTION("single cathode") { check_against_brute_force(s, {0, 0, 0, 2, 0, 0, 0, 0}); }
-  SECTION("single anode (RA)") { check_against_brute_force(s, {0, 0, 0, -2, 0, 0, 0, 0}); }
+  SECTION("single cathode") {
+    check_against_brute_force(s, {0, 0, 0, 2, 0, 0, 0, 0});
+  }
+  SECTION("single anode (RA)") {
+    check_against_brute_force(s, {0, 0, 0, -2, 0, 0, 0, 0});
+  }
   SECTION("cathode with anodic neighbours (SAI)") {
     check_against_brute_force(s, {0, 0, -1, 2, -1, 0, 0, 0});
   }
