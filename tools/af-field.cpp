@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "cli/array_options.hpp"
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "io/document.hpp"
@@ -19,21 +20,16 @@ int main(int argc, char** argv) {
       "cathodic; AF > 0 depolarises.\nCSV columns: x_mm,y_mm,af_h,af_v (V/ms, myelinated "
       "10 um fibres, horizontal and vertical).",
       "af-field"};
-  std::string config, electrodes, pitch, weights, x_spec, y_spec, amplitude, model;
+  tp::cli::ArrayOptions array;
+  std::string weights, x_spec, y_spec, amplitude, model;
   bool summary = false;
-  auto* o_config =
-      app.add_option("--config", config,
-                     "Document with array, model, receptors and weights (JSON; - for stdin)")
-          ->type_name("FILE");
-  auto* o_n =
-      app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")
-          ->type_name("N");
-  auto* o_pitch = app.add_option("--pitch", pitch, "Electrode pitch, mm [1]")->type_name("MM");
+  auto* o_config = tp::cli::add_array_options(
+      app, array, "Document with array, model, receptors and weights (JSON; - for stdin)");
   auto* o_w = app.add_option("--weights", weights,
                              "Comma-separated weights, one per electrode (positive = cathodic) "
                              "[one cathode on the centre electrode]")
                   ->type_name("W1,W2,...");
-  o_config->excludes(o_n)->excludes(o_pitch)->excludes(o_w);
+  o_config->excludes(o_w);
   app.add_option("--amplitude", amplitude,
                  "Current of an electrode with |weight| = 1, mA [the document's max_current_mA, 2]")
       ->type_name("MA");
@@ -46,13 +42,8 @@ int main(int argc, char** argv) {
   app.add_flag("--summary", summary, "Print each receptor's largest AF and the mode ratios (JSON)");
 
   return tp::cli::run(app, argc, argv, [&] {
-    tp::Document doc;
-    if (!config.empty()) {
-      doc = tp::document_from_json(tp::read_json(config, "--config"));
-    } else {
-      doc.setup.array = tp::array_from_flags(electrodes, pitch, 1);
-      if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
-    }
+    tp::Document doc = tp::cli::load_document(array, 1);
+    if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     if (!model.empty()) doc.setup.conductor.model = model;
     if (!doc.weights) {
       // Default pattern: one cathode at the electrode nearest the centre.

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <string>
 
+#include "cli/array_options.hpp"
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "io/document.hpp"
@@ -21,20 +22,15 @@ int main(int argc, char** argv) {
       "Prints the project's JSON document (weights positive = cathodic, max |w| = 1 at the "
       "current limit), or one CSV row.",
       "optimize-weights"};
-  std::string mode, config, electrodes, pitch, max_current, min_af, format = "json";
+  tp::cli::ArrayOptions array;
+  std::string mode, max_current, min_af, format = "json";
   int random_starts = 4;
   bool timing = false, certify = false, no_header = false;
   app.add_option("--mode", mode, "Target receptor: RA, SAI or PC (any name in the receptor table)")
       ->required()
       ->type_name("MODE");
-  auto* o_config = app.add_option("--config", config,
-                                  "Document with array, model and receptors (JSON; - for stdin)")
-                       ->type_name("FILE");
-  auto* o_n =
-      app.add_option("--electrodes", electrodes, "Number of electrodes of a uniform array [8]")
-          ->type_name("N");
-  auto* o_p = app.add_option("--pitch", pitch, "Electrode pitch, mm [1]")->type_name("MM");
-  o_config->excludes(o_n)->excludes(o_p);
+  tp::cli::add_array_options(app, array,
+                             "Document with array, model and receptors (JSON; - for stdin)");
   app.add_option("--max-current", max_current,
                  "Current limit per electrode, mA [the document's, or 2]")
       ->type_name("MA");
@@ -55,12 +51,7 @@ int main(int argc, char** argv) {
                "optimum (slow: seconds)");
 
   return tp::cli::run(app, argc, argv, [&] {
-    tp::Document doc;
-    if (!config.empty()) {
-      doc = tp::document_from_json(tp::read_json(config, "--config"));
-    } else {
-      doc.setup.array = tp::array_from_flags(electrodes, pitch, 2);
-    }
+    tp::Document doc = tp::cli::load_document(array, 2);
     if (doc.setup.array.size() < 2)
       tp::bad_input("array: optimisation needs at least 2 electrodes");
     tp::OptimizeOptions opt;
