@@ -9,6 +9,7 @@
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
+#include "device/protocol.hpp"
 #include "host/emulator.hpp"
 #include "io/number.hpp"
 
@@ -20,15 +21,19 @@ int main(int argc, char** argv) {
   tp::host::PtyEmulatorOptions o;
   int channels = 8, dac_bits = 12, watchdog_ms = 300;
   std::string max_current = "2", drop = "0", corrupt = "0", stall_after, stall_ms = "0",
-              disconnect_after;
-  app.add_option("--channels", channels, "Channels [8]")->check(CLI::Range(1, 64));
-  app.add_option("--max-current", max_current, "Current limit per channel, mA [2]")
+              disconnect_after, reply_delay_ms = "0";
+  namespace hard = tp::device::hard;
+  app.add_option("--channels", channels, "Channels, 1 to 64 [8]")
+      ->check(CLI::Range(1, static_cast<int>(tp::device::kMaxChannels)));
+  app.add_option("--max-current", max_current,
+                 "Current limit per channel, mA; at most the device's compile-time bound of 2 "
+                 "mA [2]")
       ->type_name("MA");
-  app.add_option("--dac-bits", dac_bits, "DAC resolution, signed bits [12]")
+  app.add_option("--dac-bits", dac_bits, "DAC resolution, signed bits, 4 to 16 [12]")
       ->check(CLI::Range(4, 16));
   app.add_option("--watchdog-ms", watchdog_ms,
-                 "Output stops this long after the last valid frame [300]")
-      ->check(CLI::Range(10, 60000));
+                 "Output stops this long after the session's last frame, 10 to 1000 ms [300]")
+      ->check(CLI::Range(int{hard::min_watchdog_ms}, int{hard::max_watchdog_ms}));
   app.add_option("--record", o.record_path, "Write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--apply-log", o.apply_log_path, "Write 'n t_ns' per applied weight frame")
@@ -41,11 +46,17 @@ int main(int argc, char** argv) {
   app.add_option("--stall-ms", stall_ms, "... for this many milliseconds [0]")->type_name("MS");
   app.add_option("--disconnect-after", disconnect_after, "Close the line after S seconds")
       ->type_name("S");
+  app.add_option("--reply-delay-ms", reply_delay_ms,
+                 "Answer every request this much later, 0 to 1000 ms (a slow device) [0]")
+      ->type_name("MS");
   app.add_option("--seed", o.faults.seed, "Seed of the fault injection [1]");
 
   return tp::cli::run(app, argc, argv, [&] {
     const double imax = tp::parse_finite(max_current, "--max-current");
-    if (!(imax > 0 && imax <= 30)) tp::bad_input("--max-current: must be in (0, 30] mA");
+    const double hard_mA = hard::max_current_uA * 1e-3;
+    if (!(imax >= 0.001 && imax <= hard_mA))
+      tp::bad_input("--max-current: " + max_current + " mA outside [0.001, " +
+                    tp::number_text(hard_mA) + "] mA (the device's compile-time bound)");
     auto fraction = [](const std::string& t, const char* what) {
       const double v = tp::parse_finite(t, what);
       if (v < 0 || v > 1) tp::bad_input(std::string(what) + ": must be in [0, 1]");
@@ -53,16 +64,27 @@ int main(int argc, char** argv) {
     };
     o.faults.drop = fraction(drop, "--drop");
     o.faults.corrupt = fraction(corrupt, "--corrupt");
-    if (!stall_after.empty())
-      o.faults.stall_after_s = tp::parse_finite(stall_after, "--stall-after");
-    o.faults.stall_s = tp::parse_finite(stall_ms, "--stall-ms") * 1e-3;
+    auto seconds = [](const std::string& t, const char* what) {
+      const double v = tp::parse_finite(t, what);
+      if (v < 0 || v > 1e6) tp::bad_input(std::string(what) + ": " + t + " outside [0, 1e6]");
+      return v;
+    };
+    if (!stall_after.empty()) o.faults.stall_after_s = seconds(stall_after, "--stall-after");
+    o.faults.stall_s = seconds(stall_ms, "--stall-ms") * 1e-3;
     if (!disconnect_after.empty())
-      o.faults.disconnect_after_s = tp::parse_finite(disconnect_after, "--disconnect-after");
+      o.faults.disconnect_after_s = seconds(disconnect_after, "--disconnect-after");
+    o.faults.reply_delay_s = tp::parse_finite(reply_delay_ms, "--reply-delay-ms") * 1e-3;
+    if (!(o.faults.reply_delay_s >= 0 && o.faults.reply_delay_s <= 1))
+      tp::bad_input("--reply-delay-ms: " + reply_delay_ms + " outside [0, 1000] ms");
     o.caps.channels = static_cast<std::uint8_t>(channels);
     o.caps.max_current_uA = static_cast<std::uint16_t>(std::lround(imax * 1000));
-    // One code of a signed DAC of dac_bits spanning +-max_current.
-    o.caps.dac_step_nA = static_cast<std::uint16_t>(
-        std::max(1L, std::lround(imax * 1e6 / ((1 << (dac_bits - 1)) - 1))));
+    // One code of a signed DAC of dac_bits spanning +-max_current: the nearest whole nA,
+    // or the next one up where the nearest would need more codes than the DAC has
+    // (2^(bits-1) - 1).
+    const double codes = std::ldexp(1.0, dac_bits - 1) - 1;
+    double step = std::max(1.0, std::round(imax * 1e6 / codes));
+    if (imax * 1e6 / step > codes) step = std::ceil(imax * 1e6 / codes);
+    o.caps.dac_step_nA = static_cast<std::uint16_t>(step);
     o.caps.watchdog_ms = static_cast<std::uint16_t>(watchdog_ms);
     const int rc = tp::host::run_pty_emulator(o);
     if (rc != 0) tp::failure("emulator stopped");

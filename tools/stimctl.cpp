@@ -11,23 +11,18 @@
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "host/session.hpp"
+#include "host/signals.hpp"
 #include "io/number.hpp"
-
-namespace {
-volatile std::sig_atomic_t g_signal = 0;
-void on_signal(int sig) {
-  g_signal = sig;
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "Delivers a stimulus document (make-pulse's JSON, on stdin) through a stimulator: "
       "identifies the device, checks the stimulus against its capabilities and the host's "
       "limits, configures it, starts, feeds its watchdog, and stops the output on completion, "
-      "--duration, end of input, SIGINT, SIGTERM or any error.  --port emu runs the device "
-      "emulator in-process.  Exit status: 0 done, 1 device or I/O failure, 2 bad input "
-      "(nothing started), 128+N after signal N.",
+      "--duration, end of input, any terminating signal or any error.  The port is opened "
+      "exclusively; a device still running another (dead) host's output is stopped first.  "
+      "--port emu runs the device emulator in-process.  Exit status: 0 done, 1 device or I/O "
+      "failure (also: port in use), 2 bad input (nothing started), 128+N after signal N.",
       "stimctl"};
   std::string port = "emu", stimulus_path = "-", duration, record, latency_log, backend = "auto";
   int baud = 115200, emu_channels = 8;
@@ -42,7 +37,9 @@ int main(int argc, char** argv) {
   app.add_flag("--list", list, "List serial ports (CSV: port,description) and exit");
   app.add_option("--stimulus", stimulus_path, "Stimulus document, - for stdin [-]")
       ->type_name("FILE");
-  app.add_option("--duration", duration, "Stop after this long, s [the stimulus' own duration]")
+  app.add_option("--duration", duration,
+                 "Stop after this long, s, at most 3600 [the stimulus' own duration; live mode: "
+                 "until the input ends, at most 3600 s]")
       ->type_name("S");
   app.add_flag(
       "--live", live,
@@ -50,7 +47,7 @@ int main(int argc, char** argv) {
       "applied at the next pulse; needs --stimulus FILE");
   app.add_option("--record", record, "Emulator only: write each delivered pulse as a JSON line")
       ->type_name("FILE");
-  app.add_option("--emu-channels", emu_channels, "Emulator only: channel count [8]")
+  app.add_option("--emu-channels", emu_channels, "Emulator only: channel count, 1 to 64 [8]")
       ->check(CLI::Range(1, 64));
   app.add_option("--latency-log", latency_log,
                  "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
@@ -75,29 +72,39 @@ int main(int argc, char** argv) {
     tp::host::SessionOptions opt;
     opt.live = live;
     opt.latency_log = latency_log;
-    if (!duration.empty()) opt.duration_s = tp::parse_finite(duration, "--duration");
-    if (!duration.empty() && !(opt.duration_s > 0)) tp::bad_input("--duration: must be > 0 s");
+    if (!duration.empty()) {
+      opt.duration_s = tp::parse_finite(duration, "--duration");
+      if (!(opt.duration_s > 0 && opt.duration_s <= opt.limits.max_duration_s))
+        tp::bad_input("--duration: " + duration + " s outside (0, " +
+                      tp::number_text(opt.limits.max_duration_s) + "] s");
+    }
 
-    struct sigaction sa {};
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, nullptr);
-    sigaction(SIGTERM, &sa, nullptr);
-    sigaction(SIGHUP, &sa, nullptr);
-    std::signal(SIGPIPE, SIG_IGN);  // a closed pipe must not kill us before the output stops
-
+    // Before the port is opened: from here on every terminating signal is a flag the
+    // session honours (nothing starts after it; a running output is stopped first).
+    const volatile std::sig_atomic_t* signal_flag = tp::host::install_stop_handlers();
     tp::host::EmulatorOptions emu;
     emu.caps.channels = static_cast<std::uint8_t>(emu_channels);
     emu.record_path = record;
     const auto transport = tp::host::open_transport(port, baud, emu, backend);
-    const tp::host::SessionReport r = tp::host::run_session(*transport, s, opt, &g_signal);
-    double peak = 0;
-    for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
+    tp::host::arm_emergency_stop(transport->native_handle());
+    const tp::host::SessionReport r = tp::host::run_session(*transport, s, opt, signal_flag);
+    tp::host::arm_emergency_stop(-1);
+    if (r.preempted)
+      std::fprintf(stderr,
+                   "stimctl: %s was running another session's output (its host is gone): "
+                   "stopped it first\n",
+                   r.port.c_str());
+    if (!r.started) {
+      std::fprintf(stderr, "stimctl: %s: %s before the output started; nothing delivered\n",
+                   r.port.c_str(), r.end.c_str());
+      throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
+    }
     std::fprintf(stderr,
                  "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s, %d "
                  "retransmissions; %s; "
                  "output stopped\n",
                  r.port.c_str(), r.pulses, s.currents_mA.size(),
-                 tp::number_text(s.shape.frequency_hz).c_str(), tp::number_text(peak).c_str(),
+                 tp::number_text(s.shape.frequency_hz).c_str(), tp::number_text(r.peak_mA).c_str(),
                  tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
                  live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
                  r.retransmissions, r.end.c_str());

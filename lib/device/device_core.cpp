@@ -1,16 +1,40 @@
 #include "device/device_core.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 
 namespace tp::device {
+namespace {
+
+bool carries_session(Msg m) {
+  return m == Msg::configure || m == Msg::set_weights || m == Msg::start || m == Msg::keepalive;
+}
+
+}  // namespace
+
+bool DeviceCore::of_session(const Frame& f) const {
+  const auto m = static_cast<Msg>(f.type);
+  return session_ != 0 && m != Msg::configure && carries_session(m) && f.payload.size() >= 4 &&
+         get_u32(f.payload.data()) == session_;
+}
+
+void DeviceCore::end_session() {
+  if (status_.state == State::running) status_.fault = Fault::stopped;
+  status_.state = State::idle;
+  session_ = 0;
+  configured_ = false;
+  weights_set_ = false;
+}
 
 void DeviceCore::receive(const std::uint8_t* data, std::size_t n, std::uint64_t now_us,
                          std::vector<std::uint8_t>& out) {
   for (std::size_t i = 0; i < n; ++i) {
     if (!decoder_.push(data[i])) continue;
     const Frame& f = decoder_.frame();
-    last_valid_us_ = now_us;  // any valid frame feeds the watchdog
+    // Only the running session's own frames keep its output alive: a host that did not
+    // start the output (or identify/status queries) can never hold it on.
+    if (status_.state == State::running && of_session(f)) last_fed_us_ = now_us;
     if (have_last_ && f.seq == last_request_.seq && f.type == last_request_.type &&
         f.payload == last_request_.payload) {
       out.insert(out.end(), last_reply_.begin(), last_reply_.end());  // retransmission
@@ -32,7 +56,17 @@ std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_u
     body[1] = static_cast<std::uint8_t>(r);
     return body;
   };
-  switch (static_cast<Msg>(f.type)) {
+  auto with_status = [&] {
+    const auto s = encode(status_);
+    body.insert(body.end(), s.begin(), s.end());
+    return body;
+  };
+  const auto type = static_cast<Msg>(f.type);
+  if (type != Msg::configure && carries_session(type)) {
+    if (f.payload.size() < 4) return result(Result::bad_length);
+    if (!of_session(f)) return result(Result::wrong_session);
+  }
+  switch (type) {
     case Msg::identify: {
       if (!f.payload.empty()) return result(Result::bad_length);
       const auto c = encode(caps_);
@@ -44,34 +78,35 @@ std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_u
     case Msg::set_weights:
       return result(set_weights(f.payload));
     case Msg::start:
-      if (!f.payload.empty()) return result(Result::bad_length);
+      if (f.payload.size() != 4) return result(Result::bad_length);
       if (!configured_ || !weights_set_) return result(Result::not_configured);
       if (status_.state != State::running) {
         status_.state = State::running;
         status_.fault = Fault::none;
         status_.pulses = 0;
-        start_us_ = next_pulse_us_ = now_us;
+        start_us_ = next_pulse_us_ = last_fed_us_ = now_us;
       }
       return body;
     case Msg::stop:
-      status_.state = State::idle;  // always honoured, whatever the payload
+      end_session();  // always honoured, whatever the payload; disarms
       return body;
-    case Msg::status: {
+    case Msg::status:
       if (!f.payload.empty()) return result(Result::bad_length);
-      const auto s = encode(status_);
-      body.insert(body.end(), s.begin(), s.end());
-      return body;
-    }
+      return with_status();
     case Msg::keepalive:
-      return f.payload.empty() ? body : result(Result::bad_length);
+      if (f.payload.size() != 4) return result(Result::bad_length);
+      return with_status();
     default:
       return result(Result::unknown_type);
   }
 }
 
 Result DeviceCore::configure(const std::vector<std::uint8_t>& payload) {
+  if (payload.size() != 4 + kConfigSize) return Result::bad_length;
   if (status_.state == State::running) return Result::bad_state;
-  const auto c = decode_config(payload);
+  const std::uint32_t session = get_u32(payload.data());
+  if (session == 0) return Result::wrong_session;
+  const auto c = decode_config(payload.data() + 4, payload.size() - 4);
   if (!c) return Result::bad_length;
   if (c->channels == 0 || c->channels > caps_.channels) return Result::channel_mismatch;
   if (c->width_us < caps_.min_width_us || c->width_us > caps_.max_width_us)
@@ -81,22 +116,24 @@ Result DeviceCore::configure(const std::vector<std::uint8_t>& payload) {
   if (c->interphase_us > caps_.max_width_us) return Result::out_of_range;
   const std::uint32_t length = std::uint32_t{c->width_us} + c->interphase_us + c->balance_width_us;
   const std::uint32_t min_period = (1000000u + caps_.max_rate_hz - 1) / caps_.max_rate_hz;
-  if (c->period_us <= length || c->period_us < min_period || c->period_us > 10000000u)
+  if (c->period_us <= length || c->period_us < min_period || c->period_us > hard::max_period_us)
     return Result::out_of_range;
   config_ = *c;
+  session_ = session;  // a new session: weights must be sent again
   configured_ = true;
-  weights_set_ = false;  // weights must be sent again for the new configuration
+  weights_set_ = false;
   return Result::ok;
 }
 
 Result DeviceCore::set_weights(const std::vector<std::uint8_t>& payload) {
   if (!configured_) return Result::not_configured;
-  const auto codes = decode_weights(payload);
+  const auto codes = decode_weights(payload.data() + 4, payload.size() - 4);
   if (!codes) return Result::bad_length;
   if (codes->size() != config_.channels) return Result::channel_mismatch;
-  long sum = 0;
+  const std::int32_t max = caps_.max_code();
+  std::int32_t sum = 0;  // at most 64 codes of 16 bits: no overflow
   for (std::int16_t c : *codes) {
-    if (std::abs(int{c}) > caps_.max_code()) return Result::out_of_range;
+    if (std::abs(std::int32_t{c}) > max) return Result::out_of_range;
     sum += c;
   }
   if (sum != 0) return Result::sum_not_zero;
@@ -109,30 +146,31 @@ Result DeviceCore::set_weights(const std::vector<std::uint8_t>& payload) {
 void DeviceCore::advance(std::uint64_t now_us,
                          const std::function<void(const DeliveredPulse&)>& sink) {
   if (status_.state != State::running) return;
-  const std::uint64_t deadline = last_valid_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
+  const std::uint64_t deadline = last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
   while (status_.state == State::running && next_pulse_us_ <= now_us && next_pulse_us_ < deadline) {
     sink(DeliveredPulse{next_pulse_us_, start_us_, weights_, config_, caps_});
     ++status_.pulses;
     next_pulse_us_ += config_.period_us;
     if (config_.max_pulses != 0 && status_.pulses >= config_.max_pulses) {
-      status_.state = State::idle;
+      end_session();
       status_.fault = Fault::completed;
     }
   }
   if (status_.state == State::running && now_us >= deadline) {
-    status_.state = State::idle;
+    end_session();
     status_.fault = Fault::watchdog;
   }
 }
 
 void DeviceCore::link_lost() {
-  if (status_.state == State::running) status_.fault = Fault::link_lost;
-  status_.state = State::idle;
+  const bool was_running = status_.state == State::running;
+  end_session();
+  if (was_running) status_.fault = Fault::link_lost;
 }
 
 std::uint64_t DeviceCore::next_event_us() const {
   if (status_.state != State::running) return std::numeric_limits<std::uint64_t>::max();
-  const std::uint64_t deadline = last_valid_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
+  const std::uint64_t deadline = last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
   return std::min(next_pulse_us_, deadline);
 }
 

@@ -1,23 +1,55 @@
 #pragma once
-// Messages of the stimulator protocol (docs/protocol.md).  Portable: no OS calls.
-// All multi-byte fields are little-endian.  Currents travel as signed DAC codes;
+// Messages of the stimulator protocol (docs/protocol.md), version 2.  Portable: no OS
+// calls.  All multi-byte fields are little-endian.  Currents travel as signed DAC codes;
 // a positive code is cathodic.
+//
+// Sessions: a host opens a session with `configure`, which carries a random, non-zero
+// 32-bit token.  set_weights, start and keepalive carry the same token; the device refuses
+// them (wrong_session) unless it is the current session's, and only frames of the session
+// that started the output feed the watchdog.  `stop` ends the session (it disarms: the
+// configuration, weights and token are forgotten), so a replayed `start` cannot restart an
+// old stimulus.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "device/frame.hpp"
+
 namespace tp::device {
+
+inline constexpr std::uint8_t kProtocolVersion = 2;
+
+// The most channels a set_weights frame carries: token (4) + count (1) + 2 bytes a code
+// must fit kMaxPayload; 64 is the supported maximum (the host's arrays have at most 64
+// electrodes).  Both ends refuse more.
+inline constexpr std::size_t kMaxChannels = 64;
+static_assert(5 + 2 * kMaxChannels <= kMaxPayload, "a set_weights frame must carry every channel");
+
+// The device's compile-time safety bounds.  A device's configured capabilities (its
+// Capabilities) can only lower them: DeviceCore clamps what it is given to these.
+namespace hard {
+inline constexpr std::uint16_t max_current_uA = 2000;  // per channel, either phase
+inline constexpr std::uint16_t min_width_us = 10;
+inline constexpr std::uint16_t max_width_us = 1000;
+inline constexpr std::uint16_t max_balance_width_us = 8000;
+inline constexpr std::uint16_t max_rate_hz = 1000;
+inline constexpr std::uint32_t max_period_us = 10000000;  // 10 s: rates down to 0.1 Hz
+inline constexpr std::uint16_t min_watchdog_ms = 10;
+inline constexpr std::uint16_t max_watchdog_ms = 1000;
+inline constexpr std::int32_t max_dac_code = 32767;  // a 16-bit signed DAC
+}  // namespace hard
 
 enum class Msg : std::uint8_t {
   identify = 0x01,     // -> ack + Capabilities
-  configure = 0x02,    // PulseConfig -> ack
-  set_weights = 0x03,  // count u8, count x int16 codes -> ack
-  start = 0x04,        // -> ack
-  stop = 0x05,         // -> ack (always honoured)
-  status = 0x06,       // -> ack + Status
-  keepalive = 0x07,    // -> ack
+  configure = 0x02,    // session u32, PulseConfig -> ack (opens the session)
+  set_weights = 0x03,  // session u32, count u8, count x int16 codes -> ack
+  start = 0x04,        // session u32 -> ack
+  stop = 0x05,         // (anything) -> ack; always honoured, ends the session
+  status = 0x06,       // -> ack + Status (a query: never feeds the watchdog)
+  keepalive = 0x07,    // session u32 -> ack + Status
   ack = 0x80,          // device -> host: acked type u8, Result u8, body
 };
 
@@ -30,14 +62,22 @@ enum class Result : std::uint8_t {
   sum_not_zero = 5,      // channel codes do not sum to zero
   channel_mismatch = 6,  // more channels than the device has, or not the configured count
   bad_state = 7,         // configure while running
+  wrong_session = 8,     // the token is not the current session's (another host's, or stopped)
 };
 const char* to_string(Result r);
 
 enum class State : std::uint8_t { idle = 0, running = 1 };
-enum class Fault : std::uint8_t { none = 0, watchdog = 1, link_lost = 2, completed = 3 };
+enum class Fault : std::uint8_t {
+  none = 0,
+  watchdog = 1,
+  link_lost = 2,
+  completed = 3,
+  stopped = 4
+};
 const char* to_string(Fault f);
 
 struct Capabilities {
+  std::uint8_t protocol = kProtocolVersion;
   std::uint8_t channels = 8;
   std::uint16_t max_current_uA = 2000;  // per channel, either phase
   std::uint16_t dac_step_nA = 977;      // one DAC code (12-bit signed over +-2 mA)
@@ -45,12 +85,14 @@ struct Capabilities {
   std::uint16_t max_width_us = 1000;
   std::uint16_t max_balance_width_us = 8000;
   std::uint16_t max_rate_hz = 1000;
-  std::uint16_t watchdog_ms = 300;  // output stops this long after the last valid frame
-  std::uint8_t fw_major = 0, fw_minor = 1, fw_patch = 0;
-  std::int16_t max_code() const {
-    return static_cast<std::int16_t>(std::uint32_t{max_current_uA} * 1000u / dac_step_nA);
-  }
+  std::uint16_t watchdog_ms = 300;  // output stops this long after the session's last frame
+  std::uint8_t fw_major = 0, fw_minor = 2, fw_patch = 0;
+  // The largest code: max_current_uA / dac_step_nA, never above a 16-bit DAC's.
+  std::int32_t max_code() const;
 };
+
+// The capabilities a device may claim: `c` lowered to the compile-time bounds (hard::).
+Capabilities within_hard_limits(Capabilities c);
 
 struct PulseConfig {
   std::uint32_t period_us = 5000;
@@ -74,13 +116,22 @@ void put_u32(std::vector<std::uint8_t>& b, std::uint32_t v);
 std::uint16_t get_u16(const std::uint8_t* p);
 std::uint32_t get_u32(const std::uint8_t* p);
 
+inline constexpr std::size_t kCapabilitiesSize = 19;
+inline constexpr std::size_t kConfigSize = 15;
+inline constexpr std::size_t kStatusSize = 12;
+
 std::vector<std::uint8_t> encode(const Capabilities& c);
 std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode(const PulseConfig& c);
-std::optional<PulseConfig> decode_config(const std::vector<std::uint8_t>& b);
+std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
 std::vector<std::uint8_t> encode(const Status& s);
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode_weights(const std::vector<std::int16_t>& codes);
-std::optional<std::vector<std::int16_t>> decode_weights(const std::vector<std::uint8_t>& b);
+// The count byte and the codes; nothing when the length disagrees or count > kMaxChannels.
+std::optional<std::vector<std::int16_t>> decode_weights(const std::uint8_t* p, std::size_t n);
+
+// The payloads of the session's messages: the token first, then the message's own fields.
+std::vector<std::uint8_t> with_session(std::uint32_t session,
+                                       const std::vector<std::uint8_t>& rest);
 
 }  // namespace tp::device

@@ -192,6 +192,24 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
   std::uint32_t applied = 0;
   auto sink = [&](const device::DeliveredPulse& p) { recorder.record(p); };
   std::vector<std::uint8_t> in(4096), out;
+  // Replies waiting for their time (fault injection: a slow device), oldest first.
+  std::deque<std::pair<std::uint64_t, std::vector<std::uint8_t>>> replies;
+  const auto reply_delay_us =
+      static_cast<std::uint64_t>(std::llround(opt.faults.reply_delay_s * 1e6));
+  auto send_due = [&](std::uint64_t now) {
+    while (!replies.empty() && replies.front().first <= now) {
+      const std::vector<std::uint8_t>& bytes = replies.front().second;
+      std::size_t off = 0;
+      while (off < bytes.size()) {
+        const ssize_t w = ::write(master, bytes.data() + off, bytes.size() - off);
+        if (w > 0)
+          off += static_cast<std::size_t>(w);
+        else if (w < 0 && errno != EAGAIN && errno != EINTR)
+          break;
+      }
+      replies.pop_front();
+    }
+  };
   int status = 0;
   while (!g_stop) {
     const std::uint64_t now = monotonic_us();
@@ -203,8 +221,10 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     const bool stalled = opt.faults.stall_after_s >= 0 && up_s >= opt.faults.stall_after_s &&
                          up_s < opt.faults.stall_after_s + opt.faults.stall_s;
     core.advance(now, sink);
-    // Sleep until the next pulse or watchdog deadline, at most 5 ms.
-    const std::uint64_t next = core.next_event_us();
+    send_due(now);
+    // Sleep until the next pulse, watchdog deadline or reply, at most 5 ms.
+    std::uint64_t next = core.next_event_us();
+    if (!replies.empty()) next = std::min(next, replies.front().first);
     int timeout_ms = 5;
     if (next != UINT64_MAX)
       timeout_ms =
@@ -227,14 +247,8 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
             std::fprintf(apply_log, "%u %lld\n", applied + 1, t);
         }
         inject(out, opt.faults, rng);
-        std::size_t off = 0;
-        while (off < out.size()) {
-          const ssize_t w = ::write(master, out.data() + off, out.size() - off);
-          if (w > 0)
-            off += static_cast<std::size_t>(w);
-          else if (w < 0 && errno != EAGAIN && errno != EINTR)
-            break;
-        }
+        if (!out.empty()) replies.emplace_back(t_rx + reply_delay_us, out);
+        send_due(monotonic_us());
       }
     }
     recorder.flush();

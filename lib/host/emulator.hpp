@@ -35,6 +35,7 @@ struct FaultInjection {
   double stall_after_s = -1.0;       // stop answering (and reading) at this time after start-up...
   double stall_s = 0.0;              // ... for this long
   double disconnect_after_s = -1.0;  // close the line at this time after start-up
+  double reply_delay_s = 0.0;        // answer every request this much later (a slow device)
   std::uint64_t seed = 1;
 };
 

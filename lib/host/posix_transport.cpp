@@ -9,6 +9,8 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <termios.h>
@@ -46,16 +48,44 @@ speed_t speed_of(int baud) {
   }
 }
 
+}  // namespace
+
+// Two hosts must never share a line: an advisory lock that every stimctl takes (it holds
+// for root too, and is released by the kernel when the holder dies), and TIOCEXCL, which
+// makes the kernel refuse further opens by other (non-root) programs.
+void take_exclusively(int fd, const std::string& path) {
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int e = errno;
+    ::close(fd);
+    if (e == EWOULDBLOCK) failure(path + ": in use by another program (port locked)");
+    failure(path + ": cannot lock: " + std::strerror(e));
+  }
+  if (::ioctl(fd, TIOCEXCL) != 0) {
+    const int e = errno;
+    ::close(fd);
+    failure(path + ": cannot open exclusively (TIOCEXCL): " + std::strerror(e));
+  }
+}
+
+namespace {
+
 class PosixTtyTransport final : public Transport {
  public:
   PosixTtyTransport(const std::string& path, int baud) : path_(path) {
     fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
     if (fd_ < 0) {
       if (errno == ENOENT) bad_input("--port: no such port '" + path + "'");
+      if (errno == EISDIR) bad_input("--port: '" + path + "' is a directory, not a serial port");
+      if (errno == EBUSY) failure(path + ": in use by another program (opened exclusively)");
       failure("cannot open " + path + ": " + std::strerror(errno));
     }
+    if (!::isatty(fd_)) {
+      ::close(fd_);
+      bad_input("--port: '" + path + "' is not a serial port (not a terminal)");
+    }
+    take_exclusively(fd_, path);
     termios t{};
-    if (tcgetattr(fd_, &t) != 0) failure(path + ": not a terminal: " + std::strerror(errno));
+    if (tcgetattr(fd_, &t) != 0) failure(path + ": " + std::strerror(errno));
     cfmakeraw(&t);
     t.c_cflag |= CLOCAL | CREAD;
     cfsetispeed(&t, speed_of(baud));
@@ -66,6 +96,7 @@ class PosixTtyTransport final : public Transport {
   }
   ~PosixTtyTransport() override { ::close(fd_); }
   std::string name() const override { return path_; }
+  int native_handle() const override { return fd_; }
 
   void write(const std::uint8_t* data, std::size_t n) override {
     std::size_t off = 0;

@@ -4,12 +4,20 @@
 
 #include <libserialport.h>
 
+#include <cerrno>
+#include <cstring>
 #include <string>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/error.hpp"
 #include "host/transport.hpp"
 
 namespace tp::host {
+
+void take_exclusively(int fd, const std::string& path);  // posix_transport.cpp
+
 namespace {
 
 // A frame is at most ~410 bytes stuffed; at 9600 baud that is ~430 ms, so a whole frame
@@ -36,20 +44,25 @@ int check(sp_return r, const std::string& what) {
 class SerialTransport final : public Transport {
  public:
   SerialTransport(const std::string& path, int baud) : path_(path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISCHR(st.st_mode))
+      bad_input("--port: '" + path + "' is not a serial port (not a character device)");
     if (sp_get_port_by_name(path.c_str(), &port_) != SP_OK)
       bad_input("--port: no serial port '" + path + "'");
-    check(sp_open(port_, SP_MODE_READ_WRITE), "cannot open " + path);
-    check(sp_set_baudrate(port_, baud), path + ": baud rate");
-    check(sp_set_bits(port_, 8), path + ": data bits");
-    check(sp_set_parity(port_, SP_PARITY_NONE), path + ": parity");
-    check(sp_set_stopbits(port_, 1), path + ": stop bits");
-    check(sp_set_flowcontrol(port_, SP_FLOWCONTROL_NONE), path + ": flow control");
+    try {
+      open_exclusively(baud);
+    } catch (...) {
+      if (fd_ >= 0) ::close(fd_);
+      close_port();
+      throw;
+    }
   }
   ~SerialTransport() override {
-    sp_close(port_);
-    sp_free_port(port_);
+    if (fd_ >= 0) ::close(fd_);
+    close_port();
   }
   std::string name() const override { return path_; }
+  int native_handle() const override { return fd_; }
 
   void write(const std::uint8_t* data, std::size_t n) override {
     const int written =
@@ -65,8 +78,33 @@ class SerialTransport final : public Transport {
   }
 
  private:
+  void open_exclusively(int baud) {
+    check(sp_open(port_, SP_MODE_READ_WRITE), "cannot open " + path_);
+    opened_ = true;
+    int fd = -1;
+    check(sp_get_port_handle(port_, &fd), path_ + ": handle");
+    if (!::isatty(fd)) bad_input("--port: '" + path_ + "' is not a serial port (not a terminal)");
+    const int lock_fd = ::dup(fd);  // the lock is the open file's, shared with the port's fd
+    if (lock_fd < 0) failure(path_ + ": " + std::strerror(errno));
+    take_exclusively(lock_fd, path_);  // closes lock_fd when it fails
+    fd_ = lock_fd;
+    check(sp_set_baudrate(port_, baud), path_ + ": baud rate");
+    check(sp_set_bits(port_, 8), path_ + ": data bits");
+    check(sp_set_parity(port_, SP_PARITY_NONE), path_ + ": parity");
+    check(sp_set_stopbits(port_, 1), path_ + ": stop bits");
+    check(sp_set_flowcontrol(port_, SP_FLOWCONTROL_NONE), path_ + ": flow control");
+  }
+  void close_port() {
+    if (port_) {
+      if (opened_) sp_close(port_);
+      sp_free_port(port_);
+      port_ = nullptr;
+    }
+  }
   std::string path_;
   sp_port* port_ = nullptr;
+  bool opened_ = false;
+  int fd_ = -1;  // a duplicate of the port's descriptor, holding the lock
 };
 
 }  // namespace

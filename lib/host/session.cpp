@@ -1,16 +1,14 @@
 #include "host/session.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
-#include <poll.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "core/error.hpp"
+#include "host/line_reader.hpp"
+#include "host/signals.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 
@@ -18,10 +16,12 @@ namespace tp::host {
 namespace {
 
 std::uint16_t whole_us(double v, const char* what) {
-  const double r = std::round(v);
-  if (std::fabs(v - r) > 1e-6 || r < 0 || r > 65535)
+  if (!(v >= 0.0 && v <= 65535.0))  // range first: the conversion below cannot wrap
     bad_input(std::string(what) + ": the device takes whole microseconds up to 65535, got " +
               number_text(v));
+  const double r = std::round(v);
+  if (std::fabs(v - r) > 1e-6)
+    bad_input(std::string(what) + ": the device takes whole microseconds, got " + number_text(v));
   return static_cast<std::uint16_t>(r);
 }
 
@@ -36,35 +36,6 @@ StimulusLimits device_limits(StimulusLimits l, const device::Capabilities& c) {
   return l;
 }
 
-// Reads complete lines from a non-blocking descriptor; false at end of input.
-class LineReader {
- public:
-  explicit LineReader(int fd) : fd_(fd) {}
-  bool poll_lines(int timeout_ms, std::vector<std::string>& lines) {
-    pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, timeout_ms);
-    if (r <= 0) return true;  // timeout or EINTR: nothing yet
-    char buf[65536];
-    const ssize_t n = ::read(fd_, buf, sizeof buf);
-    if (n < 0) return errno == EINTR || errno == EAGAIN;
-    if (n == 0) {
-      if (!pending_.empty()) lines.push_back(pending_);
-      pending_.clear();
-      return false;
-    }
-    pending_.append(buf, static_cast<std::size_t>(n));
-    for (std::size_t pos; (pos = pending_.find('\n')) != std::string::npos;) {
-      lines.push_back(pending_.substr(0, pos));
-      pending_.erase(0, pos + 1);
-    }
-    return true;
-  }
-
- private:
-  int fd_;
-  std::string pending_;
-};
-
 // One live frame: {"currents_mA": [...]}, checked like the stimulus itself.
 std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line, Stimulus shape_of,
                                      const StimulusLimits& lim, const device::Capabilities& caps) {
@@ -77,13 +48,13 @@ std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line
   }
   if (!j.is_object() || !j.contains("currents_mA") || !j["currents_mA"].is_array())
     bad_input(where + ": expected {\"currents_mA\": [...]}");
-  std::vector<double> c;
-  for (std::size_t i = 0; i < j["currents_mA"].size(); ++i)
-    c.push_back(
-        json_finite(j["currents_mA"][i], where + " currents_mA[" + std::to_string(i) + "]"));
-  if (c.size() != shape_of.currents_mA.size())
-    bad_input(where + ": " + std::to_string(c.size()) + " currents for " +
+  const Json& list = j["currents_mA"];
+  if (list.size() != shape_of.currents_mA.size())
+    bad_input(where + ": " + std::to_string(list.size()) + " currents for " +
               std::to_string(shape_of.currents_mA.size()) + " channels");
+  std::vector<double> c;
+  for (std::size_t i = 0; i < list.size(); ++i)
+    c.push_back(json_finite(list[i], where + " currents_mA[" + std::to_string(i) + "]"));
   shape_of.currents_mA = c;
   try {
     check_stimulus(shape_of, lim);
@@ -93,100 +64,181 @@ std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line
   return quantize_currents(c, caps);
 }
 
-std::int64_t now_ns() {
-  return monotonic_ns();
+double peak_of(const std::vector<std::int16_t>& codes, const device::Capabilities& caps) {
+  int m = 0;
+  for (std::int16_t c : codes) m = std::max(m, std::abs(int{c}));
+  return m * caps.dac_step_nA * 1e-6;
+}
+
+std::string end_by_signal(int sig) {
+  if (sig == SIGINT) return "interrupted (SIGINT)";
+  if (sig == SIGTERM) return "terminated (SIGTERM)";
+  return "stopped by " + signal_name(sig);
 }
 
 }  // namespace
+
+void check_device(const device::Capabilities& caps) {
+  if (caps.watchdog_ms > kMaxDeviceWatchdogMs)
+    bad_input("device watchdog of " + std::to_string(caps.watchdog_ms) +
+              " ms is longer than the host's safety bound of " +
+              std::to_string(kMaxDeviceWatchdogMs) + " ms: a dead host's output would run on");
+  if (caps.watchdog_ms < kMinDeviceWatchdogMs)
+    bad_input("device watchdog of " + std::to_string(caps.watchdog_ms) +
+              " ms is shorter than two keep-alive periods (" +
+              std::to_string(kMinDeviceWatchdogMs) + " ms at one per " +
+              std::to_string(kKeepAliveMs) + " ms)");
+  if (caps.channels > device::kMaxChannels)
+    bad_input("device reports " + std::to_string(caps.channels) +
+              " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
+}
 
 SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag) {
   StimulatorClient dev(transport);
   SessionReport rep;
   rep.port = transport.name();
+  auto interrupted = [&] { return signal_flag && *signal_flag != 0; };
+  auto end_by_flag = [&] {
+    rep.end = end_by_signal(*signal_flag);
+    rep.exit_code = 128 + *signal_flag;
+  };
 
-  // 1. What is on the line, and does the stimulus fit it?  Nothing but identify is sent
-  //    before every check has passed.
+  // 1. Every check before anything but identify is sent: the stimulus, its duration, the
+  //    device's capabilities, and the stimulus against them.
+  if (s.currents_mA.size() > device::kMaxChannels)
+    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
+              " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
+  const double max_s = opt.limits.max_duration_s;
+  if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
+    bad_input("--duration: " + number_text(opt.duration_s) + " s outside (0, " +
+              number_text(max_s) + "] s");
+  if (interrupted()) {
+    end_by_flag();
+    return rep;
+  }
   rep.caps = dev.identify();
+  check_device(rep.caps);
   if (s.currents_mA.size() > rep.caps.channels)
     bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
               " channels; the device has " + std::to_string(rep.caps.channels));
   const StimulusLimits lim = device_limits(opt.limits, rep.caps);
   check_stimulus(s, lim);
-  Stimulus run = s;
-  if (opt.duration_s >= 0) {
-    if (!(opt.duration_s > 0) || !std::isfinite(opt.duration_s))
-      bad_input("--duration: must be > 0 s");
-    run.count = std::min<long>(s.count, std::lround(opt.duration_s * s.shape.frequency_hz));
-    if (opt.live) run.count = std::lround(opt.duration_s * s.shape.frequency_hz);
-    if (run.count < 1) bad_input("--duration: shorter than one pulse period");
-  }
+  // Pulse counts in double first (bounded by the duration limit and the rate limit), so
+  // that the conversion to the device's 32-bit count cannot wrap.
+  const double f = s.shape.frequency_hz;
+  double count = static_cast<double>(s.count);
+  if (opt.live)
+    count = std::floor((opt.duration_s > 0 ? opt.duration_s : max_s) * f + 0.5);
+  else if (opt.duration_s > 0)
+    count = std::min(count, std::floor(opt.duration_s * f + 0.5));
+  if (count < 1) bad_input("--duration: shorter than one pulse period");
+  if (!(count <= max_s * lim.max_frequency_hz + 1))
+    bad_input("stimulus: " + number_text(count) + " pulses exceed the duration limit");
   device::PulseConfig cfg;
   cfg.width_us = whole_us(s.shape.width_us, "pulse width");
   cfg.interphase_us = whole_us(s.shape.interphase_us, "interphase gap");
   cfg.balance_width_us = whole_us(s.shape.balance_width_us, "balance width");
   // The device counts whole microseconds: the period is rounded (150 Hz: 6667 us, 149.993 Hz).
-  cfg.period_us = static_cast<std::uint32_t>(std::lround(s.shape.period_us()));
+  const double period = std::round(s.shape.period_us());
+  if (!(period >= 1 && period <= device::hard::max_period_us))
+    bad_input("pulse period of " + number_text(period) + " us outside the protocol's 1 us to " +
+              std::to_string(device::hard::max_period_us / 1000000) + " s");
+  cfg.period_us = static_cast<std::uint32_t>(period);
   cfg.channels = static_cast<std::uint8_t>(s.currents_mA.size());
-  // The device stops itself after the stimulus' pulses (live mode without --duration: open-ended).
-  cfg.max_pulses = opt.live && opt.duration_s < 0 ? 0u : static_cast<std::uint32_t>(run.count);
+  // The device always has a pulse budget: it stops by itself after the stimulus' pulses
+  // (live mode: --duration, or the duration limit), whatever becomes of the host.
+  cfg.max_pulses = static_cast<std::uint32_t>(count);
+  const double expected_s = count / f;
   const std::vector<std::int16_t> codes = quantize_currents(s.currents_mA, rep.caps);
 
-  // 2. Configure, set the weights, start; from here on every exit stops the output.
-  dev.configure(cfg);
-  dev.set_weights(codes);
   std::FILE* latency = nullptr;
   if (opt.live && !opt.latency_log.empty()) {
     latency = std::fopen(opt.latency_log.c_str(), "w");
     if (!latency) bad_input("--latency-log: cannot open '" + opt.latency_log + "'");
   }
-  const std::int64_t t0 = now_ns();
-  bool started = false;
+  struct CloseLog {
+    std::FILE*& f;
+    ~CloseLog() {
+      if (f) std::fclose(f);
+    }
+  } close_log{latency};
+
+  // 2. A device still running is another host's output (the port is ours alone): stop it.
+  //    Then configure a session of our own, set the weights, start.  The stop flag is
+  //    checked before every step that leads to output.
+  const std::int64_t t0 = monotonic_ns();
+  bool configured = false;
   try {
-    dev.start();
-    started = true;
-    const double expected_s = run.duration_s();
+    if (interrupted()) {
+      end_by_flag();
+      return rep;
+    }
+    if (dev.status().state == device::State::running) {
+      dev.stop();
+      rep.preempted = true;
+    }
+    for (int step = 0; step < 3; ++step) {
+      if (interrupted()) break;
+      if (step == 0) {
+        dev.configure(cfg);
+        configured = true;
+      } else if (step == 1) {
+        dev.set_weights(codes);
+        rep.peak_mA = peak_of(codes, rep.caps);
+      } else {
+        dev.start();
+        rep.started = true;
+      }
+    }
+    if (!rep.started) {
+      end_by_flag();
+      dev.stop();  // disarm the session we opened
+      return rep;
+    }
+
+    // 3. Keep the session alive until the run ends.
     LineReader input(opt.input_fd);
-    std::size_t n_line = 0;
-    std::int64_t last_keepalive = now_ns();
+    std::int64_t last_keepalive = monotonic_ns();
+    const std::int64_t period_ns = std::int64_t{kKeepAliveMs} * 1000000;
+    std::string line;
     while (true) {
-      if (signal_flag && *signal_flag) {
-        rep.end = *signal_flag == SIGINT    ? "interrupted (SIGINT)"
-                  : *signal_flag == SIGTERM ? "terminated (SIGTERM)"
-                                            : "signal";
-        rep.exit_code = 128 + *signal_flag;
+      if (interrupted()) {
+        end_by_flag();
         break;
       }
-      const double elapsed = static_cast<double>(now_ns() - t0) * 1e-9;
-      if (cfg.max_pulses != 0 && elapsed > expected_s + 1.0)
-        failure("device did not complete the stimulus in time");
+      const std::int64_t now = monotonic_ns();
+      const double elapsed = static_cast<double>(now - t0) * 1e-9;
+      if (elapsed > expected_s + 1.0) failure("device did not complete the stimulus in time");
+      const std::int64_t wait_ns = std::max<std::int64_t>(0, last_keepalive + period_ns - now);
       if (opt.live) {
-        std::vector<std::string> lines;
-        const bool more = input.poll_lines(kKeepAliveMs, lines);
-        for (const std::string& line : lines) {
-          ++n_line;
-          if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-          const auto frame = live_frame(line, n_line, s, lim, rep.caps);
-          dev.set_weights(frame);
-          ++rep.weight_frames;
-          if (latency)
-            std::fprintf(latency, "%u %lld\n", rep.weight_frames,
-                         static_cast<long long>(dev.last_write_ns()));
-          last_keepalive = now_ns();  // every acknowledged frame feeds the watchdog
-        }
-        if (!more) {
+        // One line per turn, so a flood of input never delays the keep-alive below.
+        if (input.next(line)) {
+          if (line.find_first_not_of(" \t\r") != std::string::npos) {
+            const auto frame = live_frame(line, input.lines(), s, lim, rep.caps);
+            dev.set_weights(frame);
+            ++rep.weight_frames;
+            rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));
+            if (latency)
+              std::fprintf(latency, "%u %lld\n", rep.weight_frames,
+                           static_cast<long long>(dev.last_write_ns()));
+          }
+        } else if (input.at_end()) {
           rep.end = "end of input";
           break;
+        } else {
+          input.fill(static_cast<int>((wait_ns + 999999) / 1000000));
         }
       } else {
-        timespec ts{0, kKeepAliveMs * 1000000L};
+        timespec ts{0, static_cast<long>(wait_ns)};
         nanosleep(&ts, nullptr);
       }
-      const bool keepalive_due = now_ns() - last_keepalive >= std::int64_t{kKeepAliveMs} * 1000000;
-      const bool should_be_done = cfg.max_pulses != 0 && elapsed >= expected_s;
+      const std::int64_t after = monotonic_ns();
+      const bool keepalive_due = after - last_keepalive >= period_ns;
+      const bool should_be_done = static_cast<double>(after - t0) * 1e-9 >= expected_s;
       if (keepalive_due || should_be_done) {
-        const device::Status st = dev.status();  // doubles as the keep-alive
-        last_keepalive = now_ns();
+        const device::Status st = dev.keepalive();
+        last_keepalive = monotonic_ns();
         if (st.state == device::State::idle) {
           if (st.fault == device::Fault::completed) {
             rep.end = "stimulus complete";
@@ -198,8 +250,7 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
     }
     dev.stop();
   } catch (...) {
-    if (latency) std::fclose(latency);
-    if (started) {
+    if (configured) {
       try {
         dev.stop();
       } catch (...) {
@@ -208,10 +259,9 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
     }
     throw;
   }
-  if (latency) std::fclose(latency);
   const device::Status st = dev.status();
   rep.pulses = st.pulses;
-  rep.seconds = static_cast<double>(now_ns() - t0) * 1e-9;
+  rep.seconds = static_cast<double>(monotonic_ns() - t0) * 1e-9;
   rep.retransmissions = dev.retransmissions();
   return rep;
 }

@@ -1,8 +1,9 @@
 #pragma once
-// stimctl's run: identify the device, check the stimulus against the device's
-// capabilities and the host's limits, configure, set weights, start, keep the watchdog fed,
-// and stop the output however the run ends: the stimulus completes, --duration passes,
-// the live input ends, a signal arrives, or anything fails.
+// stimctl's run: identify the device, check the stimulus and the device against the
+// host's limits, stop any output the device is still running for another (dead) host,
+// configure a new session, set weights, start, keep the session's watchdog fed, and stop
+// the output however the run ends: the stimulus completes, --duration passes, the live
+// input ends, a signal arrives, or anything fails.
 
 #include <csignal>
 #include <string>
@@ -13,7 +14,8 @@
 namespace tp::host {
 
 struct SessionOptions {
-  double duration_s = -1.0;  // stop after this long (< 0: the stimulus' own duration)
+  double duration_s = -1.0;  // stop after this long (< 0: the stimulus' own duration; live
+                             // mode: until the input ends, at most limits.max_duration_s)
   bool live = false;         // after starting, read weight frames (JSON lines) from input_fd
   int input_fd = 0;
   std::string latency_log;  // live mode: "n t_ns" per weight frame written (benchmarks)
@@ -24,14 +26,23 @@ struct SessionReport {
   std::string port;
   std::string end;           // why the output stopped
   int exit_code = 0;         // 0, or 128 + signal
+  bool started = false;      // the output was started
+  bool preempted = false;    // the device was running another session: stopped first
   std::uint32_t pulses = 0;  // delivered, per the device
   std::uint32_t weight_frames = 0;
+  double peak_mA = 0.0;  // largest |current| sent to the device (as the DAC makes it)
   double seconds = 0.0;
   int retransmissions = 0;
   device::Capabilities caps;
 };
 
-// signal_flag: set (to the signal number) by the caller's signal handler.
+// Refuses (bad input, naming both values) a device the host cannot drive safely: a
+// watchdog longer than kMaxDeviceWatchdogMs or shorter than kMinDeviceWatchdogMs, more
+// channels than the protocol carries.
+void check_device(const device::Capabilities& caps);
+
+// signal_flag: set (to the signal number) by a signal handler (signals.hpp).  It is checked
+// before every step that could start output, and at every turn of the keep-alive loop.
 SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag);
 

@@ -1,10 +1,14 @@
 #include "host/stimulator.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <numeric>
 #include <string>
+
+#include <sys/random.h>
 
 #include "core/error.hpp"
 #include "io/number.hpp"
@@ -36,8 +40,8 @@ const char* msg_name(device::Msg m) {
 }
 }  // namespace
 
-std::vector<std::uint8_t> StimulatorClient::request(device::Msg type,
-                                                    const std::vector<std::uint8_t>& payload) {
+StimulatorClient::Reply StimulatorClient::exchange(device::Msg type,
+                                                   const std::vector<std::uint8_t>& payload) {
   const std::uint8_t seq = ++seq_;
   std::vector<std::uint8_t> bytes;
   device::encode_frame(device::Frame{seq, static_cast<std::uint8_t>(type), payload}, bytes);
@@ -61,11 +65,8 @@ std::vector<std::uint8_t> StimulatorClient::request(device::Msg type,
         if (f.type != static_cast<std::uint8_t>(device::Msg::ack) || f.seq != seq ||
             f.payload.size() < 2 || f.payload[0] != static_cast<std::uint8_t>(type))
           continue;
-        const auto result = static_cast<device::Result>(f.payload[1]);
-        if (result != device::Result::ok)
-          failure(std::string("device refused ") + msg_name(type) + ": " +
-                  device::to_string(result));
-        return std::vector<std::uint8_t>(f.payload.begin() + 2, f.payload.end());
+        return Reply{static_cast<device::Result>(f.payload[1]),
+                     std::vector<std::uint8_t>(f.payload.begin() + 2, f.payload.end())};
       }
     }
   }
@@ -73,26 +74,48 @@ std::vector<std::uint8_t> StimulatorClient::request(device::Msg type,
           msg_name(type) + " after " + std::to_string(kAttempts) + " attempts)");
 }
 
+std::vector<std::uint8_t> StimulatorClient::request(device::Msg type,
+                                                    const std::vector<std::uint8_t>& payload) {
+  Reply r = exchange(type, payload);
+  if (r.result != device::Result::ok)
+    failure(std::string("device refused ") + msg_name(type) + ": " + device::to_string(r.result));
+  return std::move(r.body);
+}
+
 device::Capabilities StimulatorClient::identify() {
-  std::vector<std::uint8_t> body = request(device::Msg::identify, {});
-  const auto caps = device::decode_capabilities(body, 0);
+  const Reply r = exchange(device::Msg::identify, {});
+  if (r.result != device::Result::ok)
+    failure(std::string("device refused identify: ") + device::to_string(r.result));
+  if (r.body.empty() || r.body[0] != device::kProtocolVersion)
+    failure("device speaks protocol version " + (r.body.empty() ? "?" : std::to_string(r.body[0])) +
+            "; stimctl speaks version " + std::to_string(device::kProtocolVersion));
+  const auto caps = device::decode_capabilities(r.body, 0);
   if (!caps) failure("device sent malformed capabilities");
   return *caps;
 }
 void StimulatorClient::configure(const device::PulseConfig& c) {
-  request(device::Msg::configure, device::encode(c));
+  const std::uint32_t token = new_session_token();
+  request(device::Msg::configure, device::with_session(token, device::encode(c)));
+  session_ = token;
 }
 void StimulatorClient::set_weights(const std::vector<std::int16_t>& codes) {
-  request(device::Msg::set_weights, device::encode_weights(codes));
+  request(device::Msg::set_weights, device::with_session(session_, device::encode_weights(codes)));
 }
 void StimulatorClient::start() {
-  request(device::Msg::start, {});
+  request(device::Msg::start, device::with_session(session_, {}));
 }
 void StimulatorClient::stop() {
-  request(device::Msg::stop, {});
+  request(device::Msg::stop, device::with_session(session_, {}));
+  session_ = 0;
 }
-void StimulatorClient::keepalive() {
-  request(device::Msg::keepalive, {});
+device::Status StimulatorClient::keepalive() {
+  const Reply r = exchange(device::Msg::keepalive, device::with_session(session_, {}));
+  if (r.result == device::Result::wrong_session) return status();  // the device ended it
+  if (r.result != device::Result::ok)
+    failure(std::string("device refused keep-alive: ") + device::to_string(r.result));
+  const auto s = device::decode_status(r.body, 0);
+  if (!s) failure("device sent a malformed status");
+  return *s;
 }
 device::Status StimulatorClient::status() {
   const auto body = request(device::Msg::status, {});
@@ -101,19 +124,30 @@ device::Status StimulatorClient::status() {
   return *s;
 }
 
+std::uint32_t new_session_token() {
+  std::uint32_t t = 0;
+  while (t == 0) {
+    if (::getrandom(&t, sizeof t, 0) != static_cast<ssize_t>(sizeof t))
+      failure(std::string("no random session token: ") + std::strerror(errno));
+  }
+  return t;
+}
+
 std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_mA,
                                             const device::Capabilities& caps) {
   const double step_mA = caps.dac_step_nA * 1e-6;
-  const int max_code = caps.max_code();
+  const long max_code = caps.max_code();
   std::vector<std::int16_t> codes;
   std::vector<double> err;  // exact - rounded, in codes
   long sum = 0;
   for (double c : currents_mA) {
     const double exact = c / step_mA;
-    long code = std::lround(exact);
-    if (std::labs(code) > max_code)
+    // Range first, then the conversion: lround of a huge or non-finite value is undefined.
+    if (!(std::fabs(exact) <= static_cast<double>(max_code) + 0.5) ||
+        std::labs(std::lround(exact)) > max_code)
       bad_input("current " + number_text(c) + " mA exceeds the device's limit of " +
                 number_text(caps.max_current_uA * 1e-3) + " mA");
+    const long code = std::lround(exact);
     codes.push_back(static_cast<std::int16_t>(code));
     err.push_back(exact - static_cast<double>(code));
     sum += code;

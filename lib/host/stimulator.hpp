@@ -22,33 +22,54 @@ inline constexpr int kAttempts = 6;
 // Keep-alive period: several per watchdog period (the device's is 300 ms).
 inline constexpr int kKeepAliveMs = 50;
 
+// The host's bounds on a device's watchdog: it must stop a dead host's output within the
+// host's safety bound, and leave room for more than one keep-alive (a lost frame).
+inline constexpr int kMaxDeviceWatchdogMs = 300;
+inline constexpr int kMinDeviceWatchdogMs = 2 * kKeepAliveMs;
+
 class StimulatorClient {
  public:
   explicit StimulatorClient(Transport& t) : t_(t) {}
 
   device::Capabilities identify();
+  // Opens a session: a fresh random non-zero token, carried by every later request.
   void configure(const device::PulseConfig& c);
   void set_weights(const std::vector<std::int16_t>& codes);
   void start();
+  // Always honoured by the device; ends the session.
   void stop();
+  // A query: never feeds the device's watchdog.
   device::Status status();
-  void keepalive();
+  // Feeds the watchdog of this session's output and returns the status.  When the device
+  // has ended the session (completed, watchdog, link), returns the status it reports.
+  device::Status keepalive();
+  std::uint32_t session() const { return session_; }
 
   // Monotonic time (ns) at which the last request's first attempt was written.
   std::int64_t last_write_ns() const { return last_write_ns_; }
   int retransmissions() const { return retransmissions_; }
 
  private:
-  // Sends a request and returns the acknowledgement's body (after type and result);
-  // throws tp::Error (failure) when the device refuses it or stops answering.
+  struct Reply {
+    device::Result result;
+    std::vector<std::uint8_t> body;  // after type and result
+  };
+  // Sends a request and returns the acknowledgement; throws tp::Error (failure) when the
+  // device stops answering.
+  Reply exchange(device::Msg type, const std::vector<std::uint8_t>& payload);
+  // exchange(), and a refusal is a tp::Error (failure) naming it.
   std::vector<std::uint8_t> request(device::Msg type, const std::vector<std::uint8_t>& payload);
 
   Transport& t_;
   device::FrameDecoder decoder_;
   std::uint8_t seq_ = 0;
+  std::uint32_t session_ = 0;
   std::int64_t last_write_ns_ = 0;
   int retransmissions_ = 0;
 };
+
+// A random non-zero session token (the OS's random source).
+std::uint32_t new_session_token();
 
 // DAC codes for the main-phase currents: rounded to the DAC step, then adjusted by single
 // codes (largest rounding error first) so that they sum to exactly zero.

@@ -23,6 +23,8 @@ class Transport {
   // Waits up to timeout_ms for at least one byte; returns how many were read (0: timeout).
   // Throws tp::Error (failure) when the link is lost.
   virtual std::size_t read(std::uint8_t* buf, std::size_t max, int timeout_ms) = 0;
+  // The OS descriptor of a serial line (for the emergency stop), or -1.
+  virtual int native_handle() const { return -1; }
 };
 
 struct EmulatorOptions {
@@ -30,8 +32,10 @@ struct EmulatorOptions {
   std::string record_path;  // JSON lines, one per delivered pulse (empty: none)
 };
 
-// Opens "emu" or a port at `baud`.  backend: "auto" (by the port, as above),
-// "libserialport" or "posix".
+// Opens "emu" or a port at `baud`.  A port is opened exclusively: an advisory lock
+// (flock) that every stimctl takes, and TIOCEXCL against other programs; a port already
+// held is a runtime failure naming it.  A path that is not a terminal is bad input.  backend:
+// "auto" (by the port, as above), "libserialport" or "posix".
 std::unique_ptr<Transport> open_transport(const std::string& port, int baud,
                                           const EmulatorOptions& emu,
                                           const std::string& backend = "auto");

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "device/device_core.hpp"
+#include "host/session.hpp"
 #include "host/stimulator.hpp"
 #include "pulse/stimulus.hpp"
 
@@ -43,6 +44,17 @@ Result send(DeviceCore& core, std::uint8_t seq, Msg type, const std::vector<std:
     }
   FAIL("no acknowledgement");
   return Result::ok;
+}
+
+constexpr std::uint32_t kToken = 0xC0FFEE01u;
+std::vector<std::uint8_t> token() {
+  return with_session(kToken, {});
+}
+std::vector<std::uint8_t> configure(const PulseConfig& c) {
+  return with_session(kToken, encode(c));
+}
+std::vector<std::uint8_t> weights(const std::vector<std::int16_t>& codes) {
+  return with_session(kToken, encode_weights(codes));
 }
 
 PulseConfig config8() {
@@ -156,34 +168,41 @@ TEST_CASE("randomised decoder fuzz: no crash, no damaged frame accepted", "[devi
 TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing",
           "[device][core]") {
   DeviceCore core(Capabilities{});
-  const std::int16_t max = Capabilities{}.max_code();
+  const auto max = static_cast<std::int16_t>(Capabilities{}.max_code());
   std::vector<std::int16_t> ok = {100, -50, -50, 0, 0, 0, 0, 0};
-  CHECK(send(core, 1, Msg::set_weights, encode_weights(ok), 0) == Result::not_configured);
-  CHECK(send(core, 2, Msg::start, {}, 0) == Result::not_configured);
+  CHECK(send(core, 1, Msg::set_weights, weights(ok), 0) == Result::wrong_session);
+  CHECK(send(core, 2, Msg::start, token(), 0) == Result::wrong_session);
   PulseConfig bad = config8();
   bad.width_us = 5;
-  CHECK(send(core, 3, Msg::configure, encode(bad), 0) == Result::out_of_range);
+  CHECK(send(core, 3, Msg::configure, configure(bad), 0) == Result::out_of_range);
   bad = config8();
   bad.balance_width_us = 100;  // shorter than the main phase: higher than it
-  CHECK(send(core, 4, Msg::configure, encode(bad), 0) == Result::out_of_range);
+  CHECK(send(core, 4, Msg::configure, configure(bad), 0) == Result::out_of_range);
   bad = config8();
   bad.period_us = 500;  // 2 kHz
-  CHECK(send(core, 5, Msg::configure, encode(bad), 0) == Result::out_of_range);
+  CHECK(send(core, 5, Msg::configure, configure(bad), 0) == Result::out_of_range);
   bad = config8();
   bad.channels = 9;
-  CHECK(send(core, 6, Msg::configure, encode(bad), 0) == Result::channel_mismatch);
-  CHECK(send(core, 7, Msg::configure, encode(config8()), 0) == Result::ok);
-  CHECK(send(core, 8, Msg::set_weights, encode_weights(ok), 0) == Result::ok);
+  CHECK(send(core, 6, Msg::configure, configure(bad), 0) == Result::channel_mismatch);
+  bad = config8();
+  bad.period_us = hard::max_period_us + 1;  // slower than 0.1 Hz
+  CHECK(send(core, 16, Msg::configure, configure(bad), 0) == Result::out_of_range);
+  CHECK(send(core, 17, Msg::configure, with_session(0, encode(config8())), 0) ==
+        Result::wrong_session);  // 0 is no session
+  CHECK(send(core, 18, Msg::configure, encode(config8()), 0) == Result::bad_length);  // no token
+  CHECK(send(core, 7, Msg::configure, configure(config8()), 0) == Result::ok);
+  CHECK(send(core, 19, Msg::start, token(), 0) == Result::not_configured);  // no weights yet
+  CHECK(send(core, 8, Msg::set_weights, weights(ok), 0) == Result::ok);
   std::vector<std::int16_t> over = {
       static_cast<std::int16_t>(max + 1), static_cast<std::int16_t>(-max - 1), 0, 0, 0, 0, 0, 0};
-  CHECK(send(core, 9, Msg::set_weights, encode_weights(over), 0) == Result::out_of_range);
+  CHECK(send(core, 9, Msg::set_weights, weights(over), 0) == Result::out_of_range);
   std::vector<std::int16_t> unbalanced = {100, -99, 0, 0, 0, 0, 0, 0};
-  CHECK(send(core, 10, Msg::set_weights, encode_weights(unbalanced), 0) == Result::sum_not_zero);
-  CHECK(send(core, 11, Msg::set_weights, encode_weights({100, -100}), 0) ==
-        Result::channel_mismatch);
-  CHECK(send(core, 12, Msg::set_weights, {3, 1}, 0) == Result::bad_length);
-  CHECK(send(core, 13, Msg::start, {}, 0) == Result::ok);
-  CHECK(send(core, 14, Msg::configure, encode(config8()), 0) == Result::bad_state);
+  CHECK(send(core, 10, Msg::set_weights, weights(unbalanced), 0) == Result::sum_not_zero);
+  CHECK(send(core, 11, Msg::set_weights, weights({100, -100}), 0) == Result::channel_mismatch);
+  CHECK(send(core, 12, Msg::set_weights, with_session(kToken, {3, 1}), 0) == Result::bad_length);
+  CHECK(send(core, 20, Msg::set_weights, {1, 2}, 0) == Result::bad_length);  // shorter than a token
+  CHECK(send(core, 13, Msg::start, token(), 0) == Result::ok);
+  CHECK(send(core, 14, Msg::configure, configure(config8()), 0) == Result::bad_state);
   // Pulses carry the last accepted weights only.
   std::vector<std::vector<std::int16_t>> seen;
   core.advance(20000, [&](const DeliveredPulse& p) { seen.push_back(p.codes); });
@@ -191,19 +210,21 @@ TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing
   for (const auto& s : seen) CHECK(s == ok);
   CHECK(send(core, 15, Msg::stop, {}, 20000) == Result::ok);
   core.advance(100000, [&](const DeliveredPulse&) { FAIL("pulse after stop"); });
+  CHECK(core.status().fault == Fault::stopped);
 }
 
-TEST_CASE("the watchdog stops output when keep-alives stop", "[device][core][watchdog]") {
+TEST_CASE("the watchdog stops output when the session's keep-alives stop",
+          "[device][core][watchdog]") {
   Capabilities caps;
   caps.watchdog_ms = 300;
   DeviceCore core(caps);
-  send(core, 1, Msg::configure, encode(config8()), 0);
-  send(core, 2, Msg::set_weights, encode_weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, {}, 1000);
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(core, 3, Msg::start, token(), 1000);
   std::vector<std::uint64_t> t;
   auto sink = [&](const DeliveredPulse& p) { t.push_back(p.t_us); };
   core.advance(200000, sink);
-  send(core, 4, Msg::keepalive, {}, 200000);  // fed at 0.2 s: deadline 0.5 s
+  send(core, 4, Msg::keepalive, token(), 200000);  // fed at 0.2 s: deadline 0.5 s
   core.advance(2000000, sink);
   CHECK(core.status().state == State::idle);
   CHECK(core.status().fault == Fault::watchdog);
@@ -213,18 +234,149 @@ TEST_CASE("the watchdog stops output when keep-alives stop", "[device][core][wat
   std::vector<std::uint8_t> body;
   CHECK(send(core, 5, Msg::status, {}, 2000000, &body) == Result::ok);
   CHECK(decode_status(body, 0)->fault == Fault::watchdog);
+  // The watchdog ended the session: its keep-alive is refused from now on.
+  CHECK(send(core, 6, Msg::keepalive, token(), 2000000) == Result::wrong_session);
+}
+
+TEST_CASE("only the session that started the output keeps it alive",
+          "[device][core][watchdog][session]") {
+  Capabilities caps;
+  caps.watchdog_ms = 300;
+  DeviceCore core(caps);
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  REQUIRE(send(core, 3, Msg::start, token(), 0) == Result::ok);
+  // A second host every 20 ms: identify, status, its own configure (refused: running), a
+  // keep-alive and weights with another token, a frame with no token.  None may feed the
+  // watchdog: the output stops 300 ms after the owner's last frame (t = 0).
+  const std::uint32_t other = kToken ^ 0x5A5A5A5Au;
+  std::uint8_t seq = 10;
+  std::uint64_t last = 0;
+  for (std::uint64_t now = 20000; now <= 1000000; now += 20000) {
+    core.advance(now, [&](const DeliveredPulse& p) { last = p.t_us; });
+    CHECK(send(core, seq++, Msg::identify, {}, now) == Result::ok);
+    CHECK(send(core, seq++, Msg::status, {}, now) == Result::ok);
+    const Result c = send(core, seq++, Msg::configure, with_session(other, encode(config8())), now);
+    CHECK((c == Result::bad_state || c == Result::ok));
+    if (c == Result::ok) break;  // the output had stopped: a new session may begin
+    CHECK(send(core, seq++, Msg::keepalive, with_session(other, {}), now) == Result::wrong_session);
+    CHECK(send(core, seq++, Msg::set_weights,
+               with_session(other, encode_weights({5, -5, 0, 0, 0, 0, 0, 0})),
+               now) == Result::wrong_session);
+    CHECK(send(core, seq++, Msg::keepalive, {}, now) == Result::bad_length);
+  }
+  CHECK(core.status().fault == Fault::watchdog);
+  CHECK(last < 300000);
+  CHECK(last >= 295000);
+  CHECK(core.status().weight_updates == 1);  // the other host's weights never applied
+}
+
+TEST_CASE("stop disarms: a replayed start cannot restart an old stimulus",
+          "[device][core][session]") {
+  DeviceCore core(Capabilities{});
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  const auto start = frame_bytes(3, Msg::start, token());
+  std::vector<std::uint8_t> out;
+  core.receive(start.data(), start.size(), 0, out);
+  REQUIRE(core.status().state == State::running);
+  CHECK(send(core, 4, Msg::stop, token(), 10000) == Result::ok);
+  // The same start frame again (a delayed copy on the line), and with a new seq.
+  out.clear();
+  core.receive(start.data(), start.size(), 20000, out);
+  CHECK(core.status().state == State::idle);
+  CHECK(send(core, 5, Msg::start, token(), 20000) == Result::wrong_session);
+  CHECK(send(core, 6, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 20000) ==
+        Result::wrong_session);
+  core.advance(1000000, [&](const DeliveredPulse& p) {
+    if (p.t_us >= 10000) FAIL("pulse after stop");
+  });
+  // A new session needs a new configuration and weights; the old weights are gone.
+  CHECK(send(core, 7, Msg::configure, configure(config8()), 30000) == Result::ok);
+  CHECK(send(core, 8, Msg::start, token(), 30000) == Result::not_configured);
+}
+
+TEST_CASE("the device's compile-time bounds cannot be raised by its configuration",
+          "[device][core][limits]") {
+  Capabilities caps;
+  caps.max_current_uA = 30000;  // 30 mA asked for
+  caps.max_width_us = 60000;
+  caps.max_rate_hz = 60000;
+  caps.watchdog_ms = 60000;
+  caps.channels = 255;
+  DeviceCore core(caps);
+  CHECK(core.caps().max_current_uA == hard::max_current_uA);
+  CHECK(core.caps().max_width_us == hard::max_width_us);
+  CHECK(core.caps().max_rate_hz == hard::max_rate_hz);
+  CHECK(core.caps().watchdog_ms == hard::max_watchdog_ms);
+  CHECK(core.caps().channels == kMaxChannels);
+  // A raw frame of 29 mA codes (what --max-current 30 let through) is refused.
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  const auto code29 = static_cast<std::int16_t>(29000000 / caps.dac_step_nA);
+  CHECK(send(core, 2, Msg::set_weights,
+             weights({code29, static_cast<std::int16_t>(-code29), 0, 0, 0, 0, 0, 0}),
+             0) == Result::out_of_range);
+  CHECK(core.status().weight_updates == 0);
+}
+
+TEST_CASE("the largest DAC code never wraps, up to a 16-bit DAC", "[device][limits]") {
+  for (int step : {1, 30, 61, 62, 977, 7874}) {
+    Capabilities c;
+    c.dac_step_nA = static_cast<std::uint16_t>(step);
+    CHECK(c.max_code() > 0);
+    CHECK(c.max_code() <= hard::max_dac_code);
+    CHECK(c.max_code() * std::int64_t{step} <= std::int64_t{c.max_current_uA} * 1000);
+  }
+}
+
+TEST_CASE("frames carry at most kMaxChannels codes, at both ends", "[device][limits]") {
+  std::vector<std::int16_t> many(kMaxChannels + 1, 0);
+  const auto b = encode_weights(many);
+  CHECK_FALSE(decode_weights(b.data(), b.size()));
+  std::vector<std::int16_t> most(kMaxChannels, 0);
+  const auto c = with_session(kToken, encode_weights(most));
+  CHECK(c.size() <= kMaxPayload);
+  CHECK(decode_weights(c.data() + 4, c.size() - 4));
+  Capabilities caps;
+  caps.channels = 200;
+  CHECK_THROWS_AS(host::check_device(caps), Error);
+  try {
+    host::check_device(caps);
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::bad_input);
+  }
+}
+
+TEST_CASE("the host refuses a device whose watchdog it cannot honour", "[device][limits]") {
+  Capabilities caps;
+  for (int ms : {99, 301, 1000}) {
+    caps.watchdog_ms = static_cast<std::uint16_t>(ms);
+    try {
+      host::check_device(caps);
+      FAIL("watchdog " << ms << " ms accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::bad_input);
+      const std::string m = e.what();
+      CHECK(m.find(std::to_string(ms) + " ms") != std::string::npos);
+      CHECK(m.find(ms > 300 ? "300 ms" : "100 ms") != std::string::npos);
+    }
+  }
+  for (int ms : {100, 300}) {
+    caps.watchdog_ms = static_cast<std::uint16_t>(ms);
+    CHECK_NOTHROW(host::check_device(caps));
+  }
 }
 
 TEST_CASE("the device stops by itself after max_pulses", "[device][core]") {
   DeviceCore core(Capabilities{});
   PulseConfig c = config8();
   c.max_pulses = 7;
-  send(core, 1, Msg::configure, encode(c), 0);
-  send(core, 2, Msg::set_weights, encode_weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, {}, 0);
+  send(core, 1, Msg::configure, configure(c), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(core, 3, Msg::start, token(), 0);
   int n = 0;
   for (std::uint64_t now = 0; now < 100000; now += 1000) {
-    send(core, static_cast<std::uint8_t>(4 + now / 1000), Msg::keepalive, {}, now);
+    send(core, static_cast<std::uint8_t>(4 + now / 1000), Msg::keepalive, token(), now);
     core.advance(now, [&](const DeliveredPulse&) { ++n; });
   }
   CHECK(n == 7);
@@ -233,8 +385,8 @@ TEST_CASE("the device stops by itself after max_pulses", "[device][core]") {
 
 TEST_CASE("a retransmitted request is answered again but executed once", "[device][core]") {
   DeviceCore core(Capabilities{});
-  send(core, 1, Msg::configure, encode(config8()), 0);
-  const auto w = encode_weights({10, -10, 0, 0, 0, 0, 0, 0});
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  const auto w = weights({10, -10, 0, 0, 0, 0, 0, 0});
   CHECK(send(core, 2, Msg::set_weights, w, 0) == Result::ok);
   CHECK(send(core, 2, Msg::set_weights, w, 0) == Result::ok);
   CHECK(core.status().weight_updates == 1);

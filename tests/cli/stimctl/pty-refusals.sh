@@ -18,5 +18,5 @@ AMP=1.5 make_stimulus strong.json --frequency 200 --duration 1
 expect_refusal over-device-limit strong.json --max-current 1
 expect_refusal too-many-channels ok.json --channels 4
 expect_refusal unbalanced "$TP_INPUTS/stimulus-unbalanced.json"
-expect_refusal over-host-limit "$TP_INPUTS/stimulus-over-limit.json" --max-current 5
+expect_refusal over-host-limit "$TP_INPUTS/stimulus-over-limit.json"
 expect_refusal malformed "$TP_INPUTS/malformed.json"
