@@ -11,9 +11,30 @@ tp_cli_test(stimctl refuses-live-without-stimulus refuses 2 -- stimctl --port em
 tp_cli_test(stimctl refuses-missing-port refuses 2 --stdin ${IN}/stimulus-unbalanced.json -- stimctl --port /dev/tp-no-such-port)
 tp_cli_test(stimctl refuses-bad-duration refuses 2 --stdin ${IN}/stimulus-unbalanced.json -- stimctl --port emu --duration -1)
 tp_cli_test(stim-emu refuses-bad-fraction refuses 2 -- stim-emu --drop 2)
+# The device's limits are compile-time bounds that configuration can lower, never raise.
+tp_cli_test(stim-emu refuses-current-above-bound refuses 2 -- stim-emu --max-current 30)
+tp_cli_test(stim-emu refuses-current-just-above-bound refuses 2 -- stim-emu --max-current 2.001)
+tp_cli_test(stim-emu refuses-65-channels refuses 2 -- stim-emu --channels 65)
+tp_cli_test(stim-emu refuses-long-watchdog refuses 2 -- stim-emu --watchdog-ms 5000)
+tp_cli_test(stim-emu refuses-bad-reply-delay refuses 2 -- stim-emu --reply-delay-ms -1)
+# Durations: checked against the 3600 s limit before any conversion, in live mode too.
+set(S ${IN}/stimulus-ok.json)
+tp_cli_test(stimctl refuses-duration-over-limit refuses 2 --stdin ${S} -- stimctl --port emu --duration 3601)
+tp_cli_test(stimctl refuses-duration-huge refuses 2 --stdin ${S} -- stimctl --port emu --duration 1e300)
+tp_cli_test(stimctl refuses-duration-wrapping refuses 2 --stdin ${S} -- stimctl --port emu --duration 21474837)
+tp_cli_test(stimctl refuses-live-duration-over-limit refuses 2 --stdin /dev/null --
+  stimctl --port emu --live --stimulus ${S} --duration 3601)
+tp_cli_test(stimctl refuses-live-duration-huge refuses 2 --stdin /dev/null --
+  stimctl --port emu --live --stimulus ${S} --duration 1e300)
+# Ports that are not serial ports are usage errors; more channels than a frame carries.
+tp_cli_test(stimctl refuses-dev-null-posix refuses 2 --stdin ${S} -- stimctl --port /dev/null --backend posix)
+tp_cli_test(stimctl refuses-dev-null-libserialport refuses 2 --stdin ${S} -- stimctl --port /dev/null --backend libserialport)
+tp_cli_test(stimctl refuses-directory-port refuses 2 --stdin ${S} -- stimctl --port /tmp)
+tp_cli_test(stimctl refuses-65-channels refuses 2 --stdin ${IN}/stimulus-65-channels.json -- stimctl --port emu --emu-channels 64)
 
 foreach(script pipeline-emu pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
-               pty-live pty-lost-device list-ports)
+               pty-live pty-lost-device list-ports pty-protocol pty-session pty-signal-before-start
+               pty-device-bounds pty-live-limits)
   tp_cli_test(stimctl ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(stimctl.${script} PROPERTIES TIMEOUT 120)
 endforeach()
