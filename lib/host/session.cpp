@@ -36,9 +36,12 @@ StimulusLimits device_limits(StimulusLimits l, const device::Capabilities& c) {
   return l;
 }
 
-// One live frame: {"currents_mA": [...]}, checked like the stimulus itself.
-std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line, Stimulus shape_of,
-                                     const StimulusLimits& lim, const device::Capabilities& caps) {
+}  // namespace
+
+std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t n_line,
+                                           const Stimulus& s, const StimulusLimits& lim,
+                                           const device::Capabilities& caps) {
+  Stimulus shape_of = s;
   const std::string where = "input line " + std::to_string(n_line);
   Json j;
   try {
@@ -63,6 +66,8 @@ std::vector<std::int16_t> live_frame(const std::string& line, std::size_t n_line
   }
   return quantize_currents(c, caps);
 }
+
+namespace {
 
 double peak_of(const std::vector<std::int16_t>& codes, const device::Capabilities& caps) {
   int m = 0;
@@ -215,7 +220,7 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
         // One line per turn, so a flood of input never delays the keep-alive below.
         if (input.next(line)) {
           if (line.find_first_not_of(" \t\r") != std::string::npos) {
-            const auto frame = live_frame(line, input.lines(), s, lim, rep.caps);
+            const auto frame = parse_live_frame(line, input.lines(), s, lim, rep.caps);
             dev.set_weights(frame);
             ++rep.weight_frames;
             rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));

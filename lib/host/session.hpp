@@ -41,6 +41,12 @@ struct SessionReport {
 // channels than the protocol carries.
 void check_device(const device::Capabilities& caps);
 
+// One live frame, {"currents_mA": [...]}: parsed, checked like the stimulus itself (the
+// shape of `s`, limits `lim`) and quantised for the device.  Bad input names the line.
+std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t line_number,
+                                           const Stimulus& s, const StimulusLimits& lim,
+                                           const device::Capabilities& caps);
+
 // signal_flag: set (to the signal number) by a signal handler (signals.hpp).  It is checked
 // before every step that could start output, and at every turn of the keep-alive loop.
 SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
