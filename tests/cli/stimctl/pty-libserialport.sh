@@ -8,7 +8,9 @@ shim=$(dirname "$(command -v golden-diff)")/libpty-modem-shim.so
 start_emu --record rec.jsonl
 ln -s "$PORT" "$PWD/tty-link"
 make_stimulus stim.json --frequency 200 --duration 0.5
-LD_PRELOAD=$shim stimctl --backend libserialport --port "/dev/../../..$PWD/tty-link" < stim.json 2> err.txt \
+# In the sanitizer build the ASan runtime must come first in the preload list.
+asan=$(ldd "$(command -v stimctl)" | awk '/libasan/ { print $3 }')
+LD_PRELOAD="${asan:+$asan:}$shim" stimctl --backend libserialport --port "/dev/../../..$PWD/tty-link" < stim.json 2> err.txt \
   || fail "stimctl over libserialport: $(cat err.txt)"
 stop_emu
 [[ $(lines rec.jsonl) -eq 100 ]] || fail "expected 100 pulses, got $(lines rec.jsonl)"
