@@ -70,7 +70,7 @@ const volatile std::sig_atomic_t* install_stop_handlers() {
   for (int i = 0; i < n; ++i) sigaction(sigs[i], &sa, nullptr);
   struct sigaction crash {};
   crash.sa_handler = on_crash;
-  crash.sa_flags = SA_RESETHAND;
+  crash.sa_flags = static_cast<int>(SA_RESETHAND);  // 0x80000000: the flag bit
   sigemptyset(&crash.sa_mask);
   for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
     sigaction(sig, &crash, nullptr);
