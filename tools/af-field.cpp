@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "io/document.hpp"
 #include "io/reports.hpp"
+#include "model/ranges.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -31,13 +32,16 @@ int main(int argc, char** argv) {
                   ->type_name("W1,W2,...");
   o_config->excludes(o_w);
   app.add_option("--amplitude", amplitude,
-                 "Current of an electrode with |weight| = 1, mA [the document's max_current_mA, 2]")
+                 "Current of an electrode with |weight| = 1, mA, 1e-6 to 100 [the document's "
+                 "max_current_mA, 2]")
       ->type_name("MA");
   app.add_option("--model", model, "Conductor model: line2d (the paper's) or strip2d [line2d]")
       ->type_name("NAME");
-  app.add_option("--x", x_spec, "Grid along the skin MIN:MAX:STEP, mm [array +-5 mm, step 0.1]")
+  app.add_option("--x", x_spec,
+                 "Grid along the skin MIN:MAX:STEP, mm, within +-500 [array +-5 mm, step 0.1]; at "
+                 "most 1e8 points in all")
       ->type_name("MIN:MAX:STEP");
-  app.add_option("--y", y_spec, "Grid in depth MIN:MAX:STEP, mm, MIN > 0 [0.2:3:0.05]")
+  app.add_option("--y", y_spec, "Grid in depth MIN:MAX:STEP, mm, within 0.01 to 20 [0.2:3:0.05]")
       ->type_name("MIN:MAX:STEP");
   app.add_flag("--summary", summary, "Print each receptor's largest AF and the mode ratios (JSON)");
 
@@ -55,20 +59,25 @@ int main(int argc, char** argv) {
                     " values (one per electrode), got " + std::to_string(doc.weights->size()));
     const double amp =
         amplitude.empty() ? doc.max_current_mA : tp::parse_finite(amplitude, "--amplitude");
-    if (!(amp > 0.0)) tp::bad_input("--amplitude: must be > 0 mA");
+    tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
+    for (std::size_t i = 0; i < doc.weights->size(); ++i)
+      tp::ranges::check((*doc.weights)[i], tp::ranges::weight,
+                        "--weights item " + std::to_string(i + 1));
     std::vector<double> currents_mA;
     for (double w : *doc.weights) currents_mA.push_back(w * amp);
 
+    if (summary && (!x_spec.empty() || !y_spec.empty()))
+      tp::bad_input("--summary: --x and --y do not apply");
+    const tp::Axis x =
+        x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
+    const tp::Axis y = y_spec.empty() ? tp::default_y_axis() : tp::parse_axis(y_spec, "--y");
+    if (!summary) tp::validate_grid(x, y);  // every check before the first row is written
     const tp::Field field(doc.setup, currents_mA);
     if (summary) {
-      if (!x_spec.empty() || !y_spec.empty()) tp::bad_input("--summary: --x and --y do not apply");
       const tp::Summary s = tp::summarize(doc.setup, currents_mA);
       tp::cli::write_stdout(tp::dump_json(tp::summary_to_json(doc.setup, currents_mA, s)));
       return;
     }
-    const tp::Axis x =
-        x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
-    const tp::Axis y = y_spec.empty() ? tp::default_y_axis() : tp::parse_axis(y_spec, "--y");
     tp::write_af_grid(stdout, field, x, y);
   });
 }

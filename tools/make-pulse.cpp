@@ -24,19 +24,21 @@ int main(int argc, char** argv) {
   std::string input = "-", amplitude, frequency = "200", width = "200", balance_width,
               interphase = "0", duration, count, format = "json", csv_pulses = "3";
   app.add_option("--input", input, "Weights document, - for stdin [-]")->type_name("FILE");
-  app.add_option("--amplitude", amplitude, "Current of a channel with |weight| = 1, mA")
+  app.add_option("--amplitude", amplitude,
+                 "Current of a channel with |weight| = 1, mA, at most 2 (and the document's limit)")
       ->required()
       ->type_name("MA");
   app.add_option("--frequency", frequency,
-                 "Pulse rate, Hz [200; the paper: 200 for SAI, < 100 for RA]")
+                 "Pulse rate, Hz, 0.1 to 1000 [200; the paper: 200 for SAI, < 100 for RA]")
       ->type_name("HZ");
-  app.add_option("--width", width, "Main phase width, us [200]")->type_name("US");
+  app.add_option("--width", width, "Main phase width, us, 10 to 1000 [200]")->type_name("US");
   app.add_option("--balance-width", balance_width,
                  "Balancing phase width, us; longer than --width makes it lower, same charge "
                  "[= --width: symmetric]")
       ->type_name("US");
   app.add_option("--interphase", interphase, "Gap between the phases, us [0]")->type_name("US");
-  auto* o_d = app.add_option("--duration", duration, "Stimulus length, s [1]")->type_name("S");
+  auto* o_d = app.add_option("--duration", duration, "Stimulus length, s, at most 3600 [1]")
+                  ->type_name("S");
   auto* o_c =
       app.add_option("--count", count, "Number of pulses (instead of --duration)")->type_name("N");
   o_d->excludes(o_c);
@@ -49,7 +51,9 @@ int main(int argc, char** argv) {
     if (!doc.weights) tp::bad_input("weights document: no 'weights'");
     tp::Stimulus s;
     const double amp = tp::parse_finite(amplitude, "--amplitude");
-    if (!(amp > 0.0)) tp::bad_input("--amplitude: must be > 0 mA");
+    if (!(amp > 0.0 && amp <= tp::StimulusLimits{}.max_current_mA))
+      tp::bad_input("--amplitude: " + amplitude + " mA outside (0, " +
+                    tp::number_text(tp::StimulusLimits{}.max_current_mA) + "] mA");
     for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
     s.max_current_mA = doc.max_current_mA;
     s.shape.frequency_hz = tp::parse_finite(frequency, "--frequency");
@@ -59,12 +63,17 @@ int main(int argc, char** argv) {
                                    : tp::parse_finite(balance_width, "--balance-width");
     s.shape.interphase_us = tp::parse_finite(interphase, "--interphase");
     if (!(s.shape.frequency_hz > 0.0)) tp::bad_input("--frequency: must be > 0 Hz");
+    const tp::StimulusLimits limits;
     if (!count.empty()) {
       s.count = tp::parse_integer(count, "--count");
+      if (s.count < 1) tp::bad_input("--count: must be >= 1");
     } else {
       const double d = duration.empty() ? 1.0 : tp::parse_finite(duration, "--duration");
-      if (!(d > 0.0)) tp::bad_input("--duration: must be > 0 s");
-      if (d * s.shape.frequency_hz > 1e9) tp::bad_input("--duration: too many pulses");
+      // The range first, then the conversion: nothing wraps.
+      if (!(d > 0.0 && d <= limits.max_duration_s))
+        tp::bad_input("--duration: " + duration + " s outside (0, " +
+                      tp::number_text(limits.max_duration_s) + "] s");
+      if (!(d * s.shape.frequency_hz <= 1e9)) tp::bad_input("--duration: too many pulses");
       s.count = std::lround(d * s.shape.frequency_hz);
       if (s.count < 1) tp::bad_input("--duration: shorter than one pulse period");
     }
@@ -72,6 +81,13 @@ int main(int argc, char** argv) {
     if (!(s.electrode_area_mm2 > 0.0)) tp::bad_input("array: electrode area must be > 0");
     if (doc.extra.contains("mode")) s.carried["mode"] = doc.extra["mode"];
     tp::check_stimulus(s, tp::StimulusLimits{});
+    // Every option is checked before anything is printed, on stderr or stdout.
+    long pulses = 0;
+    if (format == "csv") {
+      pulses = tp::parse_integer(csv_pulses, "--csv-pulses");
+      if (pulses < 1 || pulses > 100000)
+        tp::bad_input("--csv-pulses: " + csv_pulses + " outside [1, 100000]");
+    }
 
     const tp::SafetyFigures f = tp::safety_figures(s);
     std::fprintf(stderr,
@@ -84,8 +100,6 @@ int main(int argc, char** argv) {
                  tp::number_text(f.max_rms_current_mA).c_str(),
                  tp::number_text(f.max_net_charge_nC).c_str());
     if (format == "csv") {
-      const long pulses = tp::parse_integer(csv_pulses, "--csv-pulses");
-      if (pulses < 1 || pulses > 100000) tp::bad_input("--csv-pulses: must be 1 to 100000");
       std::vector<std::string> header{"t_us"};
       for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
         header.push_back("ch" + std::to_string(i) + "_mA");

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "io/number.hpp"
 #include "model/constants.hpp"
+#include "model/ranges.hpp"
 
 namespace tp {
 namespace {
@@ -70,25 +71,28 @@ Document document_from_json(const Json& j) {
     if (m.contains("resistivity_ohm_m")) {
       d.setup.conductor.resistivity_ohm_m =
           json_finite(m["resistivity_ohm_m"], "model.resistivity_ohm_m");
-      if (!(d.setup.conductor.resistivity_ohm_m > 0))
-        bad_input("model.resistivity_ohm_m: must be > 0");
+      ranges::check(d.setup.conductor.resistivity_ohm_m, ranges::resistivity_ohm_m,
+                    "model.resistivity_ohm_m");
     }
     if (m.contains("lateral_margin_mm")) {
       d.setup.lateral_margin_mm = json_finite(m["lateral_margin_mm"], "model.lateral_margin_mm");
-      if (d.setup.lateral_margin_mm < 0) bad_input("model.lateral_margin_mm: must be >= 0");
+      ranges::check(d.setup.lateral_margin_mm, ranges::lateral_margin_mm,
+                    "model.lateral_margin_mm");
     }
   }
   make_conductor(d.setup.conductor, d.setup.array);  // validates the model name
   if (j.contains("receptors")) d.setup.receptors = receptors_from_json(j["receptors"]);
   if (j.contains("weights")) {
     d.weights = finite_list(j["weights"], "weights");
+    for (std::size_t i = 0; i < d.weights->size(); ++i)
+      ranges::check((*d.weights)[i], ranges::weight, "weights[" + std::to_string(i) + "]");
     if (d.weights->size() != d.setup.array.size())
       bad_input("weights: expected " + std::to_string(d.setup.array.size()) + " values, got " +
                 std::to_string(d.weights->size()));
   }
   if (j.contains("max_current_mA")) {
     d.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
-    if (!(d.max_current_mA > 0)) bad_input("max_current_mA: must be > 0");
+    ranges::check(d.max_current_mA, ranges::max_current_mA, "max_current_mA");
   }
   static const std::set<std::string> own = {"format",    "array",   "model",
                                             "receptors", "weights", "max_current_mA"};
@@ -103,9 +107,11 @@ ElectrodeArray array_from_flags(const std::string& electrodes, const std::string
   if (n < min_electrodes)
     bad_input("--electrodes: need at least " + std::to_string(min_electrodes) + ", got " +
               electrodes);
-  if (n > 4096) bad_input("--electrodes: at most 4096, got " + electrodes);
+  if (n > ranges::max_electrodes)
+    bad_input("--electrodes: at most " + std::to_string(ranges::max_electrodes) + ", got " +
+              electrodes);
   const double p = pitch.empty() ? 1.0 : parse_finite(pitch, "--pitch");
-  if (!(p > 0.0)) bad_input("--pitch: must be > 0 mm");
+  ranges::check(p, ranges::pitch_mm, "--pitch");
   return ElectrodeArray::uniform(static_cast<int>(n), p);
 }
 

@@ -8,29 +8,64 @@
 #include <iterator>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include "core/error.hpp"
 
 namespace tp {
 
+namespace {
+
+// Reads all of fd, at most kMaxDocumentBytes; bad input past that.
+std::string read_capped(int fd, const std::string& what, const std::string& name) {
+  std::string text;
+  char chunk[65536];
+  while (true) {
+    const ssize_t n = ::read(fd, chunk, sizeof chunk);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      bad_input(what + ": cannot read " + name + ": " + std::strerror(errno));
+    }
+    if (n == 0) return text;
+    if (text.size() + static_cast<std::size_t>(n) > kMaxDocumentBytes)
+      bad_input(what + ": " + name + " is larger than " + std::to_string(kMaxDocumentBytes >> 20) +
+                " MiB");
+    text.append(chunk, static_cast<std::size_t>(n));
+  }
+}
+
+}  // namespace
+
 Json read_json(const std::string& path, const std::string& what) {
+  const std::string name = path == "-" ? "stdin" : "'" + path + "'";
   std::string text;
   if (path == "-") {
-    std::ostringstream ss;
-    ss << std::cin.rdbuf();
-    text = ss.str();
+    text = read_capped(0, what, name);
   } else {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) bad_input(what + ": cannot open '" + path + "': " + std::strerror(errno));
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) bad_input(what + ": cannot read '" + path + "'");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) bad_input(what + ": cannot open " + name + ": " + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+      ::close(fd);
+      bad_input(what + ": " + name + " is a directory, not a JSON file");
+    }
+    try {
+      text = read_capped(fd, what, name);
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    ::close(fd);
   }
-  const std::string name = path == "-" ? "stdin" : "'" + path + "'";
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     bad_input(what + ": " + name + " is empty");
   try {
     return Json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ..."
+  } catch (const nlohmann::json::exception& e) {
+    // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
+    // a number beyond double range is "[json.exception.out_of_range.406] number overflow ...".
     std::string msg = e.what();
     const auto pos = msg.find("] ");
     if (pos != std::string::npos) msg = msg.substr(pos + 2);
@@ -38,7 +73,19 @@ Json read_json(const std::string& path, const std::string& what) {
   }
 }
 
+namespace {
+bool all_finite(const Json& j) {
+  if (j.is_number_float()) return std::isfinite(j.get<double>());
+  if (j.is_structured())
+    for (const auto& v : j)
+      if (!all_finite(v)) return false;
+  return true;
+}
+}  // namespace
+
 std::string dump_json(const Json& j) {
+  // The parameter ranges keep every result finite; a non-finite one is never printed.
+  if (!all_finite(j)) failure("a result is not finite (NaN or infinity); nothing printed");
   return j.dump(2) + "\n";
 }
 

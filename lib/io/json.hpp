@@ -1,6 +1,7 @@
 #pragma once
 // JSON input and output shared by all programs.
 
+#include <cstddef>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -9,8 +10,13 @@ namespace tp {
 
 using Json = nlohmann::ordered_json;  // keeps key order, so output is stable and readable
 
-// Reads one JSON document from a file, or from stdin when path is "-".
-// Unreadable or malformed input is bad input (exit 2), with a one-line message.
+// The largest document any program reads: 64 MiB (a design document is a few KiB; a
+// receptor table or stimulus of any useful size is far below).
+inline constexpr std::size_t kMaxDocumentBytes = std::size_t{64} << 20;
+
+// Reads one JSON document from a file, or from stdin when path is "-".  Unreadable,
+// oversized (kMaxDocumentBytes), malformed input, a directory, and numbers beyond the
+// range of a double are bad input (exit 2), with a one-line message.
 Json read_json(const std::string& path, const std::string& what);
 
 // Serialises with two-space indentation and a trailing newline.

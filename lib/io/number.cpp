@@ -66,7 +66,7 @@ Axis parse_axis(std::string_view text, const std::string& what) {
   axis.step = parse_finite(text.substr(b + 1), what + " STEP");
   if (!(axis.step > 0.0)) bad_input(what + ": STEP must be > 0");
   if (axis.max < axis.min) bad_input(what + ": empty grid (MAX < MIN)");
-  if ((axis.max - axis.min) / axis.step > 1e8) bad_input(what + ": more than 1e8 points");
+  if (!((axis.max - axis.min) / axis.step <= 1e8)) bad_input(what + ": more than 1e8 points");
   return axis;
 }
 

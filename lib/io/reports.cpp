@@ -6,14 +6,21 @@
 #include "io/csv.hpp"
 #include "io/document.hpp"
 #include "model/constants.hpp"
+#include "model/ranges.hpp"
 #include "opt/minimax.hpp"
 
 namespace tp {
 
 void validate_grid(const Axis& x, const Axis& y) {
   if (!(y.min > 0.0)) bad_input("--y: depths must be > 0 mm (the skin surface is y = 0)");
-  if (static_cast<double>(x.count()) * static_cast<double>(y.count()) > 1e9)
-    bad_input("grid: more than 1e9 points");
+  ranges::check(y.min, ranges::depth_mm, "--y MIN");
+  ranges::check(y.max, ranges::depth_mm, "--y MAX");
+  ranges::check(x.min, ranges::position_mm, "--x MIN");
+  ranges::check(x.max, ranges::position_mm, "--x MAX");
+  const double points = static_cast<double>(x.count()) * static_cast<double>(y.count());
+  if (points > ranges::max_grid_points)
+    bad_input("grid: " + number_text(points) + " points, more than " +
+              number_text(ranges::max_grid_points));
 }
 
 void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y) {
@@ -39,7 +46,8 @@ void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis
 }
 
 Axis default_x_axis(const ElectrodeArray& a) {
-  return Axis{std::floor(a.x_min_mm() - 5.0), std::ceil(a.x_max_mm() + 5.0), 0.1};
+  return Axis{std::max(ranges::position_mm.lo, std::floor(a.x_min_mm() - 5.0)),
+              std::min(ranges::position_mm.hi, std::ceil(a.x_max_mm() + 5.0)), 0.1};
 }
 Axis default_y_axis() {
   return Axis{0.2, 3.0, 0.05};

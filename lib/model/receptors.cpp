@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "io/json.hpp"
+#include "model/ranges.hpp"
 
 namespace tp {
 
@@ -46,12 +47,13 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
   } else {
     r.depth_min_mm = r.depth_max_mm = json_finite(d, at + " depth_mm");
   }
-  if (!(r.depth_min_mm > 0.0)) bad_input(at + ": depth must be > 0 mm");
+  ranges::check(r.depth_min_mm, ranges::depth_mm, at + " depth_mm");
+  ranges::check(r.depth_max_mm, ranges::depth_mm, at + " depth_mm");
   if (r.depth_max_mm < r.depth_min_mm) bad_input(at + ": depth range has max < min");
 
   if (!j.contains("diameter_um")) bad_input(at + ": missing 'diameter_um'");
   r.fibre.diameter_um = json_finite(j["diameter_um"], at + " diameter_um");
-  if (!(r.fibre.diameter_um > 0.0)) bad_input(at + ": diameter_um must be > 0");
+  ranges::check(r.fibre.diameter_um, ranges::diameter_um, at + " diameter_um");
 
   if (j.contains("myelinated")) {
     if (!j["myelinated"].is_boolean()) bad_input(at + ": 'myelinated' must be true or false");

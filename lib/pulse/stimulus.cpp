@@ -20,7 +20,7 @@ void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
   range(p.width_us, lim.min_width_us, lim.max_width_us, "pulse width", "us");
   range(p.balance_width_us, p.width_us, lim.max_balance_width_us, "balance width", "us");
   range(p.interphase_us, 0.0, lim.max_width_us, "interphase gap", "us");
-  range(p.frequency_hz, 1e-3, lim.max_frequency_hz, "frequency", "Hz");
+  range(p.frequency_hz, lim.min_frequency_hz, lim.max_frequency_hz, "frequency", "Hz");
   if (p.length_us() >= p.period_us())
     bad_input("pulse of " + number_text(p.length_us()) + " us does not fit its period of " +
               number_text(p.period_us()) + " us");

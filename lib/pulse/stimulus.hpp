@@ -30,6 +30,9 @@ struct StimulusLimits {
   double max_width_us = 1000.0;
   double max_balance_width_us = 8000.0;
   double max_frequency_hz = 1000.0;
+  // The protocol's longest period is 10 s (docs/protocol.md): slower rates are refused
+  // here, before anything reaches a device.
+  double min_frequency_hz = 0.1;
   double max_duration_s = 3600.0;
   double sum_tolerance_mA = 1e-6;  // |Sum of channel currents| at any instant
 };

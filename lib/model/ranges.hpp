@@ -1,0 +1,50 @@
+#pragma once
+// The documented range of every physical parameter (docs/document-format.md, "Ranges").
+// Each is wide enough for any fingertip or forearm array and any tissue, and narrow enough
+// that every result the models compute is finite and every sample count bounded: with
+// depths >= 0.01 mm, resistivity <= 1e7 ohm m, currents <= 100 mA and diameters <= 30 um,
+// the largest AF is ~1e22 V/ms, far from overflow.  A value outside is bad input (exit 2),
+// named with its range.
+
+#include <string>
+
+namespace tp::ranges {
+
+struct Range {
+  double lo, hi;
+  const char* unit;
+};
+
+// Depth of a receptor's fibres and of af-field's grid rows: from a hundredth of a
+// millimetre (inside the epidermis) to 20 mm (well below any fingertip afferent).
+inline constexpr Range depth_mm{0.01, 20.0, "mm"};
+// Positions along the skin (electrode centres, af-field's grid columns).
+inline constexpr Range position_mm{-500.0, 500.0, "mm"};
+// Electrode pitch, width (0: the paper's line electrode) and length.
+inline constexpr Range pitch_mm{0.01, 100.0, "mm"};
+inline constexpr Range width_mm{0.0, 100.0, "mm"};
+inline constexpr Range length_mm{0.01, 1000.0, "mm"};
+// Tissue resistivity: from saline-soaked tissue (~0.01 ohm m) to dry stratum corneum
+// (~1e5 to 1e6 ohm m), with a decade to spare.
+inline constexpr Range resistivity_ohm_m{0.01, 1e7, "ohm m"};
+// Fibre diameter: the thinnest myelinated afferents (~1 um, A-delta) down to 0.1 um for
+// C fibres, up to 30 um (beyond the largest A-beta, ~20 um).
+inline constexpr Range diameter_um{0.1, 30.0, "um"};
+// How far the fibres run beyond the outer electrodes.
+inline constexpr Range lateral_margin_mm{0.0, 50.0, "mm"};
+// The design document's current limit per electrode (the paper's 2 mA; the stimulus
+// limits of lib/pulse cap what is ever delivered).
+inline constexpr Range max_current_mA{0.001, 2.0, "mA"};
+// af-field's --amplitude: the current of a unit weight, for field maps (not delivered).
+inline constexpr Range amplitude_mA{1e-6, 100.0, "mA"};
+// A weight, before it is multiplied by the amplitude.
+inline constexpr Range weight{-1000.0, 1000.0, ""};
+// Electrodes of an array (a set_weights frame carries 64 channels).
+inline constexpr int max_electrodes = 64;
+// af-field's grid: at most this many rows.
+inline constexpr double max_grid_points = 1e8;
+
+// Throws tp::Error (bad input): "WHAT: VALUE UNIT outside [LO, HI] UNIT".
+void check(double value, const Range& r, const std::string& what);
+
+}  // namespace tp::ranges
