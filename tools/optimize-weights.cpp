@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "io/document.hpp"
 #include "io/reports.hpp"
+#include "model/ranges.hpp"
 #include "opt/minimax.hpp"
 
 int main(int argc, char** argv) {
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
   tp::cli::add_array_options(app, array,
                              "Document with array, model and receptors (JSON; - for stdin)");
   app.add_option("--max-current", max_current,
-                 "Current limit per electrode, mA [the document's, or 2]")
+                 "Current limit per electrode, mA, at most 2 [the document's, or 2]")
       ->type_name("MA");
   app.add_option("--min-target-af", min_af,
                  "Trade selectivity for efficiency: the target's largest AF at the current limit "
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
       tp::bad_input("array: optimisation needs at least 2 electrodes");
     tp::OptimizeOptions opt;
     if (!max_current.empty()) doc.max_current_mA = tp::parse_finite(max_current, "--max-current");
-    if (!(doc.max_current_mA > 0.0)) tp::bad_input("--max-current: must be > 0 mA");
+    tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
     opt.max_current_mA = doc.max_current_mA;
     if (!min_af.empty()) opt.min_target_af = tp::parse_finite(min_af, "--min-target-af");
     if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");

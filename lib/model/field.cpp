@@ -4,8 +4,14 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "io/number.hpp"
 
 namespace tp {
+
+void refuse_sample_count(const char* what, double count) {
+  bad_input(std::string(what) + ": " + number_text(count) + " samples, more than the cap of " +
+            number_text(kMaxSamples) + " (a depth, margin or array span out of range)");
+}
 
 Region fibre_region(const Setup& setup, const Receptor& r) {
   return {setup.array.x_min_mm() - setup.lateral_margin_mm,

@@ -8,10 +8,21 @@
 
 namespace tp {
 
+// The most samples of one fibre (or one boundary segment) the models take: with the
+// documented ranges (lib/model/ranges.hpp) the largest is ~6e6 (1100 mm of fibre at the
+// 0.2 um step of a 0.01 mm depth).
+inline constexpr double kMaxSamples = 1e7;
+// Throws tp::Error (bad input) naming the count and the cap.
+[[noreturn]] void refuse_sample_count(const char* what, double count);
+
 template <class F>
 std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
   if (!(b > a)) return {a, f(a)};
-  const std::size_t n = static_cast<std::size_t>(std::ceil((b - a) / step)) + 1;
+  // The count in floating point first: a huge or non-finite one is refused, never
+  // converted (a double beyond size_t's range is undefined behaviour).
+  const double samples = std::ceil((b - a) / step) + 1;
+  if (!(samples <= kMaxSamples)) refuse_sample_count("a fibre's samples", samples);
+  const auto n = static_cast<std::size_t>(samples);
   const double h = (b - a) / static_cast<double>(n - 1);
   std::vector<double> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = f(i + 1 == n ? b : a + static_cast<double>(i) * h);

@@ -23,6 +23,10 @@ struct LpSolution {
   Eigen::VectorXd z;
 };
 
+// Makes GLPK fail on purpose (an invalid argument), to test that its failures become a
+// tp::Error instead of abort(), with nothing printed.  Throws tp::Error (failure).
+void provoke_glpk_error();
+
 class TargetLp {
  public:
   // basis and weight_bound: when weight_bound > 0, |(basis z)_i| <= weight_bound.
@@ -31,13 +35,16 @@ class TargetLp {
   TargetLp(const TargetLp&) = delete;
   TargetLp& operator=(const TargetLp&) = delete;
 
-  // No value when infeasible or unbounded.
+  // No value when infeasible or unbounded.  A GLPK failure (which GLPK itself would end
+  // with abort()) is a tp::Error (failure), and its output never reaches stdout.
   std::optional<LpSolution> solve(const Eigen::VectorXd& target_row);
 
  private:
-  glp_prob* lp_;
-  int nz_;          // number of z variables
-  int target_row_;  // GLPK row index of the target equality
+  glp_prob* lp_ = nullptr;
+  int nz_;                    // number of z variables
+  double scale_ = 1.0;        // the rows are divided by this (their largest entry)
+  unsigned environment_ = 0;  // GLPK's environment the problem belongs to
+  int target_row_;            // GLPK row index of the target equality
 };
 
 }  // namespace tp

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "io/number.hpp"
 
 namespace tp {
 
@@ -28,7 +29,9 @@ namespace {
 void sample_segment(double x0, double y0, double x1, double y1, double step, std::size_t receptor,
                     std::vector<SamplePoint>& out) {
   const double len = std::hypot(x1 - x0, y1 - y0);
-  const auto n = static_cast<std::size_t>(std::ceil(len / step));
+  const double count = std::ceil(len / step);
+  if (!(count < kMaxSamples)) refuse_sample_count("a fibre region's boundary", count);
+  const auto n = static_cast<std::size_t>(count);
   for (std::size_t i = 0; i <= n; ++i) {
     const double t = n ? static_cast<double>(i) / static_cast<double>(n) : 0.0;
     out.push_back({x0 + t * (x1 - x0), y0 + t * (y1 - y0), receptor});
@@ -76,6 +79,13 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
   p.basis = zero_sum_basis(setup.array.size());
   for (std::size_t r = 0; r < setup.receptors.size(); ++r)
     sample_boundary(setup, r, step_mm, r == p.target ? p.target_pts : p.off_pts);
+  // The sample matrices hold (samples x electrodes) doubles: bounded, and refused beyond.
+  const double entries = static_cast<double>(p.target_pts.size() + p.off_pts.size()) *
+                         static_cast<double>(setup.array.size());
+  if (entries > kMaxProblemEntries)
+    bad_input("optimisation problem of " + number_text(entries) +
+              " samples x electrodes, more than the cap of " + number_text(kMaxProblemEntries) +
+              " (an array span or lateral margin out of range)");
   const auto conductor = make_conductor(setup.conductor, setup.array);
   p.target_rows = rows_for(setup, *conductor, p.target_pts, p.basis);
   p.off_rows = rows_for(setup, *conductor, p.off_pts, p.basis);

@@ -33,6 +33,10 @@ struct ModeProblem {
   Eigen::MatrixXd off_rows;             // the same for the off-target samples (n_O x (N-1))
 };
 
+// The most (samples x electrodes) entries a problem's matrices may hold: 3e7 doubles,
+// 240 MB.  The paper's array needs ~2e4; 64 electrodes over 126 mm with 5 mm margins ~4e6.
+inline constexpr double kMaxProblemEntries = 3e7;
+
 // Orthonormal basis of {w in R^n : sum w = 0}, n x (n-1).
 Eigen::MatrixXd zero_sum_basis(std::size_t n);
 

@@ -4,7 +4,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <memory>
+
+#include <unistd.h>
 
 #include <ceres/gradient_checker.h>
 #include <ceres/sized_cost_function.h>
@@ -168,4 +172,125 @@ CATCH_TEST_CASE("unknown modes and too-small arrays are bad input", "[opt]") {
   CATCH_CHECK_THROWS_AS(optimize_mode(s, "XYZ", OptimizeOptions{}), Error);
   s.array = ElectrodeArray::uniform(1, 1.0);
   CATCH_CHECK_THROWS_AS(optimize_mode(s, "SAI", OptimizeOptions{}), Error);
+}
+
+namespace {
+// Runs f with stdout redirected to a temporary file; returns what was written there.
+template <class F>
+std::string stdout_of(F f) {
+  std::fflush(stdout);
+  FILE* tmp = std::tmpfile();
+  const int saved = ::dup(1);
+  ::dup2(::fileno(tmp), 1);
+  try {
+    f();
+  } catch (...) {
+    std::fflush(stdout);
+    ::dup2(saved, 1);
+    ::close(saved);
+    std::fclose(tmp);
+    throw;
+  }
+  std::fflush(stdout);
+  ::dup2(saved, 1);
+  ::close(saved);
+  std::rewind(tmp);
+  std::string out;
+  for (int c; (c = std::fgetc(tmp)) != EOF;) out += static_cast<char>(c);
+  std::fclose(tmp);
+  return out;
+}
+}  // namespace
+
+CATCH_TEST_CASE("a GLPK failure is an error, never abort(), and prints nothing",
+                "[opt][lp][glpk]") {
+  std::string printed;
+  bool thrown = false;
+  printed = stdout_of([&] {
+    try {
+      provoke_glpk_error();
+    } catch (const Error& e) {
+      thrown = true;
+      CATCH_CHECK(e.code() == ExitCode::failure);
+      CATCH_CHECK(std::string(e.what()).find("GLPK") != std::string::npos);
+    }
+  });
+  CATCH_CHECK(thrown);
+  CATCH_CHECK(printed.empty());
+  // GLPK works again afterwards (its environment was rebuilt).
+  const Eigen::MatrixXd basis = zero_sum_basis(3);
+  Eigen::MatrixXd off(2, 2);
+  off << 1, 0, 0, 1;
+  TargetLp lp(off, basis, 0.0);
+  Eigen::VectorXd target(2);
+  target << 1, 1;
+  const auto sol = lp.solve(target);
+  CATCH_REQUIRE(sol);
+  CATCH_CHECK(sol->value == Approx(0.5));  // z = (0.5, 0.5): both off rows at 0.5
+}
+
+CATCH_TEST_CASE("the LP is scale invariant: absurd AF scales give the same ratio", "[opt][lp]") {
+  const Eigen::MatrixXd basis = zero_sum_basis(4);
+  Eigen::MatrixXd off(3, 3);
+  off << 1, -2, 0.5, 0.3, 1, -1, -0.2, 0.7, 1;
+  Eigen::VectorXd target(3);
+  target << 2, 1, 0.5;
+  TargetLp plain(off, basis, 0.0);
+  const auto a = plain.solve(target);
+  CATCH_REQUIRE(a);
+  for (double s : {1e-200, 1e-30, 1e30, 1e200}) {
+    TargetLp scaled(off * s, basis, 0.0);
+    const auto b = scaled.solve(target * s);
+    CATCH_REQUIRE(b);
+    CATCH_CHECK(b->value == Approx(a->value).epsilon(1e-9));
+    CATCH_CHECK((b->z * s - a->z).norm() <= 1e-9 * a->z.norm());
+  }
+  Eigen::MatrixXd bad = off;
+  bad(1, 1) = std::numeric_limits<double>::infinity();
+  CATCH_CHECK_THROWS_AS(TargetLp(bad, basis, 0.0), Error);
+}
+
+CATCH_TEST_CASE("optimize with absurd physical constants: an answer or an error, never abort",
+                "[opt][lp][glpk]") {
+  // The document parser refuses these (lib/model/ranges.hpp); the library must still hold.
+  for (int k = 0; k < 3; ++k) {
+    Setup s;
+    if (k == 0) s.conductor.resistivity_ohm_m = 1e250;
+    if (k == 1) s.receptors[1].fibre.diameter_um = 1e200;
+    if (k == 2) s.conductor.resistivity_ohm_m = 1e-250;
+    OptimizeOptions o;
+    o.random_starts = 0;
+    const std::string printed = stdout_of([&] {
+      try {
+        const OptimizeResult r = optimize_mode(s, "SAI", o);
+        CATCH_CHECK(std::isfinite(r.ratio));
+      } catch (const Error&) {
+        // refused or failed cleanly
+      }
+    });
+    CATCH_CHECK(printed.empty());
+  }
+}
+
+CATCH_TEST_CASE("sample counts are capped: absurd geometry is refused, never allocated",
+                "[opt][limits]") {
+  // The parser's ranges refuse these; the models must refuse them too, before allocating
+  // (1e12 mm asked for ~52 GB; 1e300 overflowed a float-to-size_t conversion).
+  for (double margin : {1e12, 1e300}) {
+    Setup s;
+    s.lateral_margin_mm = margin;
+    OptimizeOptions o;
+    o.random_starts = 0;
+    CATCH_CHECK_THROWS_AS(optimize_mode(s, "SAI", o), Error);
+    CATCH_CHECK_THROWS_AS(summarize(s, {0, 0, -0.5, 1, -0.5, 0, 0, 0}), Error);
+  }
+  Setup s;
+  s.receptors[1].depth_min_mm = s.receptors[1].depth_max_mm = 1e-7;
+  CATCH_CHECK_THROWS_AS(summarize(s, {0, 0, -0.5, 1, -0.5, 0, 0, 0}), Error);
+  try {
+    summarize(s, {0, 0, -0.5, 1, -0.5, 0, 0, 0});
+  } catch (const Error& e) {
+    CATCH_CHECK(e.code() == ExitCode::bad_input);
+    CATCH_CHECK(std::string(e.what()).find("cap") != std::string::npos);
+  }
 }
