@@ -59,6 +59,13 @@ Json read_json(const std::string& path, const std::string& what) {
     }
     ::close(fd);
   }
+  return parse_json_text(text, what, name);
+}
+
+Json parse_json_text(const std::string& text, const std::string& what, const std::string& name) {
+  if (text.size() > kMaxDocumentBytes)
+    bad_input(what + ": " + name + " is larger than " + std::to_string(kMaxDocumentBytes >> 20) +
+              " MiB");
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     bad_input(what + ": " + name + " is empty");
   try {

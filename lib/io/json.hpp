@@ -18,6 +18,8 @@ inline constexpr std::size_t kMaxDocumentBytes = std::size_t{64} << 20;
 // oversized (kMaxDocumentBytes), malformed input, a directory, and numbers beyond the
 // range of a double are bad input (exit 2), with a one-line message.
 Json read_json(const std::string& path, const std::string& what);
+// The parsing half of read_json: `name` says where the text came from.
+Json parse_json_text(const std::string& text, const std::string& what, const std::string& name);
 
 // Serialises with two-space indentation and a trailing newline.
 std::string dump_json(const Json& j);
