@@ -1,5 +1,6 @@
 #include "opt/lp.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <csetjmp>
 #include <string>
@@ -60,47 +61,68 @@ bool guarded(Guard& g, Fn fn) {
           (first.empty() ? "" : ": " + first));
 }
 
-// Builds the problem; C calls only (see guarded()).
-void build(glp_prob* lp, int nz, int n_off, int n_box, double bound, const std::vector<int>& ia,
+// Builds the problem without any off-target row: the target equality (row 1) and the
+// optional bounds on the weights (rows 2 ..).  C calls only (see guarded()).
+void build(glp_prob* lp, int nz, int n_box, double bound, const std::vector<int>& ia,
            const std::vector<int>& ja, const std::vector<double>& ar) {
   glp_term_out(GLP_OFF);
-  const int t_col = nz + 1;
   glp_set_obj_dir(lp, GLP_MIN);
   glp_add_cols(lp, nz + 1);
   for (int j = 1; j <= nz + 1; ++j) glp_set_col_bnds(lp, j, GLP_FR, 0.0, 0.0);
-  glp_set_obj_coef(lp, t_col, 1.0);
-  glp_add_rows(lp, n_off + 1 + n_box);
-  for (int i = 1; i <= n_off; ++i) glp_set_row_bnds(lp, i, GLP_UP, 0.0, 0.0);
-  glp_set_row_bnds(lp, n_off + 1, GLP_FX, 1.0, 1.0);
-  for (int i = 0; i < n_box; ++i) glp_set_row_bnds(lp, n_off + 2 + i, GLP_DB, -bound, bound);
+  glp_set_obj_coef(lp, nz + 1, 1.0);
+  glp_add_rows(lp, 1 + n_box);
+  glp_set_row_bnds(lp, 1, GLP_FX, 1.0, 1.0);
+  for (int i = 0; i < n_box; ++i) glp_set_row_bnds(lp, 2 + i, GLP_DB, -bound, bound);
   glp_load_matrix(lp, static_cast<int>(ia.size()) - 1, ia.data(), ja.data(), ar.data());
 }
 
+// Appends off-target rows (each nz coefficients, then -1 for t), "<= 0".
+void add_rows(glp_prob* lp, int nz, int count, const double* rows) {
+  const int first = glp_add_rows(lp, count);
+  std::vector<int> ind(static_cast<std::size_t>(nz) + 2);
+  std::vector<double> val(static_cast<std::size_t>(nz) + 2);
+  for (int j = 1; j <= nz + 1; ++j) ind[static_cast<std::size_t>(j)] = j;
+  for (int r = 0; r < count; ++r) {
+    for (int j = 0; j < nz; ++j)
+      val[static_cast<std::size_t>(j) + 1] = rows[static_cast<std::size_t>(r) * nz + j];
+    val[static_cast<std::size_t>(nz) + 1] = -1.0;
+    glp_set_mat_row(lp, first + r, nz + 1, ind.data(), val.data());
+    glp_set_row_bnds(lp, first + r, GLP_UP, 0.0, 0.0);
+  }
+}
+
+enum class Outcome { optimal, unbounded, infeasible, other };
 struct SolveOut {
-  bool optimal = false;
+  Outcome outcome = Outcome::other;
   double value = 0.0;
 };
 
-void solve_c(glp_prob* lp, int row, int nz, const int* ind, const double* val, double* z,
+void solve_c(glp_prob* lp, int nz, bool set_target, const int* ind, const double* val, double* z,
              SolveOut* out) {
-  glp_set_mat_row(lp, row, nz, ind, val);
+  if (set_target) glp_set_mat_row(lp, 1, nz, ind, val);
   glp_smcp parm;
   glp_init_smcp(&parm);
   parm.msg_lev = GLP_MSG_OFF;
   parm.meth = GLP_DUALP;
   int rc = glp_simplex(lp, &parm);
-  if (rc != 0 || glp_get_status(lp) != GLP_OPT) {  // retry from scratch once
+  if (rc != 0 || glp_get_status(lp) == GLP_UNDEF) {  // retry from scratch once
     glp_std_basis(lp);
     rc = glp_simplex(lp, &parm);
   }
-  if (rc != 0 || glp_get_status(lp) != GLP_OPT) {
-    glp_std_basis(lp);  // leave a clean basis for the next call
-    out->optimal = false;
+  const int status = glp_get_status(lp);
+  if (rc == 0 && status == GLP_OPT) {
+    out->outcome = Outcome::optimal;
+    out->value = glp_get_obj_val(lp);
+    for (int j = 0; j < nz; ++j) z[j] = glp_get_col_prim(lp, j + 1);
     return;
   }
-  out->optimal = true;
-  out->value = glp_get_obj_val(lp);
-  for (int j = 0; j < nz; ++j) z[j] = glp_get_col_prim(lp, j + 1);
+  if (rc == 0 && (status == GLP_UNBND || glp_get_dual_stat(lp) == GLP_NOFEAS))
+    out->outcome = Outcome::unbounded;
+  else if (rc == 0 && status == GLP_NOFEAS)
+    out->outcome = Outcome::infeasible;
+  else
+    out->outcome = Outcome::other;
+  glp_std_basis(lp);  // leave a clean basis for the next call
 }
 
 }  // namespace
@@ -126,30 +148,20 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
   // (see solve() for how z and the bound follow).
   const double m = off_rows.cwiseAbs().maxCoeff();
   scale_ = m > 0 ? m : 1.0;
-  const int n_off = static_cast<int>(off_rows.rows());
+  off_ = off_rows / scale_;
+  in_lp_.assign(static_cast<std::size_t>(off_.rows()), false);
   const bool box = weight_bound > 0.0;
   const int n_box = box ? static_cast<int>(basis.rows()) : 0;
   std::vector<int> ia{0}, ja{0};
   std::vector<double> ar{0.0};
-  for (int i = 0; i < n_off; ++i) {
-    for (int j = 0; j < nz_; ++j) {
-      ia.push_back(i + 1);
-      ja.push_back(j + 1);
-      ar.push_back(off_rows(i, j) / scale_);
-    }
-    ia.push_back(i + 1);
-    ja.push_back(nz_ + 1);
-    ar.push_back(-1.0);
-  }
-  target_row_ = n_off + 1;
-  for (int j = 0; j < nz_; ++j) {  // placeholder coefficients, replaced by solve()
-    ia.push_back(target_row_);
+  for (int j = 0; j < nz_; ++j) {  // the target row: placeholders, replaced by solve()
+    ia.push_back(1);
     ja.push_back(j + 1);
     ar.push_back(1.0);
   }
   for (int i = 0; i < n_box; ++i)
     for (int j = 0; j < nz_; ++j) {
-      ia.push_back(target_row_ + 1 + i);
+      ia.push_back(2 + i);
       ja.push_back(j + 1);
       ar.push_back(basis(i, j));
     }
@@ -158,11 +170,35 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
   const double bound = weight_bound * scale_;  // |B z~| <= c s, since z = z~ / s
   if (!guarded(g, [&] {
         lp = glp_create_prob();
-        build(lp, nz_, n_off, n_box, bound, ia, ja, ar);
+        build(lp, nz_, n_box, bound, ia, ja, ar);
       }))
     glpk_failed(g, "setting up the problem");
   lp_ = lp;
   environment_ = g_environment;
+  // Start from an even spread of the samples (about 256); solve() adds what it needs.
+  const Eigen::Index n = off_.rows();
+  std::vector<Eigen::Index> first;
+  const Eigen::Index stride = std::max<Eigen::Index>(1, n / 256);
+  for (Eigen::Index i = 0; i < n; i += stride) first.push_back(i);
+  add(first);
+}
+
+void TargetLp::add(const std::vector<Eigen::Index>& rows) {
+  if (rows.empty()) return;
+  std::vector<double> buf;
+  buf.reserve(rows.size() * static_cast<std::size_t>(nz_));
+  for (Eigen::Index i : rows) {
+    in_lp_[static_cast<std::size_t>(i)] = true;
+    for (int j = 0; j < nz_; ++j) buf.push_back(off_(i, j));
+  }
+  Guard g;
+  glp_prob* lp = lp_;
+  const int nz = nz_, count = static_cast<int>(rows.size());
+  if (!guarded(g, [&] { add_rows(lp, nz, count, buf.data()); })) {
+    lp_ = nullptr;
+    glpk_failed(g, "adding constraints");
+  }
+  rows_in_lp_ += rows.size();
 }
 
 TargetLp::~TargetLp() {
@@ -180,21 +216,62 @@ std::optional<LpSolution> TargetLp::solve(const Eigen::VectorXd& target_row) {
     ind[static_cast<std::size_t>(j) + 1] = j + 1;
     val[static_cast<std::size_t>(j) + 1] = target_row(j) / scale_;
   }
-  std::vector<double> z(static_cast<std::size_t>(nz_));
-  SolveOut out;
-  Guard g;
-  glp_prob* lp = lp_;
-  const int row = target_row_, nz = nz_;
-  if (!guarded(g, [&] { solve_c(lp, row, nz, ind.data(), val.data(), z.data(), &out); })) {
-    lp_ = nullptr;  // freed with GLPK's environment
-    glpk_failed(g, "solving");
+  // Constraint generation: solve with the rows in the LP, check every sample, add the most
+  // violated, repeat.  The LP with fewer rows is a relaxation, so a solution that violates
+  // no sample is the optimum of the whole problem.  Rows stay for later target points (the
+  // active sets of nearby points overlap), and each re-solve starts from the last basis.
+  Eigen::VectorXd z(nz_);
+  const Eigen::Index n = off_.rows();
+  const std::size_t batch = std::max<std::size_t>(32, static_cast<std::size_t>(nz_));
+  for (bool first = true;; first = false) {
+    SolveOut out;
+    Guard g;
+    glp_prob* lp = lp_;
+    const int nz = nz_;
+    if (!guarded(g, [&] { solve_c(lp, nz, first, ind.data(), val.data(), z.data(), &out); })) {
+      lp_ = nullptr;  // freed with GLPK's environment
+      glpk_failed(g, "solving");
+    }
+    std::vector<Eigen::Index> more;
+    if (out.outcome == Outcome::optimal) {
+      const Eigen::VectorXd v = off_ * z;
+      const double tol = 1e-10 * std::max(1.0, std::fabs(out.value));
+      std::vector<std::pair<double, Eigen::Index>> violated;
+      // Samples run along the fibres in order: add the peaks of the violation only, not
+      // their neighbours, which the next solve satisfies with them.
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (v(i) - out.value > tol && !in_lp_[static_cast<std::size_t>(i)] &&
+            (i == 0 || v(i) >= v(i - 1)) && (i + 1 == n || v(i) >= v(i + 1)))
+          violated.emplace_back(v(i) - out.value, i);
+      if (violated.empty())  // plateaus: fall back to every violated sample
+        for (Eigen::Index i = 0; i < n; ++i)
+          if (v(i) - out.value > tol && !in_lp_[static_cast<std::size_t>(i)])
+            violated.emplace_back(v(i) - out.value, i);
+      if (violated.empty()) {
+        LpSolution s;
+        s.value = out.value;  // t is unchanged by the scaling
+        s.z = z / scale_;
+        return s;
+      }
+      const std::size_t k = std::min(batch, violated.size());
+      std::partial_sort(violated.begin(), violated.begin() + static_cast<std::ptrdiff_t>(k),
+                        violated.end(), [](const auto& a, const auto& b) {
+                          return a.first > b.first || (a.first == b.first && a.second < b.second);
+                        });
+      for (std::size_t i = 0; i < k; ++i) more.push_back(violated[i].second);
+    } else if (out.outcome == Outcome::infeasible) {
+      return std::nullopt;  // more rows cannot make it feasible
+    } else {
+      // Unbounded with these rows (or undecided): add twice as many, evenly spread.
+      if (rows_in_lp_ == static_cast<std::size_t>(n)) return std::nullopt;
+      const std::size_t want = std::max(batch, rows_in_lp_);
+      const Eigen::Index stride = std::max<Eigen::Index>(
+          1, (n - static_cast<Eigen::Index>(rows_in_lp_)) / static_cast<Eigen::Index>(want));
+      for (Eigen::Index i = 0, seen = 0; i < n; ++i)
+        if (!in_lp_[static_cast<std::size_t>(i)] && seen++ % stride == 0) more.push_back(i);
+    }
+    add(more);
   }
-  if (!out.optimal) return std::nullopt;
-  LpSolution s;
-  s.value = out.value;  // t is unchanged by the scaling
-  s.z.resize(nz_);
-  for (int j = 0; j < nz_; ++j) s.z(j) = z[static_cast<std::size_t>(j)] / scale_;
-  return s;
 }
 
 }  // namespace tp

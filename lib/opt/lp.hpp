@@ -8,9 +8,14 @@
 //
 // Its value is the best ratio achievable when the target fires at that point.  Solving it
 // for many target points reuses one GLPK problem and warm-starts from the last basis.
+// Constraint generation: the LP holds only some of the off-target samples (an even spread,
+// then the most violated ones, added until no sample is violated); with thousands of
+// samples and a few dozen active ones this is much faster than all rows at once, and the
+// answer is the same (a solution of a relaxation that violates nothing is optimal).
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -40,11 +45,15 @@ class TargetLp {
   std::optional<LpSolution> solve(const Eigen::VectorXd& target_row);
 
  private:
+  void add(const std::vector<Eigen::Index>& rows);  // off-target rows into the LP
+
   glp_prob* lp_ = nullptr;
+  Eigen::MatrixXd off_;      // every off-target row, scaled
+  std::vector<bool> in_lp_;  // which rows the LP holds
+  std::size_t rows_in_lp_ = 0;
   int nz_;                    // number of z variables
   double scale_ = 1.0;        // the rows are divided by this (their largest entry)
   unsigned environment_ = 0;  // GLPK's environment the problem belongs to
-  int target_row_;            // GLPK row index of the target equality
 };
 
 }  // namespace tp
