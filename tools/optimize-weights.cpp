@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
       "optimize-weights"};
   tp::cli::ArrayOptions array;
   std::string mode, max_current, min_af, format = "json";
-  int random_starts = 4;
+  int random_starts = 0;
   bool timing = false, certify = false, no_header = false;
   app.add_option("--mode", mode, "Target receptor: RA, SAI or PC (any name in the receptor table)")
       ->required()
@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
                  "Trade selectivity for efficiency: the target's largest AF at the current limit "
                  "must reach this, V/ms [0: the paper's problem]")
       ->type_name("V/MS");
-  app.add_option("--random-starts", random_starts, "Random starts besides the paper's patterns [4]")
+  app.add_option("--random-starts", random_starts,
+                 "Random starts besides the paper's patterns and the LP seeds [0]")
       ->check(CLI::Range(0, 1000))
       ->type_name("K");
   app.add_option("--format", format, "Output: json or csv [json]")
