@@ -24,3 +24,5 @@ tp_cli_test(optimize-weights paper-modes-certified script ${CMAKE_CURRENT_SOURCE
 tp_cli_test(optimize-weights deterministic script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/deterministic.sh)
 tp_cli_test(optimize-weights efficiency script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/efficiency.sh)
 tp_cli_test(optimize-weights sweep script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/sweep.sh)
+tp_cli_test(optimize-weights large-array script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/large-array.sh)
+set_tests_properties(optimize-weights.large-array PROPERTIES TIMEOUT 300)
