@@ -67,7 +67,14 @@ const volatile std::sig_atomic_t* install_stop_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
-  for (int i = 0; i < n; ++i) sigaction(sigs[i], &sa, nullptr);
+  for (int i = 0; i < n; ++i) {
+    // A signal the parent set to be ignored (nohup's SIGHUP; SIGINT and SIGQUIT of a
+    // background job in a script) stays ignored, as POSIX programs do: it cannot end the
+    // process, so the session goes on under a living host.
+    struct sigaction old {};
+    if (sigaction(sigs[i], nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    sigaction(sigs[i], &sa, nullptr);
+  }
   struct sigaction crash {};
   crash.sa_handler = on_crash;
   crash.sa_flags = static_cast<int>(SA_RESETHAND);  // 0x80000000: the flag bit

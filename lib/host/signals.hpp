@@ -5,7 +5,9 @@
 //    SIGINT, SIGQUIT, SIGTERM, SIGUSR1/2, SIGALRM, SIGVTALRM, SIGPROF, SIGIO, SIGPWR,
 //    SIGSTKFLT, SIGXCPU, SIGXFSZ, SIGTSTP, SIGTTIN, SIGTTOU and the real-time signals) sets
 //    a flag; the session sees it, stops the output, and the program exits 128 + signal.
-//    SIGPIPE is ignored (a closed pipe is an I/O error, handled like any other).
+//    SIGPIPE is ignored (a closed pipe is an I/O error, handled like any other).  A signal
+//    the parent already ignores (nohup's SIGHUP; SIGINT and SIGQUIT of a background job in
+//    a script) stays ignored: it cannot end the process.
 //  - A crash (SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS) writes a
 //    prepared stop frame straight to the port (write(2) is async-signal-safe), then dies
 //    with the signal's default action.  The device's watchdog is the last line.

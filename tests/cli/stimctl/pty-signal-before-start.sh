@@ -1,27 +1,36 @@
 # A signal that arrives while stimctl is still identifying or configuring the device starts
 # nothing: the stop flag is checked before every step that leads to output.  A slow device
-# (every reply 30 ms late) makes the configuring phase ~150 ms long; SIGINT lands in it.
+# (every reply 100 ms late) makes the configuring phase ~500 ms long; the signal is sent
+# once stimctl holds the port (its handlers are installed before it opens it), then 0, 100
+# or 200 ms later: during identify, the status query or configure.
 source "$TP_SOURCE/tests/cli/stimctl/common.sh"
 make_stimulus stim.json --frequency 200 --duration 5
-before=0
-for delay in 0.06 0.09 0.12; do
-  start_emu --record "r$delay.jsonl" --reply-delay-ms 30
-  stimctl --port "$PORT" < stim.json 2> "e$delay.err" &
-  host=$!
-  sleep "$delay"
-  kill -INT "$host"
-  rc=0
-  wait "$host" || rc=$?
-  sleep 0.2
-  n=$(lines "r$delay.jsonl")
-  stop_emu
-  [[ $rc -eq 130 ]] || fail "SIGINT at $delay s: exit $rc, expected 130: $(cat "e$delay.err")"
-  if grep -q "before the output started" "e$delay.err"; then
-    [[ $n -eq 0 ]] || fail "SIGINT at $delay s: 'nothing delivered' but $n pulses recorded"
-    before=$((before + 1))
-  else
-    grep -q "output stopped" "e$delay.err" || fail "SIGINT at $delay s: $(cat "e$delay.err")"
-  fi
-  echo "ok: SIGINT at $delay s: $n pulses; $(head -1 "e$delay.err")"
+# wait_for_port PID: until the process has the emulator's pty open (at most 10 s)
+wait_for_port() {
+  for _ in $(seq 1000); do
+    ls -l /proc/"$1"/fd 2> /dev/null | grep -qF -- "-> $PORT" && return 0
+    sleep 0.01
+  done
+  fail "stimctl never opened $PORT"
+}
+for sig in INT TERM; do
+  for delay in 0 0.1 0.2; do
+    start_emu --record "r$sig$delay.jsonl" --reply-delay-ms 100
+    env --default-signal stimctl --port "$PORT" < stim.json 2> "e$sig$delay.err" &
+    host=$!
+    wait_for_port "$host"
+    sleep "$delay"
+    kill -s "$sig" "$host"
+    rc=0
+    wait "$host" || rc=$?
+    sleep 0.2
+    n=$(lines "r$sig$delay.jsonl")
+    stop_emu
+    want=$((128 + $(kill -l "$sig")))
+    [[ $rc -eq $want ]] || fail "SIG$sig after $delay s: exit $rc, expected $want: $(cat "e$sig$delay.err")"
+    grep -q "before the output started" "e$sig$delay.err" \
+      || fail "SIG$sig after $delay s: the output was started: $(cat "e$sig$delay.err")"
+    [[ $n -eq 0 ]] || fail "SIG$sig after $delay s: 'nothing delivered' but $n pulses recorded"
+    echo "ok: SIG$sig $delay s after the port was opened: $n pulses; $(head -1 "e$sig$delay.err")"
+  done
 done
-[[ $before -ge 1 ]] || fail "no signal landed before the start: the test did not exercise the case"

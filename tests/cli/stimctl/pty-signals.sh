@@ -5,7 +5,7 @@ source "$TP_SOURCE/tests/cli/stimctl/common.sh"
 make_stimulus stim.json --frequency 200 --duration 60
 for sig in INT TERM HUP QUIT USR1 USR2 ALRM VTALRM PROF XCPU TSTP RTMIN+2; do
   start_emu --record "$sig.jsonl"
-  stimctl --port "$PORT" < stim.json 2> "$sig.err" &
+  env --default-signal stimctl --port "$PORT" < stim.json 2> "$sig.err" &
   host=$!
   sleep 0.4
   kill -s "$sig" "$host" 2> /dev/null || kill -"$sig" "$host"
@@ -27,7 +27,7 @@ done
 # (300 ms: ~60 pulses at 200 Hz).
 for sig in SEGV ABRT BUS; do
   start_emu --record "$sig.jsonl" --watchdog-ms 300
-  stimctl --port "$PORT" < stim.json 2> "$sig.err" &
+  env --default-signal stimctl --port "$PORT" < stim.json 2> "$sig.err" &
   host=$!
   sleep 0.4
   kill -s "$sig" "$host"
@@ -41,3 +41,17 @@ for sig in SEGV ABRT BUS; do
   [[ $((later - at_exit)) -le 4 ]] || fail "SIG$sig: $((later - at_exit)) pulses after the crash: no emergency stop"
   echo "ok: SIG$sig (crash) -> $((later - at_exit)) pulses after it, not the watchdog's ~60"
 done
+# A signal the parent ignores (nohup's SIGHUP) stays ignored, as in any POSIX program: the
+# host lives on, keeps the session alive, and the stimulus runs to its end.
+make_stimulus short.json --frequency 200 --duration 1
+start_emu --record hup-ignored.jsonl
+env --ignore-signal=HUP stimctl --port "$PORT" < short.json 2> hup-ignored.err &
+host=$!
+sleep 0.3
+kill -HUP "$host"
+rc=0
+wait "$host" || rc=$?
+stop_emu
+[[ $rc -eq 0 ]] || fail "ignored SIGHUP: exit $rc: $(cat hup-ignored.err)"
+[[ $(lines hup-ignored.jsonl) -eq 200 ]] || fail "ignored SIGHUP: $(lines hup-ignored.jsonl) pulses"
+echo "ok: SIGHUP ignored by the parent (nohup): the stimulus completed, $(lines hup-ignored.jsonl) pulses"
