@@ -69,7 +69,15 @@ Json parse_json_text(const std::string& text, const std::string& what, const std
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     bad_input(what + ": " + name + " is empty");
   try {
-    return Json::parse(text);
+    // No document of the project nests deeper than 4 levels; 64 leaves room for any
+    // extension while a 64 MiB "[[[[..." cannot build millions of nested values.
+    const auto depth_cap = [&](int depth, Json::parse_event_t, Json&) {
+      if (depth >= kMaxJsonDepth)  // depth counts from 0
+        bad_input(what + ": " + name + " nests deeper than " + std::to_string(kMaxJsonDepth) +
+                  " levels");
+      return true;
+    };
+    return Json::parse(text, depth_cap);
   } catch (const nlohmann::json::exception& e) {
     // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
     // a number beyond double range is "[json.exception.out_of_range.406] number overflow ...".

@@ -13,6 +13,8 @@ using Json = nlohmann::ordered_json;  // keeps key order, so output is stable an
 // The largest document any program reads: 64 MiB (a design document is a few KiB; a
 // receptor table or stimulus of any useful size is far below).
 inline constexpr std::size_t kMaxDocumentBytes = std::size_t{64} << 20;
+// The deepest nesting of arrays and objects a document may have.
+inline constexpr int kMaxJsonDepth = 64;
 
 // Reads one JSON document from a file, or from stdin when path is "-".  Unreadable,
 // oversized (kMaxDocumentBytes), malformed input, a directory, and numbers beyond the

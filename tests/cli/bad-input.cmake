@@ -39,3 +39,5 @@ tp_cli_test(make-pulse refuses-slow-rate refuses 2 --stdin ${W} -- make-pulse --
 tp_cli_test(make-pulse refuses-huge-count refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --count 1e300)
 tp_cli_test(make-pulse refuses-huge-duration refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --duration 1e300)
 tp_cli_test(make-pulse refuses-duration-over-limit refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --duration 3601)
+# Nesting: a 64 MiB "[[[[..." would build millions of nested values; 64 levels at most.
+tp_cli_test(af-field refuses-deep-nesting refuses 2 --stdin ${IN}/nested-65.json -- af-field --config -)
