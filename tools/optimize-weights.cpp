@@ -61,6 +61,8 @@ int main(int argc, char** argv) {
     tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
     opt.max_current_mA = doc.max_current_mA;
     if (!min_af.empty()) opt.min_target_af = tp::parse_finite(min_af, "--min-target-af");
+    if (!(opt.min_target_af <= 1e4))  // the paper's optima reach 0.8 to 6 V/ms
+      tp::bad_input("--min-target-af: " + min_af + " V/ms outside [0, 10000] V/ms");
     if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
     opt.random_starts = random_starts;
 
@@ -70,15 +72,15 @@ int main(int argc, char** argv) {
       const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
       certified = tp::certify_mode(doc.setup, mode, opt.polish_step_mm, bound).optimum;
     }
+    // The whole output first (it may still refuse), then the summary line, then the output.
+    const std::string out =
+        format == "csv" ? (no_header ? "" : tp::optimize_csv_header(doc.setup)) +
+                              tp::optimize_csv_row(doc.setup, r)
+                        : tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified));
     std::fprintf(
         stderr,
         "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
         mode.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
-    if (format == "csv") {
-      tp::cli::write_stdout((no_header ? "" : tp::optimize_csv_header(doc.setup)) +
-                            tp::optimize_csv_row(doc.setup, r));
-    } else {
-      tp::cli::write_stdout(tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified)));
-    }
+    tp::cli::write_stdout(out);
   });
 }

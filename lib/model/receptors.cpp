@@ -26,6 +26,11 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
   if (!j.contains("name") || !j["name"].is_string() || j["name"].get<std::string>().empty())
     bad_input(where + ": 'name' must be a non-empty string");
   r.name = j["name"].get<std::string>();
+  // A name is also a mode name and a CSV column (max_af_NAME): no commas, quotes or breaks.
+  if (r.name.size() > 32 ||
+      r.name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                               "abcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+    bad_input(where + ": 'name' must be 1 to 32 of A-Z a-z 0-9 _ . -");
   const std::string at = "receptor " + r.name;
 
   if (!j.contains("orientation") || !j["orientation"].is_string())
@@ -75,6 +80,7 @@ std::vector<Receptor> receptors_from_json(const nlohmann::ordered_json& j) {
     list = &j["receptors"];
   }
   if (!list->is_array() || list->empty()) bad_input("receptors: expected a non-empty array");
+  if (list->size() > 64) bad_input("receptors: at most 64, got " + std::to_string(list->size()));
   std::vector<Receptor> out;
   std::set<std::string> names;
   for (std::size_t i = 0; i < list->size(); ++i) {

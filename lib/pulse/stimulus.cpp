@@ -125,6 +125,9 @@ Stimulus stimulus_from_json(const Json& j) {
     s.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
   if (j.contains("electrode_area_mm2"))
     s.electrode_area_mm2 = json_finite(j["electrode_area_mm2"], "electrode_area_mm2");
+  if (!(s.electrode_area_mm2 >= 1e-4 && s.electrode_area_mm2 <= 1e4))
+    bad_input("electrode_area_mm2: " + number_text(s.electrode_area_mm2) +
+              " mm2 outside [0.0001, 10000] mm2");
   static const std::set<std::string> own = {
       "format", "channels",   "currents_mA",        "max_current_mA", "pulse",
       "count",  "duration_s", "electrode_area_mm2", "safety"};

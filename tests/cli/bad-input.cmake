@@ -41,3 +41,7 @@ tp_cli_test(make-pulse refuses-huge-duration refuses 2 --stdin ${W} -- make-puls
 tp_cli_test(make-pulse refuses-duration-over-limit refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --duration 3601)
 # Nesting: a 64 MiB "[[[[..." would build millions of nested values; 64 levels at most.
 tp_cli_test(af-field refuses-deep-nesting refuses 2 --stdin ${IN}/nested-65.json -- af-field --config -)
+# A receptor name is a mode name and a CSV column: a comma would break the CSV.
+tp_cli_test(optimize-weights refuses-receptor-name-comma refuses 2 --stdin ${IN}/receptor-name-comma.json --
+  optimize-weights --mode SAI --config - --format csv)
+tp_cli_test(optimize-weights refuses-huge-min-af refuses 2 -- optimize-weights --mode SAI --min-target-af 1e300)
