@@ -77,13 +77,19 @@ int main(int argc, char** argv) {
     if (!(o.faults.reply_delay_s >= 0 && o.faults.reply_delay_s <= 1))
       tp::bad_input("--reply-delay-ms: " + reply_delay_ms + " outside [0, 1000] ms");
     o.caps.channels = static_cast<std::uint8_t>(channels);
-    o.caps.max_current_uA = static_cast<std::uint16_t>(std::lround(imax * 1000));
+    // Whole microamperes, rounded down: the limit is never raised by rounding.
+    o.caps.max_current_uA = static_cast<std::uint16_t>(std::floor(imax * 1000 + 1e-9));
     // One code of a signed DAC of dac_bits spanning +-max_current: the nearest whole nA,
     // or the next one up where the nearest would need more codes than the DAC has
     // (2^(bits-1) - 1).
     const double codes = std::ldexp(1.0, dac_bits - 1) - 1;
-    double step = std::max(1.0, std::round(imax * 1e6 / codes));
-    if (imax * 1e6 / step > codes) step = std::ceil(imax * 1e6 / codes);
+    const double na = o.caps.max_current_uA * 1000.0;
+    double step = std::max(1.0, std::round(na / codes));
+    if (std::floor(na / step) > codes) step = std::ceil(na / codes);
+    if (step > 65535)  // the protocol's dac_step_nA is 16 bits
+      tp::bad_input("--dac-bits " + std::to_string(dac_bits) + " at " + max_current +
+                    " mA needs a DAC step of " + tp::number_text(step) +
+                    " nA; the protocol carries at most 65535 nA (use more bits)");
     o.caps.dac_step_nA = static_cast<std::uint16_t>(step);
     o.caps.watchdog_ms = static_cast<std::uint16_t>(watchdog_ms);
     const int rc = tp::host::run_pty_emulator(o);

@@ -72,13 +72,18 @@ int main(int argc, char** argv) {
     tp::host::SessionOptions opt;
     opt.live = live;
     opt.latency_log = latency_log;
-    if (!duration.empty()) {
+    if (app.count("--duration") > 0) {
       opt.duration_s = tp::parse_finite(duration, "--duration");
       if (!(opt.duration_s > 0 && opt.duration_s <= opt.limits.max_duration_s))
         tp::bad_input("--duration: " + duration + " s outside (0, " +
                       tp::number_text(opt.limits.max_duration_s) + "] s");
     }
 
+    if (!latency_log.empty()) {  // found unwritable before anything is sent
+      std::FILE* f = std::fopen(latency_log.c_str(), "w");
+      if (!f) tp::bad_input("--latency-log: cannot open '" + latency_log + "'");
+      std::fclose(f);
+    }
     // Before the port is opened: from here on every terminating signal is a flag the
     // session honours (nothing starts after it; a running output is stopped first).
     const volatile std::sig_atomic_t* signal_flag = tp::host::install_stop_handlers();

@@ -32,6 +32,9 @@ void DeviceCore::receive(const std::uint8_t* data, std::size_t n, std::uint64_t 
   for (std::size_t i = 0; i < n; ++i) {
     if (!decoder_.push(data[i])) continue;
     const Frame& f = decoder_.frame();
+    // A session whose watchdog has run out is over, even if nothing advanced the clock in
+    // between: a late frame must not revive it.
+    expire(now_us);
     // Only the running session's own frames keep its output alive: a host that did not
     // start the output (or identify/status queries) can never hold it on.
     if (status_.state == State::running && of_session(f)) last_fed_us_ = now_us;
@@ -143,10 +146,24 @@ Result DeviceCore::set_weights(const std::vector<std::uint8_t>& payload) {
   return Result::ok;
 }
 
+void DeviceCore::expire(std::uint64_t now_us) {
+  if (status_.state == State::running &&
+      now_us >= last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u) {
+    end_session();
+    status_.fault = Fault::watchdog;
+  }
+}
+
 void DeviceCore::advance(std::uint64_t now_us,
                          const std::function<void(const DeliveredPulse&)>& sink) {
   if (status_.state != State::running) return;
   const std::uint64_t deadline = last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
+  // Pulses never come in a burst to catch up: slots more than kMaxLateUs in the past are
+  // skipped (not delivered, not counted).  A timer-driven firmware is never that late.
+  if (now_us > next_pulse_us_ + kMaxLateUs) {
+    const std::uint64_t late = now_us - kMaxLateUs - next_pulse_us_;
+    next_pulse_us_ += (late / config_.period_us + 1) * config_.period_us;
+  }
   while (status_.state == State::running && next_pulse_us_ <= now_us && next_pulse_us_ < deadline) {
     sink(DeliveredPulse{next_pulse_us_, start_us_, weights_, config_, caps_});
     ++status_.pulses;

@@ -35,6 +35,10 @@ struct DeliveredPulse {
   const Capabilities& caps;
 };
 
+// The latest a pulse may come after its slot; older slots are skipped, never delivered in
+// a burst (an emulator whose process was descheduled).
+inline constexpr std::uint64_t kMaxLateUs = 100000;
+
 class DeviceCore {
  public:
   // caps is lowered to the compile-time bounds (within_hard_limits).
@@ -58,6 +62,7 @@ class DeviceCore {
   Result configure(const std::vector<std::uint8_t>& payload);
   Result set_weights(const std::vector<std::uint8_t>& payload);
   bool of_session(const Frame& f) const;  // carries the current session's token
+  void expire(std::uint64_t now_us);      // the watchdog, at any call
   void end_session();
 
   Capabilities caps_;

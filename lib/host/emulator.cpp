@@ -200,11 +200,15 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     while (!replies.empty() && replies.front().first <= now) {
       const std::vector<std::uint8_t>& bytes = replies.front().second;
       std::size_t off = 0;
+      // A host that does not read fills the line: the rest of the reply is lost (as on a
+      // UART), never waited for, so the device loop and its watchdog keep running.
       while (off < bytes.size()) {
         const ssize_t w = ::write(master, bytes.data() + off, bytes.size() - off);
         if (w > 0)
           off += static_cast<std::size_t>(w);
-        else if (w < 0 && errno != EAGAIN && errno != EINTR)
+        else if (w < 0 && errno == EINTR)
+          continue;
+        else
           break;
       }
       replies.pop_front();

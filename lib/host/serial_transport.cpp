@@ -8,6 +8,9 @@
 #include <cstring>
 #include <string>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -79,15 +82,27 @@ class SerialTransport final : public Transport {
 
  private:
   void open_exclusively(int baud) {
+    // The lock first, on a descriptor of our own: sp_open changes the line (DTR, RTS,
+    // termios), which must not happen to a port another stimctl holds.
+    const int lock_fd = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+    if (lock_fd < 0) failure("cannot open " + path_ + ": " + std::strerror(errno));
+    if (!::isatty(lock_fd)) {
+      ::close(lock_fd);
+      bad_input("--port: '" + path_ + "' is not a serial port (not a terminal)");
+    }
+    if (::flock(lock_fd, LOCK_EX | LOCK_NB) != 0) {
+      const int e = errno;
+      ::close(lock_fd);
+      if (e == EWOULDBLOCK) failure(path_ + ": in use by another program (port locked)");
+      failure(path_ + ": cannot lock: " + std::strerror(e));
+    }
+    fd_ = lock_fd;
     check(sp_open(port_, SP_MODE_READ_WRITE), "cannot open " + path_);
     opened_ = true;
     int fd = -1;
     check(sp_get_port_handle(port_, &fd), path_ + ": handle");
-    if (!::isatty(fd)) bad_input("--port: '" + path_ + "' is not a serial port (not a terminal)");
-    const int lock_fd = ::dup(fd);  // the lock is the open file's, shared with the port's fd
-    if (lock_fd < 0) failure(path_ + ": " + std::strerror(errno));
-    take_exclusively(lock_fd, path_);  // closes lock_fd when it fails
-    fd_ = lock_fd;
+    if (::ioctl(fd, TIOCEXCL) != 0)
+      failure(path_ + ": cannot open exclusively (TIOCEXCL): " + std::strerror(errno));
     check(sp_set_baudrate(port_, baud), path_ + ": baud rate");
     check(sp_set_bits(port_, 8), path_ + ": data bits");
     check(sp_set_parity(port_, SP_PARITY_NONE), path_ + ": parity");
@@ -104,7 +119,7 @@ class SerialTransport final : public Transport {
   std::string path_;
   sp_port* port_ = nullptr;
   bool opened_ = false;
-  int fd_ = -1;  // a duplicate of the port's descriptor, holding the lock
+  int fd_ = -1;  // our own descriptor of the port, holding the lock
 };
 
 }  // namespace

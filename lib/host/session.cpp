@@ -61,10 +61,10 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
   shape_of.currents_mA = c;
   try {
     check_stimulus(shape_of, lim);
+    return quantize_currents(c, caps);
   } catch (const Error& e) {
     bad_input(where + ": " + e.what());
   }
-  return quantize_currents(c, caps);
 }
 
 namespace {
@@ -150,11 +150,20 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
     bad_input("pulse period of " + number_text(period) + " us outside the protocol's 1 us to " +
               std::to_string(device::hard::max_period_us / 1000000) + " s");
   cfg.period_us = static_cast<std::uint32_t>(period);
+  // The rounded period must still hold the pulse and respect the device's rate.
+  const double length_us = static_cast<double>(cfg.width_us + cfg.interphase_us + cfg.balance_width_us);
+  if (!(period > length_us))
+    bad_input("pulse of " + number_text(length_us) + " us does not fit the device's period of " +
+              number_text(period) + " us (" + number_text(s.shape.frequency_hz) +
+              " Hz rounded to whole microseconds)");
+  if (period < std::ceil(1e6 / rep.caps.max_rate_hz))
+    bad_input("period of " + number_text(period) + " us is faster than the device's " +
+              std::to_string(rep.caps.max_rate_hz) + " Hz");
   cfg.channels = static_cast<std::uint8_t>(s.currents_mA.size());
   // The device always has a pulse budget: it stops by itself after the stimulus' pulses
   // (live mode: --duration, or the duration limit), whatever becomes of the host.
   cfg.max_pulses = static_cast<std::uint32_t>(count);
-  const double expected_s = count / f;
+  const double expected_s = count * period * 1e-6;  // at the device's (rounded) period
   const std::vector<std::int16_t> codes = quantize_currents(s.currents_mA, rep.caps);
 
   std::FILE* latency = nullptr;

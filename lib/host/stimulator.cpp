@@ -110,7 +110,12 @@ void StimulatorClient::stop() {
 }
 device::Status StimulatorClient::keepalive() {
   const Reply r = exchange(device::Msg::keepalive, device::with_session(session_, {}));
-  if (r.result == device::Result::wrong_session) return status();  // the device ended it
+  if (r.result == device::Result::wrong_session) {  // the device ended our session
+    const device::Status s = status();
+    if (s.state == device::State::running)
+      failure("the device is running another session's output: ours was taken over");
+    return s;
+  }
   if (r.result != device::Result::ok)
     failure(std::string("device refused keep-alive: ") + device::to_string(r.result));
   const auto s = device::decode_status(r.body, 0);
@@ -146,7 +151,9 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
     if (!(std::fabs(exact) <= static_cast<double>(max_code) + 0.5) ||
         std::labs(std::lround(exact)) > max_code)
       bad_input("current " + number_text(c) + " mA exceeds the device's limit of " +
-                number_text(caps.max_current_uA * 1e-3) + " mA");
+                number_text(static_cast<double>(max_code) * step_mA) + " mA (" +
+                std::to_string(max_code) + " DAC steps of " + std::to_string(caps.dac_step_nA) +
+                " nA)");
     const long code = std::lround(exact);
     codes.push_back(static_cast<std::int16_t>(code));
     err.push_back(exact - static_cast<double>(code));

@@ -38,3 +38,11 @@ foreach(script pipeline-emu pty-pipeline pty-libserialport pty-refusals pty-faul
   tp_cli_test(stimctl ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(stimctl.${script} PROPERTIES TIMEOUT 120)
 endforeach()
+# Found by the adversarial review: a period that rounds to one the pulse does not fit
+# (999.6 Hz: 1000 us for a 1000 us pulse) is refused before configuring; a DAC step the
+# protocol cannot carry; an empty --duration; an unwritable latency log before the port.
+tp_cli_test(stimctl refuses-rounded-period refuses 2 --stdin ${IN}/stimulus-period-rounds-short.json -- stimctl --port emu)
+tp_cli_test(stim-emu refuses-dac-step-overflow refuses 2 -- stim-emu --dac-bits 4)
+tp_cli_test(stimctl refuses-empty-duration refuses 2 --stdin ${S} -- stimctl --port emu --duration "")
+tp_cli_test(stimctl refuses-unwritable-latency-log refuses 2 --stdin /dev/null --
+  stimctl --port emu --live --stimulus ${S} --latency-log /nonexistent/dir/log)

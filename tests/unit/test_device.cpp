@@ -223,9 +223,9 @@ TEST_CASE("the watchdog stops output when the session's keep-alives stop",
   send(core, 3, Msg::start, token(), 1000);
   std::vector<std::uint64_t> t;
   auto sink = [&](const DeliveredPulse& p) { t.push_back(p.t_us); };
-  core.advance(200000, sink);
+  for (std::uint64_t now = 1000; now <= 200000; now += 1000) core.advance(now, sink);
   send(core, 4, Msg::keepalive, token(), 200000);  // fed at 0.2 s: deadline 0.5 s
-  core.advance(2000000, sink);
+  for (std::uint64_t now = 200000; now <= 2000000; now += 1000) core.advance(now, sink);
   CHECK(core.status().state == State::idle);
   CHECK(core.status().fault == Fault::watchdog);
   REQUIRE(!t.empty());
@@ -236,6 +236,37 @@ TEST_CASE("the watchdog stops output when the session's keep-alives stop",
   CHECK(decode_status(body, 0)->fault == Fault::watchdog);
   // The watchdog ended the session: its keep-alive is refused from now on.
   CHECK(send(core, 6, Msg::keepalive, token(), 2000000) == Result::wrong_session);
+}
+
+TEST_CASE("a late frame cannot revive an expired session; late pulses never come in a burst",
+          "[device][core][watchdog]") {
+  Capabilities caps;
+  caps.watchdog_ms = 300;
+  DeviceCore core(caps);
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(core, 3, Msg::start, token(), 0);
+  int n = 0;
+  core.advance(100000, [&](const DeliveredPulse&) { ++n; });
+  CHECK(n == 21);  // 0, 5, ..., 100 ms
+  // Nothing advanced the device for 2 s (a descheduled emulator); then the session's
+  // keep-alive arrives, late.  The watchdog ran out at 0.3 s: the session is over.
+  CHECK(send(core, 4, Msg::keepalive, token(), 2100000) == Result::wrong_session);
+  CHECK(core.status().state == State::idle);
+  CHECK(core.status().fault == Fault::watchdog);
+  core.advance(2100000, [&](const DeliveredPulse&) { ++n; });
+  CHECK(n == 21);  // no catch-up burst of the 400 missed slots
+  // Running, but advanced late: slots older than kMaxLateUs are skipped, not delivered.
+  send(core, 5, Msg::configure, configure(config8()), 3000000);
+  send(core, 6, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 3000000);
+  send(core, 7, Msg::start, token(), 3000000);
+  std::vector<std::uint64_t> t;
+  core.advance(3000000, [&](const DeliveredPulse& p) { t.push_back(p.t_us); });
+  send(core, 8, Msg::keepalive, token(), 3250000);
+  core.advance(3250000, [&](const DeliveredPulse& p) { t.push_back(p.t_us); });
+  REQUIRE(!t.empty());
+  for (std::uint64_t x : t) CHECK((x == 3000000 || x + kMaxLateUs >= 3250000));
+  CHECK(t.size() <= 1 + kMaxLateUs / 5000 + 1);
 }
 
 TEST_CASE("only the session that started the output keeps it alive",

@@ -304,3 +304,35 @@ TEST_CASE("live frames: random JSON is a checked frame or bad input, nothing els
   CHECK(accepted > 0);
   WARN("live frames: " << cases << " random lines, " << accepted << " accepted");
 }
+
+TEST_CASE("a session whose output another session took over fails, never reports success",
+          "[host][session]") {
+  auto link = host::open_transport("emu", 115200, {});
+  struct Borrowed final : host::Transport {
+    host::Transport& t;
+    explicit Borrowed(host::Transport& x) : t(x) {}
+    std::string name() const override { return t.name(); }
+    void write(const std::uint8_t* d, std::size_t n) override { t.write(d, n); }
+    std::size_t read(std::uint8_t* b, std::size_t m, int ms) override { return t.read(b, m, ms); }
+  } a{*link}, b{*link};
+  host::StimulatorClient first(a), second(b);
+  const auto caps = first.identify();
+  device::PulseConfig cfg;
+  cfg.max_pulses = 100000;
+  const auto codes = host::quantize_currents(test_stimulus().currents_mA, caps);
+  first.configure(cfg);
+  first.set_weights(codes);
+  first.start();
+  second.stop();  // a host that ignores the lock stops it and starts its own
+  second.configure(cfg);
+  second.set_weights(codes);
+  second.start();
+  try {
+    first.keepalive();
+    FAIL("the first session's keep-alive reported success");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::failure);
+    CHECK(std::string(e.what()).find("another session") != std::string::npos);
+  }
+  second.stop();
+}
