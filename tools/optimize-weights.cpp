@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "cli/array_options.hpp"
 #include "cli/entry.hpp"
@@ -25,9 +26,11 @@ int main(int argc, char** argv) {
       "optimize-weights"};
   tp::cli::ArrayOptions array;
   std::string mode, max_current, min_af, format = "json";
-  int random_starts = 0;
+  int random_starts = 0, pattern_starts = 2;
   bool timing = false, certify = false, no_header = false;
-  app.add_option("--mode", mode, "Target receptor: RA, SAI or PC (any name in the receptor table)")
+  app.add_option("--mode", mode,
+                 "Target receptor: RA, SAI or PC (any name in the receptor table); several, "
+                 "comma-separated, with --format csv: one row each")
       ->required()
       ->type_name("MODE");
   tp::cli::add_array_options(app, array,
@@ -39,6 +42,11 @@ int main(int argc, char** argv) {
                  "Trade selectivity for efficiency: the target's largest AF at the current limit "
                  "must reach this, V/ms [0: the paper's problem]")
       ->type_name("V/MS");
+  app.add_option("--pattern-starts", pattern_starts,
+                 "How many of the paper's patterns start the surrogate: anode, cathode, cathode "
+                 "with anodic neighbours, widened cathode [2]")
+      ->check(CLI::Range(0, 4))
+      ->type_name("K");
   app.add_option("--random-starts", random_starts,
                  "Random starts besides the paper's patterns and the LP seeds [0]")
       ->check(CLI::Range(0, 1000))
@@ -65,22 +73,55 @@ int main(int argc, char** argv) {
       tp::bad_input("--min-target-af: " + min_af + " V/ms outside [0, 10000] V/ms");
     if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
     opt.random_starts = random_starts;
+    opt.pattern_starts = pattern_starts;
 
-    const tp::OptimizeResult r = tp::optimize_mode(doc.setup, mode, opt);
-    std::optional<double> certified;
-    if (certify) {
-      const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
-      certified = tp::certify_mode(doc.setup, mode, opt.polish_step_mm, bound).optimum;
+    // Several modes (CSV only) share one process: one row each, in the order given.
+    std::vector<std::string> modes;
+    for (std::size_t a = 0;;) {
+      const std::size_t b = mode.find(',', a);
+      modes.push_back(mode.substr(a, b == std::string::npos ? std::string::npos : b - a));
+      if (modes.back().empty()) tp::bad_input("--mode: empty name in '" + mode + "'");
+      for (std::size_t k = 0; k + 1 < modes.size(); ++k)
+        if (modes[k] == modes.back()) tp::bad_input("--mode: " + modes.back() + " given twice");
+      if (b == std::string::npos) break;
+      a = b + 1;
     }
-    // The whole output first (it may still refuse), then the summary line, then the output.
-    const std::string out =
-        format == "csv" ? (no_header ? "" : tp::optimize_csv_header(doc.setup)) +
-                              tp::optimize_csv_row(doc.setup, r)
-                        : tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified));
-    std::fprintf(
-        stderr,
-        "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
-        mode.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
+    for (const std::string& m : modes) {  // every name checked before any work
+      std::string names;
+      bool known = false;
+      for (const auto& r : doc.setup.receptors) {
+        known = known || r.name == m;
+        names += (names.empty() ? "" : ", ") + r.name;
+      }
+      if (!known) tp::bad_input("unknown mode '" + m + "' (expected one of " + names + ")");
+    }
+    if (modes.size() > 1 && format != "csv")
+      tp::bad_input("--mode: several modes need --format csv (one row each)");
+    if (certify && format != "json")
+      tp::bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
+
+    std::string out = format == "csv" && !no_header ? tp::optimize_csv_header(doc.setup) : "";
+    std::string talk;
+    for (const std::string& m : modes) {
+      const tp::OptimizeResult r = tp::optimize_mode(doc.setup, m, opt);
+      std::optional<double> certified;
+      if (certify) {
+        const double bound =
+            opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
+        certified = tp::certify_mode(doc.setup, m, opt.polish_step_mm, bound).optimum;
+      }
+      // The whole output first (it may still refuse), then the summary lines, then the output.
+      out += format == "csv"
+                 ? tp::optimize_csv_row(doc.setup, r)
+                 : tp::dump_json(tp::optimize_result_to_json(doc, r, timing, certified));
+      char line[256];
+      std::snprintf(
+          line, sizeof line,
+          "optimize-weights: %s ratio %.6g, target AF %.4g V/ms at %.3g mA, %d starts, %.3f s\n",
+          m.c_str(), r.ratio, r.target_max_af, opt.max_current_mA, r.starts, r.time_s);
+      talk += line;
+    }
+    std::fputs(talk.c_str(), stderr);
     tp::cli::write_stdout(out);
   });
 }

@@ -44,9 +44,14 @@ void Field::second_derivatives(double x_mm, double y_mm, double& xx, double& yy)
 }
 
 double Field::af(const Fibre& fibre, double x_mm, double y_mm) const {
-  double xx = 0.0, yy = 0.0;
-  second_derivatives(x_mm, y_mm, xx, yy);
-  return fibre_factor_mm2_per_ms(fibre) * (fibre.orientation == Orientation::horizontal ? xx : yy);
+  // Only the derivative along the fibre.
+  const bool horizontal = fibre.orientation == Orientation::horizontal;
+  double* b = scratch_.data();
+  conductor_->unit_second_derivatives(x_mm, y_mm, horizontal ? b : nullptr,
+                                      horizontal ? nullptr : b);
+  double d = 0.0;
+  for (std::size_t i = 0; i < currents_.size(); ++i) d += currents_[i] * b[i];
+  return fibre_factor_mm2_per_ms(fibre) * d;
 }
 
 Peak Field::peak(const Receptor& r) const {

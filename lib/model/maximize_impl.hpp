@@ -39,7 +39,9 @@ std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
     constexpr double g = 0.6180339887498949;
     double c = hi - g * (hi - lo), d = lo + g * (hi - lo);
     double fc = f(c), fd = f(d);
-    for (int it = 0; it < 200 && hi - lo > 1e-12 * (1.0 + std::fabs(t)); ++it) {
+    // To 1e-9 of the position: the value near a maximum is off by the square of that,
+    // far below double rounding for the smooth fields of the models.
+    for (int it = 0; it < 200 && hi - lo > 1e-9 * (1.0 + std::fabs(t)); ++it) {
       if (fc >= fd) {
         hi = d;
         d = c;

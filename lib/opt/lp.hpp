@@ -35,7 +35,8 @@ void provoke_glpk_error();
 class TargetLp {
  public:
   // basis and weight_bound: when weight_bound > 0, |(basis z)_i| <= weight_bound.
-  TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis, double weight_bound);
+  // off_rows is kept (scaled): move it in when the caller is done with it.
+  TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound);
   ~TargetLp();
   TargetLp(const TargetLp&) = delete;
   TargetLp& operator=(const TargetLp&) = delete;

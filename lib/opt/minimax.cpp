@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <ceres/gradient_problem.h>
 #include <ceres/gradient_problem_solver.h>
@@ -19,25 +20,22 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // log P_p(a) and its gradient d log P / d a, p = 2^log2_p.  False when no a_i > 0.
+// With r = max(a / max a, 0): r^(p-1) is the product of r^(2^k), k < log2_p (repeated
+// squaring, no division), and r^p = r^(p-1) r.  Whole-array operations, so Eigen
+// vectorises them.
 bool log_pnorm(const Eigen::VectorXd& a, int log2_p, double& log_p, Eigen::VectorXd& grad) {
   const double m = a.maxCoeff();
   if (!(m > 0.0) || !std::isfinite(m)) return false;
-  const double p = std::ldexp(1.0, log2_p);
-  double s = 0.0;
-  grad.resize(a.size());
-  for (Eigen::Index i = 0; i < a.size(); ++i) {
-    if (a(i) > 0.0) {
-      const double r = a(i) / m;
-      double q = r;
-      for (int k = 0; k < log2_p; ++k) q *= q;  // r^p
-      s += q;
-      grad(i) = q / r;  // r^(p-1)
-    } else {
-      grad(i) = 0.0;
-    }
+  const Eigen::ArrayXd r = (a.array() / m).max(0.0);
+  Eigen::ArrayXd power = r;  // r^(2^k)
+  Eigen::ArrayXd g = r;      // r^(2^(k+1) - 1)
+  for (int k = 1; k < log2_p; ++k) {
+    power = power.square();
+    g *= power;
   }
-  log_p = std::log(m) + std::log(s) / p;
-  grad /= m * s;
+  const double s = (g * r).sum();  // sum r^p >= 1: the largest term is 1
+  log_p = std::log(m) + std::log(s) / std::ldexp(1.0, log2_p);
+  grad = g.matrix() / (m * s);
   return true;
 }
 
@@ -46,7 +44,9 @@ struct Start {
   Eigen::VectorXd w;
 };
 
-std::vector<Start> make_starts(std::size_t n, int random_starts, std::uint64_t seed) {
+// The first `patterns` of the paper's four patterns, then `random_starts` seeded ones.
+std::vector<Start> make_starts(std::size_t n, int patterns, int random_starts,
+                               std::uint64_t seed) {
   const auto N = static_cast<Eigen::Index>(n);
   const Eigen::Index c = (N - 1) / 2;  // the centre electrode (left of centre when N is even)
   std::vector<Start> s;
@@ -71,6 +71,8 @@ std::vector<Start> make_starts(std::size_t n, int random_starts, std::uint64_t s
     for (Eigen::Index i = N / 4; i < N - N / 4; ++i) w(i) = 1.0;
     s.push_back({"widened-cathode", balanced(w)});
   }
+  if (s.size() > static_cast<std::size_t>(std::max(patterns, 0)))
+    s.resize(static_cast<std::size_t>(std::max(patterns, 0)));
   SplitMix64 rng{seed};  // portable: the same starts everywhere
   for (int k = 0; k < random_starts; ++k) {
     Eigen::VectorXd w(N);
@@ -78,6 +80,14 @@ std::vector<Start> make_starts(std::size_t n, int random_starts, std::uint64_t s
     s.push_back({"random-" + std::to_string(k + 1), balanced(w)});
   }
   return s;
+}
+
+// True when the electrode positions are mirror images about x = 0.
+bool mirror_symmetric(const ElectrodeArray& array) {
+  const auto& x = array.positions_mm;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!(std::fabs(x[i] + x[x.size() - 1 - i]) < 1e-12)) return false;
+  return true;
 }
 
 }  // namespace
@@ -111,11 +121,7 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
   const auto t0 = std::chrono::steady_clock::now();
   if (!(opt.max_current_mA > 0.0)) bad_input("max current must be > 0 mA");
   if (opt.min_target_af < 0.0) bad_input("minimum target AF must be >= 0");
-  const ModeProblem coarse = make_mode_problem(setup, mode, opt.surrogate_step_mm);
-  const ModeProblem fine = make_mode_problem(setup, mode, opt.polish_step_mm);
-  const Eigen::MatrixXd& B = coarse.basis;
-  const Receptor& target = setup.receptors[coarse.target];
-  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const Eigen::MatrixXd B = zero_sum_basis(setup.array.size());
 
   OptimizeResult res;
   res.mode = mode;
@@ -123,59 +129,82 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
     const Eigen::VectorXd w = B * z;
     return std::vector<double>(w.data(), w.data() + w.size());
   };
-  auto ratio_of = [&](const Eigen::VectorXd& z) { return true_ratio(setup, mode, weights_of(z)); };
-
-  // 1-2. Surrogate minimisation with continuation, from every start.
   struct Candidate {
     double ratio;
     Eigen::VectorXd z;
     std::string label;
+    Peak target_peak;  // where the target's largest AF lies (the polish starts there)
+  };
+
+  ModeProblem fine = make_mode_problem(setup, mode, opt.polish_step_mm, false);
+  const Receptor& target = setup.receptors[fine.target];
+  // The true ratio of z (infinite when the target is never depolarised) and the target's
+  // peak, from one evaluation of every receptor's maximum.
+  auto assess = [&](const Eigen::VectorXd& z) {
+    const Summary sum = summarize(setup, weights_of(z));
+    const auto r = mode_ratio(sum.peaks, mode);
+    return std::make_pair(r ? *r : kInf, sum.peaks[fine.target].second);
   };
   std::vector<Candidate> candidates;
-  ceres::GradientProblemSolver::Options so;
-  so.line_search_direction_type = ceres::LBFGS;
-  so.max_num_iterations = 200;
-  so.function_tolerance = 1e-12;
-  so.gradient_tolerance = 1e-10;
-  so.parameter_tolerance = 1e-12;
-  so.logging_type = ceres::SILENT;
-  for (const Start& start : make_starts(setup.array.size(), opt.random_starts, opt.seed)) {
-    ++res.starts;
-    Eigen::VectorXd z = B.transpose() * start.w;
-    z /= z.norm();
-    for (int log2_p = 3; log2_p <= 8; ++log2_p) {
-      ceres::GradientProblem problem(
-          new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
-      double cost = 0.0;
-      if (!problem.Evaluate(z.data(), &cost, nullptr)) break;  // target never depolarised
-      Eigen::VectorXd trial = z;
-      ceres::GradientProblemSolver::Summary summary;
-      ceres::Solve(so, problem, trial.data(), &summary);
-      res.iterations += static_cast<int>(summary.iterations.size());
-      res.evaluations += summary.num_cost_evaluations + summary.num_gradient_evaluations;
-      if (!summary.IsSolutionUsable() || !trial.allFinite()) break;
-      z = trial / trial.norm();
+
+  // 1-2. Surrogate minimisation with continuation, from every start.  The surrogate only
+  // proposes candidates for the LP polish, so it is solved loosely: p = 8, 32, 256, at most
+  // 50 iterations each.  Over 189 arrays (4, 8 and 16 electrodes, pitch 0.5 to 2.5 mm,
+  // every mode) this, with two pattern starts, gave the same ratios as p = 8, 16, ..., 256
+  // at 200 iterations, tolerances of 1e-12 and four pattern starts (docs/optimization.md).
+  {
+    const ModeProblem coarse = make_mode_problem(setup, mode, opt.surrogate_step_mm);
+    ceres::GradientProblemSolver::Options so;
+    so.line_search_direction_type = ceres::LBFGS;
+    so.max_num_iterations = 50;
+    so.function_tolerance = 1e-8;
+    so.gradient_tolerance = 1e-6;
+    so.parameter_tolerance = 1e-8;
+    so.logging_type = ceres::SILENT;
+    for (const Start& start : make_starts(setup.array.size(), opt.pattern_starts,
+                                          opt.random_starts, opt.seed)) {
+      ++res.starts;
+      Eigen::VectorXd z = B.transpose() * start.w;
+      z /= z.norm();
+      for (int log2_p : {3, 5, 8}) {
+        ceres::GradientProblem problem(
+            new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
+        double cost = 0.0;
+        if (!problem.Evaluate(z.data(), &cost, nullptr)) break;  // target never depolarised
+        Eigen::VectorXd trial = z;
+        ceres::GradientProblemSolver::Summary summary;
+        ceres::Solve(so, problem, trial.data(), &summary);
+        res.iterations += static_cast<int>(summary.iterations.size());
+        res.evaluations += summary.num_cost_evaluations + summary.num_gradient_evaluations;
+        if (!summary.IsSolutionUsable() || !trial.allFinite()) break;
+        z = trial / trial.norm();
+      }
+      const auto [r, peak] = assess(z);
+      if (std::isfinite(r)) candidates.push_back({r, z, start.label, peak});
     }
-    const double r = ratio_of(z);
-    if (std::isfinite(r)) candidates.push_back({r, z, start.label});
   }
 
   // 3. LP seeds: the optimum's target peak tends to sit under an electrode (an anode for a
   // vertical target, a cathode for a horizontal one), a discrete choice that local descent
   // does not make well.  Solve the LP with the target point under each electrode, at the
-  // top of the target's fibres, and add the solutions as candidates.
+  // top of the target's fibres, and add the solutions as candidates.  A mirror-symmetric
+  // array has a mirror-symmetric problem: the seed under electrode N-1-i is the mirror
+  // image of the one under i, with the same ratio, so the left half suffices.
+  const auto conductor = make_conductor(setup.conductor, setup.array);
   const bool bounded = opt.min_target_af > 0.0;
   const double weight_bound = bounded ? opt.max_current_mA / opt.min_target_af : 0.0;
-  TargetLp lp(fine.off_rows, B, weight_bound);
-  for (std::size_t i = 0; i < setup.array.size(); ++i) {
+  TargetLp lp(std::move(fine.off_rows), B, weight_bound);
+  const std::size_t n = setup.array.size();
+  const std::size_t seeds = mirror_symmetric(setup.array) ? (n + 1) / 2 : n;
+  for (std::size_t i = 0; i < seeds; ++i) {
     const double x = setup.array.positions_mm[i];
     const Eigen::VectorXd row =
         B.transpose() * unit_af(setup, *conductor, target, x, target.depth_min_mm);
     ++res.lp_solves;
     if (const auto sol = lp.solve(row)) {
-      const double r = ratio_of(sol->z);
+      const auto [r, peak] = assess(sol->z);
       if (std::isfinite(r))
-        candidates.push_back({r, sol->z, "lp-under-electrode-" + std::to_string(i)});
+        candidates.push_back({r, sol->z, "lp-under-electrode-" + std::to_string(i), peak});
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(),
@@ -185,46 +214,49 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
 
   // 4. Polish by LP at the target's true peak.  With an efficiency bound, only LP
   // solutions (which honour it) are admissible.
-  // The best unbounded candidate's target AF at the current limit, for the message below.
-  double unbounded_af = 0.0;
-  if (!candidates.empty()) {
-    Eigen::VectorXd w = B * candidates.front().z;
-    w *= opt.max_current_mA / w.cwiseAbs().maxCoeff();
-    const Field field(setup, std::vector<double>(w.data(), w.data() + w.size()));
-    unbounded_af = field.peak(target).af;
-  }
   std::optional<Candidate> best;
-  for (Candidate c : candidates) {
+  for (const Candidate& c : candidates) {
     double r = bounded ? kInf : c.ratio;
     Eigen::VectorXd z = c.z;
+    Peak pk = c.target_peak;
     for (int it = 0; it < 10; ++it) {
-      const Field field(setup, weights_of(z));
-      const Peak pk = field.peak(target);
       const Eigen::VectorXd row =
           B.transpose() * unit_af(setup, *conductor, target, pk.x_mm, pk.y_mm);
       ++res.lp_solves;
       const auto sol = lp.solve(row);
       if (!sol) break;
-      const double rn = ratio_of(sol->z);
+      const auto [rn, pn] = assess(sol->z);
       const bool improved = std::isinf(r) ? std::isfinite(rn) : rn < r - 1e-12 * std::fabs(r);
       if (!improved) break;
       r = rn;
       z = sol->z;
+      pk = pn;
     }
-    if (std::isfinite(r) && (!best || r < best->ratio)) best = Candidate{r, z, c.label};
+    if (std::isfinite(r) && (!best || r < best->ratio)) best = Candidate{r, z, c.label, pk};
   }
   if (!best) {
-    if (bounded)
+    if (bounded) {
+      // The best unbounded candidate's target AF at the current limit, for the message.
+      double unbounded_af = 0.0;
+      if (!candidates.empty()) {
+        Eigen::VectorXd w = B * candidates.front().z;
+        w *= opt.max_current_mA / w.cwiseAbs().maxCoeff();
+        const Field field(setup, std::vector<double>(w.data(), w.data() + w.size()));
+        unbounded_af = field.peak(target).af;
+      }
       bad_input("no weights reach a target AF of " + number_text(opt.min_target_af) + " V/ms at " +
                 number_text(opt.max_current_mA) + " mA (the most selective weights reach " +
                 number_text(unbounded_af) + " V/ms)");
+    }
     failure("optimisation failed: no start depolarises receptor " + mode);
   }
 
-  // 5. Scale so that max |w| = 1, and make Sum w = 0 exact to rounding.
+  // 5. Make Sum w = 0 exact to rounding, then scale so that max |w| = 1 exactly: the
+  // largest divided by itself is 1, every other |w| stays <= 1 (division rounds
+  // monotonically), so no current exceeds the limit even by a rounding.
   Eigen::VectorXd w = B * best->z;
-  w /= w.cwiseAbs().maxCoeff();
   w.array() -= w.mean();
+  w /= w.cwiseAbs().maxCoeff();
   res.weights.assign(w.data(), w.data() + w.size());
   for (double& v : res.weights)
     if (v == 0.0) v = 0.0;  // no -0 in the output
@@ -232,7 +264,7 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
   res.summary = summarize(setup, res.currents_mA);
   const auto r = mode_ratio(res.summary.peaks, mode);
   res.ratio = r ? *r : kInf;
-  res.target_max_af = res.summary.peaks[coarse.target].second.af;
+  res.target_max_af = res.summary.peaks[fine.target].second.af;
   res.best_start = best->label;
   res.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
@@ -240,13 +272,10 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
 
 Certificate certify_mode(const Setup& setup, const std::string& mode, double step_mm,
                          double weight_bound) {
-  const ModeProblem p = make_mode_problem(setup, mode, step_mm);
+  ModeProblem p = make_mode_problem(setup, mode, step_mm);
   // A mirror-symmetric array has a mirror-symmetric problem: x >= 0 suffices.
-  const auto& x = setup.array.positions_mm;
-  bool symmetric = true;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    symmetric = symmetric && std::fabs(x[i] + x[x.size() - 1 - i]) < 1e-12;
-  TargetLp lp(p.off_rows, p.basis, weight_bound);
+  const bool symmetric = mirror_symmetric(setup.array);
+  TargetLp lp(std::move(p.off_rows), p.basis, weight_bound);
   Certificate c;
   c.optimum = kInf;
   for (Eigen::Index i = 0; i < p.target_rows.rows(); ++i) {

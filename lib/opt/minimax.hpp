@@ -10,13 +10,14 @@
 //          log P_p(A_off z) - log P_p(A_target z) + (|z|^2 - 1)^2 / 2
 //      over z, with w = B z and B an orthonormal basis of {Sum w = 0}, so the constraint
 //      holds by construction; the last term only fixes the scale (the log ratio's gradient
-//      is orthogonal to z).  Continuation tightens p = 8, 16, ..., 256, each stage
+//      is orthogonal to z).  Continuation tightens p = 8, 32, 256, each stage
 //      starting where the last ended.
-//   2. Starts.  The paper's patterns (an anode; a cathode; a cathode with anodic
-//      neighbours; a widened cathode) and seeded random ones.
+//   2. Starts.  The paper's patterns (an anode and a cathode by default; a cathode with
+//      anodic neighbours and a widened cathode on request) and seeded random ones.
 //   3. LP seeds.  For a fixed target point the problem is a linear programme
-//      (opt/lp.hpp).  The LP is solved with the target point under each electrode, at
-//      the top of the target's fibres, and its solutions join the candidates.
+//      (opt/lp.hpp).  The LP is solved with the target point under each electrode (the
+//      left half of a mirror-symmetric array), at the top of the target's fibres, and its
+//      solutions join the candidates.
 //   4. Polish on the true maxima.  From each of the best candidates, the target's true
 //      peak is located, the LP solved at that point over finely sampled off-target
 //      fibres, and repeated while the true ratio improves; each step cannot make it worse.
@@ -58,7 +59,11 @@ struct OptimizeOptions {
   double min_target_af = 0.0;
   double surrogate_step_mm = 0.05;  // fibre sampling for the surrogate
   double polish_step_mm = 0.02;     // fibre sampling for the LP polish
-  int random_starts = 0;            // over 75 arrays, 4 random starts never changed a ratio
+  // Starts of the surrogate: the first `pattern_starts` of the paper's four patterns (anode,
+  // cathode, cathode with anodic neighbours, widened cathode), then `random_starts` seeded
+  // ones.  Over 189 arrays, more starts never changed a ratio (docs/optimization.md).
+  int pattern_starts = 2;
+  int random_starts = 0;
   int polished_candidates = 3;
   std::uint64_t seed = 1;
 };

@@ -50,17 +50,28 @@ void sample_boundary(const Setup& s, std::size_t r, double step, std::vector<Sam
 
 Eigen::MatrixXd rows_for(const Setup& s, const Conductor& c, const std::vector<SamplePoint>& pts,
                          const Eigen::MatrixXd& basis) {
-  Eigen::MatrixXd g(static_cast<Eigen::Index>(pts.size()),
-                    static_cast<Eigen::Index>(s.array.size()));
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    g.row(static_cast<Eigen::Index>(i)) =
-        unit_af(s, c, s.receptors[pts[i].receptor], pts[i].x_mm, pts[i].y_mm).transpose();
-  return g * basis;
+  // One conductor call per sample into a small buffer, then straight into z coordinates:
+  // no (samples x electrodes) temporary.
+  const auto n = static_cast<Eigen::Index>(s.array.size());
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(pts.size()), basis.cols());
+  Eigen::RowVectorXd g(n);
+  std::vector<double> factor(s.receptors.size());
+  for (std::size_t r = 0; r < s.receptors.size(); ++r)
+    factor[r] = fibre_factor_mm2_per_ms(s.receptors[r].fibre);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const SamplePoint& pt = pts[i];
+    const bool horizontal = s.receptors[pt.receptor].fibre.orientation == Orientation::horizontal;
+    c.unit_second_derivatives(pt.x_mm, pt.y_mm, horizontal ? g.data() : nullptr,
+                              horizontal ? nullptr : g.data());
+    out.row(static_cast<Eigen::Index>(i)).noalias() = factor[pt.receptor] * g * basis;
+  }
+  return out;
 }
 
 }  // namespace
 
-ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, double step_mm) {
+ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, double step_mm,
+                              bool target_rows) {
   if (setup.array.size() < 2) bad_input("optimisation needs at least 2 electrodes");
   if (setup.receptors.size() < 2) bad_input("optimisation needs at least 2 receptors");
   ModeProblem p;
@@ -87,7 +98,7 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
               " samples x electrodes, more than the cap of " + number_text(kMaxProblemEntries) +
               " (an array span or lateral margin out of range)");
   const auto conductor = make_conductor(setup.conductor, setup.array);
-  p.target_rows = rows_for(setup, *conductor, p.target_pts, p.basis);
+  if (target_rows) p.target_rows = rows_for(setup, *conductor, p.target_pts, p.basis);
   p.off_rows = rows_for(setup, *conductor, p.off_pts, p.basis);
   return p;
 }

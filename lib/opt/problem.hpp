@@ -41,7 +41,9 @@ inline constexpr double kMaxProblemEntries = 3e7;
 Eigen::MatrixXd zero_sum_basis(std::size_t n);
 
 // Samples every receptor's fibre-region boundary at `step_mm` (both ends included).
-ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, double step_mm);
+// With target_rows false, target_rows is left empty (target_pts is still filled).
+ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, double step_mm,
+                              bool target_rows = true);
 
 // AF per unit weight (V/ms per mA, one entry per electrode) of receptor r's fibres at a point.
 Eigen::VectorXd unit_af(const Setup& setup, const Conductor& c, const Receptor& r, double x_mm,
