@@ -106,8 +106,7 @@ int main(int argc, char** argv) {
       const tp::OptimizeResult r = tp::optimize_mode(doc.setup, m, opt);
       std::optional<double> certified;
       if (certify) {
-        const double bound =
-            opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
+        const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
         certified = tp::certify_mode(doc.setup, m, opt.polish_step_mm, bound).optimum;
       }
       // The whole output first (it may still refuse), then the summary lines, then the output.

@@ -45,8 +45,8 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
   const std::string where = "input line " + std::to_string(n_line);
   Json j;
   try {
-    j = Json::parse(line);
-  } catch (const std::exception&) {
+    j = parse_json_strict(line, where);
+  } catch (const nlohmann::json::exception&) {
     bad_input(where + ": malformed JSON");
   }
   if (!j.is_object() || !j.contains("currents_mA") || !j["currents_mA"].is_array())
@@ -151,7 +151,8 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
               std::to_string(device::hard::max_period_us / 1000000) + " s");
   cfg.period_us = static_cast<std::uint32_t>(period);
   // The rounded period must still hold the pulse and respect the device's rate.
-  const double length_us = static_cast<double>(cfg.width_us + cfg.interphase_us + cfg.balance_width_us);
+  const double length_us =
+      static_cast<double>(cfg.width_us + cfg.interphase_us + cfg.balance_width_us);
   if (!(period > length_us))
     bad_input("pulse of " + number_text(length_us) + " us does not fit the device's period of " +
               number_text(period) + " us (" + number_text(s.shape.frequency_hz) +

@@ -7,6 +7,9 @@
 #include <iostream>
 #include <iterator>
 #include <sstream>
+#include <string>
+#include <unordered_set>
+#include <vector>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -62,6 +65,34 @@ Json read_json(const std::string& path, const std::string& what) {
   return parse_json_text(text, what, name);
 }
 
+Json parse_json_strict(const std::string& text, const std::string& where) {
+  // No document of the project nests deeper than 4 levels; 64 leaves room for any
+  // extension while a 64 MiB "[[[[..." cannot build millions of nested values.  The keys
+  // of each open object are kept in a hash set, so a huge object stays linear.
+  std::vector<std::unordered_set<std::string>> open_objects;
+  const auto check = [&](int depth, Json::parse_event_t event, Json& parsed) {
+    if (depth >= kMaxJsonDepth)  // depth counts from 0
+      bad_input(where + " nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    switch (event) {
+      case Json::parse_event_t::object_start:
+        open_objects.emplace_back();
+        break;
+      case Json::parse_event_t::object_end:
+        if (!open_objects.empty()) open_objects.pop_back();
+        break;
+      case Json::parse_event_t::key:
+        if (!open_objects.empty() && !open_objects.back().insert(parsed.get<std::string>()).second)
+          bad_input(where + ": key \"" + parsed.get<std::string>().substr(0, 64) +
+                    "\" appears twice in one object");
+        break;
+      default:
+        break;
+    }
+    return true;
+  };
+  return Json::parse(text, check);
+}
+
 Json parse_json_text(const std::string& text, const std::string& what, const std::string& name) {
   if (text.size() > kMaxDocumentBytes)
     bad_input(what + ": " + name + " is larger than " + std::to_string(kMaxDocumentBytes >> 20) +
@@ -69,15 +100,7 @@ Json parse_json_text(const std::string& text, const std::string& what, const std
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     bad_input(what + ": " + name + " is empty");
   try {
-    // No document of the project nests deeper than 4 levels; 64 leaves room for any
-    // extension while a 64 MiB "[[[[..." cannot build millions of nested values.
-    const auto depth_cap = [&](int depth, Json::parse_event_t, Json&) {
-      if (depth >= kMaxJsonDepth)  // depth counts from 0
-        bad_input(what + ": " + name + " nests deeper than " + std::to_string(kMaxJsonDepth) +
-                  " levels");
-      return true;
-    };
-    return Json::parse(text, depth_cap);
+    return parse_json_strict(text, what + ": " + name);
   } catch (const nlohmann::json::exception& e) {
     // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
     // a number beyond double range is "[json.exception.out_of_range.406] number overflow ...".

@@ -22,6 +22,10 @@ inline constexpr int kMaxJsonDepth = 64;
 Json read_json(const std::string& path, const std::string& what);
 // The parsing half of read_json: `name` says where the text came from.
 Json parse_json_text(const std::string& text, const std::string& what, const std::string& name);
+// The parser both use: nesting deeper than kMaxJsonDepth and an object key given twice
+// (JSON leaves its meaning undefined; the parser would silently keep the last) are bad
+// input, "<where> ...".  Malformed text throws nlohmann::json::exception.
+Json parse_json_strict(const std::string& text, const std::string& where);
 
 // Serialises with two-space indentation and a trailing newline.
 std::string dump_json(const Json& j);

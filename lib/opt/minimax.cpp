@@ -45,8 +45,7 @@ struct Start {
 };
 
 // The first `patterns` of the paper's four patterns, then `random_starts` seeded ones.
-std::vector<Start> make_starts(std::size_t n, int patterns, int random_starts,
-                               std::uint64_t seed) {
+std::vector<Start> make_starts(std::size_t n, int patterns, int random_starts, std::uint64_t seed) {
   const auto N = static_cast<Eigen::Index>(n);
   const Eigen::Index c = (N - 1) / 2;  // the centre electrode (left of centre when N is even)
   std::vector<Start> s;
@@ -161,8 +160,8 @@ OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
     so.gradient_tolerance = 1e-6;
     so.parameter_tolerance = 1e-8;
     so.logging_type = ceres::SILENT;
-    for (const Start& start : make_starts(setup.array.size(), opt.pattern_starts,
-                                          opt.random_starts, opt.seed)) {
+    for (const Start& start :
+         make_starts(setup.array.size(), opt.pattern_starts, opt.random_starts, opt.seed)) {
       ++res.starts;
       Eigen::VectorXd z = B.transpose() * start.w;
       z /= z.norm();

@@ -230,6 +230,23 @@ TEST_CASE("live-line reader: random chunks give exactly the lines written, in li
                        << " empty lines in " << secs << " s");
 }
 
+TEST_CASE("a live frame that names currents_mA twice is refused", "[host][live]") {
+  const Stimulus s = test_stimulus();
+  const device::Capabilities caps;
+  const StimulusLimits lim;
+  const std::string one = "[0, 0, -0.5, 1, -0.5, 0, 0, 0]";
+  const std::string two = "[0, 0, -1, 2, -1, 0, 0, 0]";
+  CHECK(host::parse_live_frame("{\"currents_mA\": " + one + "}", 1, s, lim, caps).size() == 8);
+  try {
+    host::parse_live_frame("{\"currents_mA\": " + one + ", \"currents_mA\": " + two + "}", 3, s,
+                           lim, caps);
+    FAIL("accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::bad_input);
+    CHECK(std::string(e.what()) == "input line 3: key \"currents_mA\" appears twice in one object");
+  }
+}
+
 TEST_CASE("live frames: random JSON is a checked frame or bad input, nothing else",
           "[host][live][fuzz]") {
   SplitMix64 rng{7};

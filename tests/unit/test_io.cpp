@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "io/document.hpp"
+#include "io/json.hpp"
 #include "io/number.hpp"
 
 using namespace tp;
@@ -122,4 +123,27 @@ TEST_CASE("malformed documents are bad input", "[io][document]") {
   CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "format": "other"})") ==
         ExitCode::bad_input);
   CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, -1]})") == ExitCode::ok);
+}
+
+TEST_CASE("an object key given twice is refused; the same key in two objects is not",
+          "[io][json]") {
+  // JSON leaves a repeated key undefined and nlohmann keeps the last silently: a document
+  // or a live frame with {"currents_mA": [...], "currents_mA": [...]} is ambiguous.
+  const auto refused = [](const std::string& text) {
+    try {
+      parse_json_text(text, "test", "text");
+      return std::string();
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::bad_input);
+      return std::string(e.what());
+    }
+  };
+  CHECK(refused(R"({"a": 1, "a": 2})").find("key \"a\" appears twice") != std::string::npos);
+  CHECK(refused(R"({"x": {"b": [1, {"c": 1, "c": 1}]}})").find("\"c\"") != std::string::npos);
+  CHECK(refused(R"({"a": {"b": 1}, "c": {"b": 2}, "b": [{"b": 1}, {"b": 2}]})").empty());
+  // A huge object stays linear: 200,000 distinct keys parse at once.
+  std::string big = "{";
+  for (int i = 0; i < 200000; ++i) big += (i ? ",\"k" : "\"k") + std::to_string(i) + "\":0";
+  CHECK(refused(big + "}").empty());
+  CHECK(!refused(big + ",\"k7\":1}").empty());
 }
