@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
       "10 um fibres, horizontal and vertical).",
       "af-field"};
   tp::cli::ArrayOptions array;
-  std::string weights, x_spec, y_spec, amplitude, model;
+  std::string weights, x_spec, y_spec, amplitude;
+  tp::cli::ModelOptions model;
   bool summary = false;
   auto* o_config = tp::cli::add_array_options(
       app, array, "Document with array, model, receptors and weights (JSON; - for stdin)");
@@ -35,8 +36,7 @@ int main(int argc, char** argv) {
                  "Current of an electrode with |weight| = 1, mA, 1e-6 to 100 [the document's "
                  "max_current_mA, 2]")
       ->type_name("MA");
-  app.add_option("--model", model, "Conductor model: line2d (the paper's) or strip2d [line2d]")
-      ->type_name("NAME");
+  tp::cli::add_model_options(app, model);
   app.add_option("--x", x_spec,
                  "Grid along the skin MIN:MAX:STEP, mm, within +-500 [array +-5 mm, step 0.1]; at "
                  "most 1e8 points in all")
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   return tp::cli::run(app, argc, argv, [&] {
     tp::Document doc = tp::cli::load_document(array, 1);
     if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
-    if (!model.empty()) doc.setup.conductor.model = model;
+    tp::cli::apply_model_options(doc, model);
     if (!doc.weights) {
       // Default pattern: one cathode at the electrode nearest the centre.
       doc.weights = std::vector<double>(doc.setup.array.size(), 0.0);

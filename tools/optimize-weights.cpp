@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
       "current limit), or one CSV row.",
       "optimize-weights"};
   tp::cli::ArrayOptions array;
+  tp::cli::ModelOptions model;
   std::string mode, max_current, min_af, format = "json";
   int random_starts = 0, pattern_starts = 2;
   bool timing = false, certify = false, no_header = false;
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
       ->type_name("MODE");
   tp::cli::add_array_options(app, array,
                              "Document with array, model and receptors (JSON; - for stdin)");
+  tp::cli::add_model_options(app, model);
   app.add_option("--max-current", max_current,
                  "Current limit per electrode, mA, at most 2 [the document's, or 2]")
       ->type_name("MA");
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::Document doc = tp::cli::load_document(array, 2);
+    tp::cli::apply_model_options(doc, model);
     if (doc.setup.array.size() < 2)
       tp::bad_input("array: optimisation needs at least 2 electrodes");
     tp::OptimizeOptions opt;

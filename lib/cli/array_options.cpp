@@ -1,5 +1,8 @@
 #include "cli/array_options.hpp"
 
+#include "io/number.hpp"
+#include "model/ranges.hpp"
+
 namespace tp::cli {
 
 CLI::Option* add_array_options(CLI::App& app, ArrayOptions& o, const std::string& config_help) {
@@ -18,6 +21,26 @@ Document load_document(const ArrayOptions& o, int min_electrodes) {
   Document doc;
   doc.setup.array = array_from_flags(o.electrodes, o.pitch, min_electrodes);
   return doc;
+}
+
+void add_model_options(CLI::App& app, ModelOptions& o) {
+  app.add_option("--model", o.model,
+                 "Conductor model: line2d (the paper's), strip2d, point3d or rect3d (3-D, "
+                 "half-space) [the document's, or line2d]")
+      ->type_name("NAME");
+  app.add_option("--z", o.plane_z,
+                 "3-D models: the fibres' plane along the electrodes' length, mm, within +-500 "
+                 "(0: their middle) [the document's, or 0]")
+      ->type_name("MM");
+}
+
+void apply_model_options(Document& doc, const ModelOptions& o) {
+  if (!o.model.empty()) doc.setup.conductor.model = o.model;
+  if (!o.plane_z.empty()) {
+    doc.setup.conductor.plane_z_mm = parse_finite(o.plane_z, "--z");
+    ranges::check(doc.setup.conductor.plane_z_mm, ranges::plane_z_mm, "--z");
+  }
+  validate_setup(doc.setup);
 }
 
 }  // namespace tp::cli

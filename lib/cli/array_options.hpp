@@ -21,4 +21,13 @@ CLI::Option* add_array_options(CLI::App& app, ArrayOptions& o, const std::string
 // The document from --config, or a uniform array (default 8 electrodes at 1 mm).
 Document load_document(const ArrayOptions& o, int min_electrodes);
 
+// The conductor model flags shared by the programs that compute fields: --model and --z
+// (the 3-D models' fibre plane).  Given, they override the document's.
+struct ModelOptions {
+  std::string model, plane_z;
+};
+void add_model_options(CLI::App& app, ModelOptions& o);
+// Applies the flags to doc and checks the model against the receptors (bad input, exit 2).
+void apply_model_options(Document& doc, const ModelOptions& o);
+
 }  // namespace tp::cli

@@ -63,7 +63,9 @@ Document document_from_json(const Json& j) {
   if (j.contains("model")) {
     const Json& m = j["model"];
     if (!m.is_object()) bad_input("model: expected an object");
-    reject_unknown(m, {"conductor", "resistivity_ohm_m", "lateral_margin_mm"}, "model");
+    reject_unknown(
+        m, {"conductor", "resistivity_ohm_m", "lateral_margin_mm", "plane_z_mm", "source_depth_mm"},
+        "model");
     if (m.contains("conductor")) {
       if (!m["conductor"].is_string()) bad_input("model.conductor: expected a string");
       d.setup.conductor.model = m["conductor"].get<std::string>();
@@ -79,9 +81,19 @@ Document document_from_json(const Json& j) {
       ranges::check(d.setup.lateral_margin_mm, ranges::lateral_margin_mm,
                     "model.lateral_margin_mm");
     }
+    if (m.contains("plane_z_mm")) {
+      d.setup.conductor.plane_z_mm = json_finite(m["plane_z_mm"], "model.plane_z_mm");
+      ranges::check(d.setup.conductor.plane_z_mm, ranges::plane_z_mm, "model.plane_z_mm");
+    }
+    if (m.contains("source_depth_mm")) {
+      d.setup.conductor.source_depth_mm =
+          json_finite(m["source_depth_mm"], "model.source_depth_mm");
+      ranges::check(d.setup.conductor.source_depth_mm, ranges::source_depth_mm,
+                    "model.source_depth_mm");
+    }
   }
-  make_conductor(d.setup.conductor, d.setup.array);  // validates the model name
   if (j.contains("receptors")) d.setup.receptors = receptors_from_json(j["receptors"]);
+  validate_setup(d.setup);  // the model name, and the model against the receptors
   if (j.contains("weights")) {
     d.weights = finite_list(j["weights"], "weights");
     for (std::size_t i = 0; i < d.weights->size(); ++i)
@@ -131,6 +143,8 @@ Json model_to_json(const Setup& s) {
   j["resistivity_ohm_m"] = s.conductor.resistivity_ohm_m > 0 ? s.conductor.resistivity_ohm_m
                                                              : constants::tissue_resistivity_ohm_m;
   j["lateral_margin_mm"] = s.lateral_margin_mm;
+  if (s.conductor.plane_z_mm != 0.0) j["plane_z_mm"] = s.conductor.plane_z_mm;
+  if (s.conductor.source_depth_mm != 0.0) j["source_depth_mm"] = s.conductor.source_depth_mm;
   return j;
 }
 

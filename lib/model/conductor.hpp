@@ -4,8 +4,8 @@
 // A conductor gives, for a unit (1 mA, cathodic) current on each electrode, the second
 // derivatives of Psi at a point.  Psi is linear in the currents, so the field of any current
 // pattern is the weighted sum (Eq. 25); the optimiser uses the per-electrode responses
-// directly.  New models (3-D electrodes, layered skin) implement this interface and are
-// registered in make_conductor().
+// directly.  Models: line2d and strip2d (2-D, the paper's), point3d and rect3d (3-D
+// half-space); each is registered in make_conductor() (model/conductor.cpp).
 
 #include <memory>
 #include <string>
@@ -16,8 +16,10 @@
 namespace tp {
 
 struct ConductorParams {
-  std::string model = "line2d";    // "line2d" (the paper's) or "strip2d"
+  std::string model = "line2d";    // one of conductor_models()
   double resistivity_ohm_m = 0.0;  // 0: constants::tissue_resistivity_ohm_m
+  double plane_z_mm = 0.0;         // 3-D models: the fibres' plane, along the electrodes' length
+  double source_depth_mm = 0.0;    // point3d: depth of the point sources (0: on the surface)
 };
 
 class Conductor {
@@ -42,6 +44,18 @@ class Conductor {
 std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
                                           const ElectrodeArray& array);
 
+// The model names make_conductor() knows, and "a, b or c" of them for messages.
 const std::vector<std::string>& conductor_models();
+std::string conductor_model_list();
+
+// The models themselves (model/line2d.cpp, model/halfspace3d.cpp).
+std::unique_ptr<Conductor> make_line2d(const ElectrodeArray& array, double rho_ohm_m);
+std::unique_ptr<Conductor> make_strip2d(const ElectrodeArray& array, double rho_ohm_m);
+std::unique_ptr<Conductor> make_point3d(const ElectrodeArray& array, double rho_ohm_m,
+                                        double plane_z_mm, double source_depth_mm);
+std::unique_ptr<Conductor> make_rect3d(const ElectrodeArray& array, double rho_ohm_m,
+                                       double plane_z_mm);
+// rect3d's d2Psi/dz2 for electrode i (the tests' Laplace check); c must be a rect3d.
+double rect3d_unit_zz(const Conductor& c, std::size_t i, double x_mm, double y_mm);
 
 }  // namespace tp

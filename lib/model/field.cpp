@@ -13,6 +13,18 @@ void refuse_sample_count(const char* what, double count) {
             number_text(kMaxSamples) + " (a depth, margin or array span out of range)");
 }
 
+void validate_setup(const Setup& setup) {
+  make_conductor(setup.conductor, setup.array);  // the name, and the model's own checks
+  if (setup.conductor.model == "point3d" && setup.conductor.source_depth_mm > 0.0) {
+    const double d = setup.conductor.source_depth_mm;
+    for (const Receptor& r : setup.receptors)
+      if (d >= r.depth_min_mm - 1e-9 && d <= r.depth_max_mm + 1e-9)
+        bad_input("model.source_depth_mm: " + number_text(d) + " mm lies among receptor " + r.name +
+                  "'s fibres (" + number_text(r.depth_min_mm) + " to " +
+                  number_text(r.depth_max_mm) + " mm), where the field is singular");
+  }
+}
+
 Region fibre_region(const Setup& setup, const Receptor& r) {
   return {setup.array.x_min_mm() - setup.lateral_margin_mm,
           setup.array.x_max_mm() + setup.lateral_margin_mm, r.depth_min_mm, r.depth_max_mm};
@@ -77,14 +89,62 @@ Peak Field::peak(const Receptor& r) const {
   };
   along_x(reg.y0_mm);
   if (reg.y1_mm > reg.y0_mm) {
-    if (!conductor_->planar_harmonic())
-      bad_input("conductor '" + std::string(conductor_->name()) +
-                "' cannot evaluate depth ranges (no maximum principle)");
-    // The AF is harmonic in the plane (Eq. 28-30), so its maximum over the rectangle of
-    // fibres lies on the rectangle's boundary (maximum principle, Sec. 5.3).
+    // The boundary.  When the AF is harmonic in the plane (the 2-D models, Eq. 28-30), its
+    // maximum over the rectangle of fibres lies there (maximum principle, Sec. 5.3).
     along_x(reg.y1_mm);
     along_y(reg.x0_mm);
     along_y(reg.x1_mm);
+    // The 3-D models are harmonic in space but not in the fibres' plane: search the
+    // interior too.  A grid at a tenth of the shallowest depth (the AF varies on the
+    // scale of the depth), then every grid point above its 8 neighbours refined by
+    // alternating golden-section searches along x and y.
+    if (!conductor_->planar_harmonic()) {
+      const double h = reg.y0_mm / 10.0;
+      const double nx_d = std::ceil((reg.x1_mm - reg.x0_mm) / h) + 1;
+      const double ny_d = std::ceil((reg.y1_mm - reg.y0_mm) / h) + 1;
+      if (!(nx_d * ny_d <= kMaxSamples)) refuse_sample_count("a fibre region's grid", nx_d * ny_d);
+      const auto nx = static_cast<std::size_t>(nx_d), ny = static_cast<std::size_t>(ny_d);
+      const double hx = (reg.x1_mm - reg.x0_mm) / static_cast<double>(nx - 1);
+      const double hy = (reg.y1_mm - reg.y0_mm) / static_cast<double>(ny - 1);
+      std::vector<double> v(nx * ny);
+      auto xat = [&](std::size_t i) {
+        return i + 1 == nx ? reg.x1_mm : reg.x0_mm + static_cast<double>(i) * hx;
+      };
+      auto yat = [&](std::size_t j) {
+        return j + 1 == ny ? reg.y1_mm : reg.y0_mm + static_cast<double>(j) * hy;
+      };
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) v[j * nx + i] = af(r.fibre, xat(i), yat(j));
+      for (std::size_t j = 1; j + 1 < ny; ++j)
+        for (std::size_t i = 1; i + 1 < nx; ++i) {
+          const double c = v[j * nx + i];
+          bool peak_here = true;
+          for (int dj = -1; dj <= 1 && peak_here; ++dj)
+            for (int di = -1; di <= 1; ++di)
+              if ((di || dj) && v[(j + dj) * nx + (i + di)] > c) peak_here = false;
+          if (!peak_here) continue;
+          double x = xat(i), y = yat(j), val = c;
+          for (int round = 0; round < 40; ++round) {
+            const double x0 = x, y0 = y;
+            auto [xn, vx] =
+                maximize_1d([&](double xv) { return af(r.fibre, xv, y); },
+                            std::max(reg.x0_mm, x - hx), std::min(reg.x1_mm, x + hx), hx / 4);
+            if (vx >= val) {
+              x = xn;
+              val = vx;
+            }
+            auto [yn, vy] =
+                maximize_1d([&](double yv) { return af(r.fibre, x, yv); },
+                            std::max(reg.y0_mm, y - hy), std::min(reg.y1_mm, y + hy), hy / 4);
+            if (vy >= val) {
+              y = yn;
+              val = vy;
+            }
+            if (std::fabs(x - x0) < 1e-9 && std::fabs(y - y0) < 1e-9) break;
+          }
+          consider(val, x, y);
+        }
+    }
   }
   return best;
 }

@@ -21,6 +21,11 @@ struct Setup {
   double lateral_margin_mm = 5.0;
 };
 
+// Checks that the conductor model exists and is valid for the receptors (point3d: no
+// receptor's depths may reach a buried source, where the field is singular).  Throws
+// tp::Error (bad input) naming the field.
+void validate_setup(const Setup& setup);
+
 // Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
 // single depth line).
 struct Region {

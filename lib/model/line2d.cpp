@@ -15,6 +15,7 @@
 //     integral (y^2 - u^2) / (u^2 + y^2)^2 du = u / (u^2 + y^2).
 
 #include <cmath>
+#include <memory>
 
 #include "core/error.hpp"
 #include "model/conductor.hpp"
@@ -99,18 +100,12 @@ class Strip2d : public Conductor {
 
 }  // namespace
 
-const std::vector<std::string>& conductor_models() {
-  static const std::vector<std::string> names = {"line2d", "strip2d"};
-  return names;
+std::unique_ptr<Conductor> make_line2d(const ElectrodeArray& array, double rho_ohm_m) {
+  return std::make_unique<Line2d>(array, rho_ohm_m);
 }
 
-std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
-                                          const ElectrodeArray& array) {
-  const double rho = params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m
-                                                    : constants::tissue_resistivity_ohm_m;
-  if (params.model == "line2d") return std::make_unique<Line2d>(array, rho);
-  if (params.model == "strip2d") return std::make_unique<Strip2d>(array, rho);
-  bad_input("unknown conductor model '" + params.model + "' (expected line2d or strip2d)");
+std::unique_ptr<Conductor> make_strip2d(const ElectrodeArray& array, double rho_ohm_m) {
+  return std::make_unique<Strip2d>(array, rho_ohm_m);
 }
 
 }  // namespace tp

@@ -30,6 +30,10 @@ inline constexpr Range resistivity_ohm_m{0.01, 1e7, "ohm m"};
 // Fibre diameter: the thinnest myelinated afferents (~1 um, A-delta) down to 0.1 um for
 // C fibres, up to 30 um (beyond the largest A-beta, ~20 um).
 inline constexpr Range diameter_um{0.1, 30.0, "um"};
+// 3-D models: the plane of the fibres along the electrodes' length (z = 0 is their middle),
+// and point3d's source depth (0: on the surface; buried sources for fibre benchmarks).
+inline constexpr Range plane_z_mm{-500.0, 500.0, "mm"};
+inline constexpr Range source_depth_mm{0.0, 20.0, "mm"};
 // How far the fibres run beyond the outer electrodes.
 inline constexpr Range lateral_margin_mm{0.0, 50.0, "mm"};
 // The design document's current limit per electrode (the paper's 2 mA; the stimulus

@@ -38,8 +38,25 @@ void sample_segment(double x0, double y0, double x1, double y1, double step, std
   }
 }
 
-void sample_boundary(const Setup& s, std::size_t r, double step, std::vector<SamplePoint>& out) {
+// The boundary of receptor r's region; with `interior` (a model not harmonic in the plane),
+// the whole rectangle, row by row at depths `step` apart.
+void sample_region(const Setup& s, std::size_t r, double step, bool interior,
+                   std::vector<SamplePoint>& out) {
   const Region g = fibre_region(s, s.receptors[r]);
+  if (interior && g.y1_mm > g.y0_mm) {
+    const double rows = std::ceil((g.y1_mm - g.y0_mm) / step);
+    const double cols = std::ceil((g.x1_mm - g.x0_mm) / step) + 1;
+    if (!((rows + 1) * cols < kMaxSamples))
+      refuse_sample_count("a fibre region", (rows + 1) * cols);
+    const auto n = static_cast<std::size_t>(rows);
+    for (std::size_t j = 0; j <= n; ++j) {
+      const double y =
+          j == n ? g.y1_mm
+                 : g.y0_mm + (g.y1_mm - g.y0_mm) * static_cast<double>(j) / static_cast<double>(n);
+      sample_segment(g.x0_mm, y, g.x1_mm, y, step, r, out);
+    }
+    return;
+  }
   sample_segment(g.x0_mm, g.y0_mm, g.x1_mm, g.y0_mm, step, r, out);
   if (g.y1_mm > g.y0_mm) {
     sample_segment(g.x0_mm, g.y1_mm, g.x1_mm, g.y1_mm, step, r, out);
@@ -88,8 +105,10 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
     bad_input("unknown mode '" + mode + "' (expected one of " + names + ")");
   }
   p.basis = zero_sum_basis(setup.array.size());
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const bool interior = !conductor->planar_harmonic();
   for (std::size_t r = 0; r < setup.receptors.size(); ++r)
-    sample_boundary(setup, r, step_mm, r == p.target ? p.target_pts : p.off_pts);
+    sample_region(setup, r, step_mm, interior, r == p.target ? p.target_pts : p.off_pts);
   // The sample matrices hold (samples x electrodes) doubles: bounded, and refused beyond.
   const double entries = static_cast<double>(p.target_pts.size() + p.off_pts.size()) *
                          static_cast<double>(setup.array.size());
@@ -97,7 +116,6 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
     bad_input("optimisation problem of " + number_text(entries) +
               " samples x electrodes, more than the cap of " + number_text(kMaxProblemEntries) +
               " (an array span or lateral margin out of range)");
-  const auto conductor = make_conductor(setup.conductor, setup.array);
   if (target_rows) p.target_rows = rows_for(setup, *conductor, p.target_pts, p.basis);
   p.off_rows = rows_for(setup, *conductor, p.off_pts, p.basis);
   return p;

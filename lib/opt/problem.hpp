@@ -6,7 +6,8 @@
 //     ratio(w) = max over off-target fibres of AF / max over fibres of receptor M of AF.
 // Every receptor's fibre region is a line or a rectangle on which the AF is harmonic, so
 // its maximum lies on the region's boundary (docs/model.md); the problem samples those
-// boundaries.  Sum w = 0 is built in: w = B z with B an orthonormal basis of the
+// boundaries (the whole regions for the 3-D models, which are harmonic in space but not in
+// the fibres' plane).  Sum w = 0 is built in: w = B z with B an orthonormal basis of the
 // zero-sum subspace, so every z is admissible.
 
 #include <string>
@@ -40,7 +41,8 @@ inline constexpr double kMaxProblemEntries = 3e7;
 // Orthonormal basis of {w in R^n : sum w = 0}, n x (n-1).
 Eigen::MatrixXd zero_sum_basis(std::size_t n);
 
-// Samples every receptor's fibre-region boundary at `step_mm` (both ends included).
+// Samples every receptor's fibre-region boundary at `step_mm` (both ends included); for a
+// conductor not harmonic in the plane (the 3-D models), the whole region.
 // With target_rows false, target_rows is left empty (target_pts is still filled).
 ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, double step_mm,
                               bool target_rows = true);

@@ -21,6 +21,11 @@ tp_cli_test(af-field refuses-empty-stdin refuses 2 -- af-field --config -)
 tp_cli_test(af-field refuses-config-weight-count refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/wrong-weight-count.json -- af-field --config -)
 tp_cli_test(af-field refuses-config-and-flags refuses 2 -- af-field --config - --pitch 1)
 tp_cli_test(af-field refuses-unknown-model refuses 2 -- af-field --model foo)
+tp_cli_test(af-field refuses-range-plane-z refuses 2 -- af-field --model rect3d --z 1e6)
+tp_cli_test(af-field refuses-nan-plane-z refuses 2 -- af-field --model rect3d --z nan)
+tp_cli_test(af-field refuses-config-plane-z refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/range-plane-z.json -- af-field --config -)
+tp_cli_test(af-field refuses-source-among-fibres refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-among-fibres.json -- af-field --config - --summary)
+tp_cli_test(af-field refuses-rect3d-zero-width refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/rect3d-zero-width.json -- af-field --config - --summary)
 tp_cli_test(af-field refuses-summary-with-grid refuses 2 -- af-field --summary --x 0:1:1)
 
 # Golden files (scripts/regen-golden rewrites them).
@@ -33,6 +38,12 @@ tp_cli_test(af-field golden-config-summary golden af-field/config-summary.json
   --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pc-pattern.json -- af-field --config - --summary)
 tp_cli_test(af-field golden-strip2d-summary golden af-field/strip2d-summary.json --
   af-field --model strip2d --weights -1,-1,1,1,1,1,-1,-1 --summary)
+foreach(model rect3d point3d)
+  tp_cli_test(af-field golden-${model}-csv golden af-field/${model}-sai.csv --
+    af-field --model ${model} --weights 0,0,-0.5,1,-0.5,0,0,0 --x -4:4:0.5 --y 0.5:2.5:0.5)
+  tp_cli_test(af-field golden-${model}-summary golden af-field/${model}-summary.json --
+    af-field --model ${model} --z 1 --weights 0.3,-0.9,1.2,0.4,-1.5,0.8,-0.6,0.3 --summary)
+endforeach()
 
 # Scripted checks.
 tp_cli_test(af-field eq23-single-electrode script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/eq23.sh)

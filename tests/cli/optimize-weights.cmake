@@ -23,13 +23,19 @@ foreach(mode RA SAI PC)
   tp_cli_test(optimize-weights golden-paper-${mode} golden optimize-weights/paper-${mode}.json --rtol 1e-6 --
     optimize-weights --mode ${mode})
 endforeach()
+tp_cli_test(optimize-weights refuses-unknown-model refuses 2 -- optimize-weights --mode SAI --model foo)
+tp_cli_test(optimize-weights golden-rect3d golden optimize-weights/rect3d-6x1.2.csv --rtol 1e-6 --
+  optimize-weights --mode RA,SAI,PC --model rect3d --electrodes 6 --pitch 1.2 --format csv)
 tp_cli_test(optimize-weights golden-csv golden optimize-weights/pc-12x0.75.csv --rtol 1e-6 --
   optimize-weights --mode PC --electrodes 12 --pitch 0.75 --format csv)
 
 tp_cli_test(optimize-weights paper-modes-certified script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/certified.sh)
+tp_cli_test(optimize-weights paper-modes-certified-3d script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/certified-3d.sh)
+set_tests_properties(optimize-weights.paper-modes-certified-3d PROPERTIES TIMEOUT 600)
 tp_cli_test(optimize-weights deterministic script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/deterministic.sh)
 tp_cli_test(optimize-weights efficiency script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/efficiency.sh)
 tp_cli_test(optimize-weights several-modes script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/several-modes.sh)
+tp_cli_test(optimize-weights compare-models script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/compare-models.sh)
 tp_cli_test(optimize-weights sweep script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/sweep.sh)
 tp_cli_test(optimize-weights large-array script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/large-array.sh)
 set_tests_properties(optimize-weights.large-array PROPERTIES TIMEOUT 300)

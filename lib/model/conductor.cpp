@@ -1,0 +1,36 @@
+// The registry of conductor models.
+
+#include "model/conductor.hpp"
+
+#include "core/error.hpp"
+#include "model/constants.hpp"
+
+namespace tp {
+
+const std::vector<std::string>& conductor_models() {
+  static const std::vector<std::string> names = {"line2d", "strip2d", "point3d", "rect3d"};
+  return names;
+}
+
+std::string conductor_model_list() {
+  const auto& m = conductor_models();
+  std::string s;
+  for (std::size_t i = 0; i < m.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == m.size() ? " or " : ", ") + m[i];
+  return s;
+}
+
+std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
+                                          const ElectrodeArray& array) {
+  const double rho = params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m
+                                                    : constants::tissue_resistivity_ohm_m;
+  if (params.model == "line2d") return make_line2d(array, rho);
+  if (params.model == "strip2d") return make_strip2d(array, rho);
+  if (params.model == "point3d")
+    return make_point3d(array, rho, params.plane_z_mm, params.source_depth_mm);
+  if (params.model == "rect3d") return make_rect3d(array, rho, params.plane_z_mm);
+  bad_input("unknown conductor model '" + params.model + "' (expected " + conductor_model_list() +
+            ")");
+}
+
+}  // namespace tp

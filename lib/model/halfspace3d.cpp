@@ -1,0 +1,163 @@
+// 3-D conductor models: electrodes on the insulated surface (y = 0) of a uniform
+// half-space y > 0.  Coordinates: x across the electrodes, y depth, z along their length;
+// the fibres lie in the plane z = plane_z_mm.
+//
+// A point current I on the insulated surface of a half-space of resistivity rho sets up
+// twice the full-space potential (its image in the surface coincides with it):
+//     Psi = -rho I / (2 pi r)                 (I > 0 cathodic: drawn out of the tissue)
+// so that d2Psi/dx2 = rho I / (2 pi) (r^2 - 3 u^2) / r^5, u = x - x_i, which is positive
+// straight under a cathode (depolarising a horizontal fibre), as in the 2-D models.
+// Units: rho in ohm*m times I in mA over r in mm gives volts; lengths in mm give V/mm^2.
+//
+// point3d: each electrode a point source at (x_i, d, 0), d = source_depth_mm (0: on the
+// surface).  A buried source in the half-space has its image at depth -d:
+//     Psi = -rho I / (4 pi) (1/r1 + 1/r2),
+// which is -rho I / (2 pi r) at d = 0.
+//
+// rect3d: each electrode a width_mm x length_mm rectangle with uniform current density
+// I / (w L).  With a = x - u and b = z - v running over the rectangle as seen from the
+// point, R = sqrt(a^2 + b^2 + y^2), and C[f] = f(a2, b2) - f(a1, b2) - f(a2, b1) + f(a1, b1)
+// the sum over its corners:
+//     Psi      = -K C[G],     G   = a asinh(b / sqrt(a^2 + y^2)) + b asinh(a / sqrt(b^2 + y^2))
+//                                   - y atan(a b / (y R))
+//     Psi_xx   = -K C[Hxx],   Hxx = -a b / ((a^2 + y^2) R)
+//     Psi_zz   = -K C[Hzz],   Hzz = -a b / ((b^2 + y^2) R)
+//     Psi_yy   = -K C[Hyy],   Hyy = a b (R^2 + y^2) / (R (a^2 + y^2) (b^2 + y^2))
+// with K = rho I / (2 pi w L).  G is the classical double integral of 1/R over a rectangle;
+// Hxx follows from integrating d(1/R)/da = -a/R^3 over b, Hzz likewise, and Hyy from
+// differentiating dG/dy = -atan(a b / (y R)) once more.  The three are derived separately,
+// so Hxx + Hyy + Hzz = 0 (Laplace) is a check, not an identity of the code
+// (docs/model.md).
+
+#include <cmath>
+#include <memory>
+
+#include "core/error.hpp"
+#include "model/conductor.hpp"
+
+namespace tp {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class Point3d : public Conductor {
+ public:
+  Point3d(const ElectrodeArray& array, double rho_ohm_m, double plane_z_mm, double depth_mm)
+      : x_(array.positions_mm), z_(plane_z_mm), d_(depth_mm), k_(rho_ohm_m / (4.0 * kPi)) {}
+  const char* name() const override { return "point3d"; }
+  std::size_t size() const override { return x_.size(); }
+  bool planar_harmonic() const override { return false; }
+
+  void unit_potentials(double x_mm, double y_mm, double* psi) const override {
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      const double u = x_mm - x_[i];
+      const double r1 = std::sqrt(u * u + (y_mm - d_) * (y_mm - d_) + z_ * z_);
+      const double r2 = std::sqrt(u * u + (y_mm + d_) * (y_mm + d_) + z_ * z_);
+      psi[i] = -k_ * (1.0 / r1 + 1.0 / r2);
+    }
+  }
+
+  void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      const double u = x_mm - x_[i];
+      double sxx = 0.0, syy = 0.0;
+      for (const double v : {y_mm - d_, y_mm + d_}) {  // the source and its image
+        const double r2 = u * u + v * v + z_ * z_;
+        const double r = std::sqrt(r2);
+        const double r5 = r2 * r2 * r;
+        sxx += (r2 - 3.0 * u * u) / r5;  // -d2(1/r)/du2
+        syy += (r2 - 3.0 * v * v) / r5;
+      }
+      if (xx) xx[i] = k_ * sxx;
+      if (yy) yy[i] = k_ * syy;
+    }
+  }
+
+ private:
+  std::vector<double> x_;
+  double z_, d_, k_;  // k = rho / (4 pi): each of the source and its image
+};
+
+class Rect3d : public Conductor {
+ public:
+  Rect3d(const ElectrodeArray& array, double rho_ohm_m, double plane_z_mm)
+      : x_(array.positions_mm),
+        half_w_(0.5 * array.width_mm),
+        half_l_(0.5 * array.length_mm),
+        z_(plane_z_mm),
+        k_(rho_ohm_m / (2.0 * kPi * array.width_mm * array.length_mm)) {
+    if (!(array.width_mm > 0.0)) bad_input("rect3d: array.width_mm must be > 0");
+    if (!(array.length_mm > 0.0)) bad_input("rect3d: array.length_mm must be > 0");
+  }
+  const char* name() const override { return "rect3d"; }
+  std::size_t size() const override { return x_.size(); }
+  bool planar_harmonic() const override { return false; }
+
+  void unit_potentials(double x_mm, double y_mm, double* psi) const override {
+    const double y2 = y_mm * y_mm;
+    auto g = [&](double a, double b) {
+      const double r = std::sqrt(a * a + b * b + y2);
+      return a * std::asinh(b / std::sqrt(a * a + y2)) + b * std::asinh(a / std::sqrt(b * b + y2)) -
+             y_mm * std::atan(a * b / (y_mm * r));
+    };
+    for (std::size_t i = 0; i < x_.size(); ++i) psi[i] = -k_ * corners(g, x_mm - x_[i]);
+  }
+
+  void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
+    const double y2 = y_mm * y_mm;
+    auto hxx = [&](double a, double b) {
+      return -a * b / ((a * a + y2) * std::sqrt(a * a + b * b + y2));
+    };
+    auto hyy = [&](double a, double b) {
+      const double r2 = a * a + b * b + y2;
+      return a * b * (r2 + y2) / (std::sqrt(r2) * (a * a + y2) * (b * b + y2));
+    };
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      const double u = x_mm - x_[i];
+      if (xx) xx[i] = -k_ * corners(hxx, u);
+      if (yy) yy[i] = -k_ * corners(hyy, u);
+    }
+  }
+
+  // d2Psi/dz2, for the Laplace check in the tests.
+  double unit_zz(std::size_t i, double x_mm, double y_mm) const {
+    const double y2 = y_mm * y_mm;
+    auto hzz = [&](double a, double b) {
+      return -a * b / ((b * b + y2) * std::sqrt(a * a + b * b + y2));
+    };
+    return -k_ * corners(hzz, x_mm - x_[i]);
+  }
+
+ private:
+  // C[f] over the rectangle seen from a point at lateral offset u from its centre.
+  template <class F>
+  double corners(F&& f, double u) const {
+    const double a1 = u - half_w_, a2 = u + half_w_;
+    const double b1 = z_ - half_l_, b2 = z_ + half_l_;
+    return f(a2, b2) - f(a1, b2) - f(a2, b1) + f(a1, b1);
+  }
+
+  std::vector<double> x_;
+  double half_w_, half_l_, z_;
+  double k_;  // rho / (2 pi w L)
+};
+
+}  // namespace
+
+std::unique_ptr<Conductor> make_point3d(const ElectrodeArray& array, double rho_ohm_m,
+                                        double plane_z_mm, double source_depth_mm) {
+  return std::make_unique<Point3d>(array, rho_ohm_m, plane_z_mm, source_depth_mm);
+}
+
+std::unique_ptr<Conductor> make_rect3d(const ElectrodeArray& array, double rho_ohm_m,
+                                       double plane_z_mm) {
+  return std::make_unique<Rect3d>(array, rho_ohm_m, plane_z_mm);
+}
+
+double rect3d_unit_zz(const Conductor& c, std::size_t i, double x_mm, double y_mm) {
+  const auto* r = dynamic_cast<const Rect3d*>(&c);
+  if (!r) failure("rect3d_unit_zz: not a rect3d conductor");
+  return r->unit_zz(i, x_mm, y_mm);
+}
+
+}  // namespace tp
