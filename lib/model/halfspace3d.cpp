@@ -104,18 +104,27 @@ class Rect3d : public Conductor {
   }
 
   void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
+    // Hxx and Hyy share ab / R and a^2 + y^2 at each corner; b's terms are the same for
+    // every electrode.
     const double y2 = y_mm * y_mm;
-    auto hxx = [&](double a, double b) {
-      return -a * b / ((a * a + y2) * std::sqrt(a * a + b * b + y2));
-    };
-    auto hyy = [&](double a, double b) {
-      const double r2 = a * a + b * b + y2;
-      return a * b * (r2 + y2) / (std::sqrt(r2) * (a * a + y2) * (b * b + y2));
-    };
+    const double b[2] = {z_ - half_l_, z_ + half_l_};
+    const double bb[2] = {b[0] * b[0] + y2, b[1] * b[1] + y2};
     for (std::size_t i = 0; i < x_.size(); ++i) {
       const double u = x_mm - x_[i];
-      if (xx) xx[i] = -k_ * corners(hxx, u);
-      if (yy) yy[i] = -k_ * corners(hyy, u);
+      const double a[2] = {u - half_w_, u + half_w_};
+      double sxx = 0.0, syy = 0.0;
+      for (int p = 0; p < 2; ++p) {
+        const double aa = a[p] * a[p] + y2;
+        for (int q = 0; q < 2; ++q) {
+          const double r2 = aa + b[q] * b[q];
+          const double ab_r = a[p] * b[q] / std::sqrt(r2);
+          const double sign = p == q ? 1.0 : -1.0;  // + at (a2, b2) and (a1, b1)
+          sxx += sign * (-ab_r / aa);
+          syy += sign * ab_r * (r2 + y2) / (aa * bb[q]);
+        }
+      }
+      if (xx) xx[i] = -k_ * sxx;
+      if (yy) yy[i] = -k_ * syy;
     }
   }
 
