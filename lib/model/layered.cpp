@@ -1,0 +1,188 @@
+#include "model/layered.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+
+namespace tp {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the Legendre recurrence).
+template <int N>
+struct GaussLegendre {
+  std::array<double, N> x{}, w{};
+  GaussLegendre() {
+    for (int i = 0; i < (N + 1) / 2; ++i) {
+      double z = std::cos(kPi * (i + 0.75) / (N + 0.5));
+      double dp = 0.0;
+      for (int it = 0; it < 100; ++it) {
+        double p0 = 1.0, p1 = 0.0;
+        for (int j = 1; j <= N; ++j) {
+          const double p2 = p1;
+          p1 = p0;
+          p0 = ((2.0 * j - 1.0) * z * p1 - (j - 1.0) * p2) / j;
+        }
+        dp = N * (z * p0 - p1) / (z * z - 1.0);
+        const double dz = p0 / dp;
+        z -= dz;
+        if (std::fabs(dz) < 1e-16) break;
+      }
+      x[static_cast<std::size_t>(i)] = -z;
+      x[static_cast<std::size_t>(N - 1 - i)] = z;
+      w[static_cast<std::size_t>(i)] = w[static_cast<std::size_t>(N - 1 - i)] =
+          2.0 / ((1.0 - z * z) * dp * dp);
+    }
+  }
+};
+
+const GaussLegendre<16>& gauss16() {
+  static const GaussLegendre<16> g;
+  return g;
+}
+
+// J1(x) / x, 1/2 at 0.
+double j1_over_x(double x) {
+  return std::fabs(x) < 1e-8 ? 0.5 - x * x / 16.0 : ::j1(x) / x;
+}
+
+}  // namespace
+
+LayeredHalfSpace::LayeredHalfSpace(std::vector<Layer> layers) : layers_(std::move(layers)) {
+  if (layers_.empty()) bad_input("layers: none given");
+  double top = 0.0;
+  for (std::size_t i = 0; i < layers_.size(); ++i) {
+    const std::string where = "layers[" + std::to_string(i) + "]";
+    if (!(layers_[i].resistivity_ohm_m > 0.0) || !std::isfinite(layers_[i].resistivity_ohm_m))
+      bad_input(where + ".resistivity_ohm_m: must be > 0, got " +
+                number_text(layers_[i].resistivity_ohm_m));
+    if (i + 1 < layers_.size() &&
+        (!(layers_[i].thickness_mm > 0.0) || !std::isfinite(layers_[i].thickness_mm)))
+      bad_input(where + ".thickness_mm: must be > 0, got " + number_text(layers_[i].thickness_mm));
+    tops_.push_back(top);
+    top += layers_[i].thickness_mm;
+  }
+}
+
+std::size_t LayeredHalfSpace::layer_of(double y_mm) const {
+  std::size_t k = 0;
+  while (k + 1 < layers_.size() && y_mm >= tops_[k + 1]) ++k;
+  return k;
+}
+
+double LayeredHalfSpace::kernel(double lambda, double y_mm) const {
+  const std::size_t n = layers_.size();
+  // T from the bottom up (Koefoed's resistivity transform).
+  std::vector<double> t(n);
+  t[n - 1] = layers_[n - 1].resistivity_ohm_m;
+  for (std::size_t i = n - 1; i-- > 0;) {
+    const double rho = layers_[i].resistivity_ohm_m;
+    const double th = std::tanh(lambda * layers_[i].thickness_mm);
+    t[i] = rho * (t[i + 1] + rho * th) / (rho + t[i + 1] * th);
+  }
+  const std::size_t k = layer_of(y_mm);
+  double k_top = t[0];
+  for (std::size_t i = 0; i < k; ++i) {  // through each whole layer above the point
+    const double h = layers_[i].thickness_mm;
+    const double c = layers_[i].resistivity_ohm_m / t[i + 1];
+    const double e2 = std::exp(-2.0 * lambda * h);
+    k_top *= 2.0 * std::exp(-lambda * h) / ((1.0 + c) + (1.0 - c) * e2);
+  }
+  const double s = y_mm - tops_[k];
+  if (k + 1 == n) return k_top * std::exp(-lambda * s);
+  const double h = layers_[k].thickness_mm;
+  const double c = layers_[k].resistivity_ohm_m / t[k + 1];
+  return k_top * std::exp(-lambda * s) *
+         ((1.0 + c) + (1.0 - c) * std::exp(-2.0 * lambda * (h - s))) /
+         ((1.0 + c) + (1.0 - c) * std::exp(-2.0 * lambda * h));
+}
+
+double LayeredHalfSpace::leading(double y_mm) const {
+  const std::size_t k = layer_of(y_mm);
+  double c = layers_[0].resistivity_ohm_m;
+  for (std::size_t i = 0; i < k; ++i) {
+    const double a = layers_[i].resistivity_ohm_m, b = layers_[i + 1].resistivity_ohm_m;
+    c *= 2.0 * b / (a + b);
+  }
+  return c;
+}
+
+LayeredHalfSpace::Response LayeredHalfSpace::point(double u_mm, double w_mm, double y_mm) const {
+  if (!(y_mm > 0.0)) bad_input("layered: depth must be > 0 mm, got " + number_text(y_mm));
+  const double r2 = u_mm * u_mm + w_mm * w_mm;
+  const double r = std::sqrt(r2);
+  const double big_r2 = r2 + y_mm * y_mm;
+  const double big_r = std::sqrt(big_r2);
+  const double big_r5 = big_r2 * big_r2 * big_r;
+  const double c = leading(y_mm);
+  // The point source of strength C_k in closed form: C / R and its second derivatives.
+  Response out{c / big_r, c * (3.0 * u_mm * u_mm - big_r2) / big_r5,
+               c * (3.0 * y_mm * y_mm - big_r2) / big_r5};
+
+  // The remainder K - C e^{-lambda y} decays as e^{-lambda a}: a = y plus twice the
+  // thinnest layer above the point, or its distance to the interface below.
+  const std::size_t k = layer_of(y_mm);
+  double d = INFINITY;
+  for (std::size_t i = 0; i < k; ++i) d = std::min(d, layers_[i].thickness_mm);
+  if (k + 1 < layers_.size()) d = std::min(d, tops_[k + 1] - y_mm);
+  if (std::isfinite(d)) {
+    const double a = y_mm + 2.0 * d;
+    const double lambda_max = 40.0 / a;  // e^-40: far below double rounding of the total
+    // Panels: half a period of J0 at most, and fine enough for the remainder's decay.  At
+    // small lambda the kernel changes on the scale of the whole stack, 1 / (2 H), and has
+    // poles on the negative axis close to 0, so the first 20 / H are cut finer.
+    double stack = y_mm;
+    for (std::size_t i = 0; i + 1 < layers_.size(); ++i) stack += layers_[i].thickness_mm;
+    const double coarse = std::min(r > 0.0 ? kPi / r : INFINITY, 0.5 / a);
+    const double fine = std::min(coarse, 0.05 / stack);
+    const double lambda_fine = std::min(lambda_max, 20.0 / stack);
+    const double panels = std::ceil(lambda_fine / fine) + std::ceil(lambda_max / coarse);
+    if (!(panels <= 1e6))
+      failure("layered: the Hankel transform needs " + number_text(panels) +
+              " panels (a point too close to an interface, or too far away)");
+    const auto& g = gauss16();
+    double i_psi = 0.0, i_rr = 0.0, i_r_over_r = 0.0, i_yy = 0.0;
+    auto panel = [&](double lo, double width) {
+      for (std::size_t q = 0; q < 16; ++q) {
+        const double lambda = lo + 0.5 * width * (1.0 + g.x[q]);
+        const double wt = 0.5 * width * g.w[q];
+        const double rem = kernel(lambda, y_mm) - c * std::exp(-lambda * y_mm);
+        const double x = lambda * r;
+        const double j0 = ::j0(x);
+        const double j1x = j1_over_x(x);
+        const double l2 = lambda * lambda;
+        i_psi += wt * rem * j0;
+        i_rr += wt * rem * l2 * (-j0 + j1x);
+        i_r_over_r += wt * rem * l2 * (-j1x);
+        i_yy += wt * rem * l2 * j0;
+      }
+    };
+    const auto n_fine = static_cast<std::size_t>(std::ceil(lambda_fine / fine));
+    const double w_fine = lambda_fine / static_cast<double>(n_fine);
+    for (std::size_t p = 0; p < n_fine; ++p) panel(static_cast<double>(p) * w_fine, w_fine);
+    if (lambda_max > lambda_fine) {
+      const auto n_coarse =
+          static_cast<std::size_t>(std::ceil((lambda_max - lambda_fine) / coarse));
+      const double w_coarse = (lambda_max - lambda_fine) / static_cast<double>(n_coarse);
+      for (std::size_t p = 0; p < n_coarse; ++p)
+        panel(lambda_fine + static_cast<double>(p) * w_coarse, w_coarse);
+    }
+    // d2/du2 of f(r): f'' u^2 / r^2 + (f' / r) w^2 / r^2 (both terms equal at r = 0).
+    const double fu = r > 0.0 ? u_mm * u_mm / r2 : 0.5;
+    out.psi += i_psi;
+    out.psi_uu += i_rr * fu + i_r_over_r * (1.0 - fu);
+    out.psi_yy += i_yy;
+  }
+  const double scale = 1.0 / (2.0 * kPi);  // 1 mA; rho in ohm m over mm gives V
+  out.psi *= scale;
+  out.psi_uu *= scale;
+  out.psi_yy *= scale;
+  return out;
+}
+
+}  // namespace tp

@@ -1,0 +1,57 @@
+#pragma once
+// A horizontally layered half-space: the potential of a point current on its insulated
+// surface, by Hankel transform (the building block of the `layered` conductor model).
+//
+// Layers i = 1..N from the surface down, each of resistivity rho_i (ohm m) and thickness
+// h_i (mm); the last is semi-infinite.  A current I (mA, injected) at the surface origin
+// sets up, at horizontal distance r and depth y (mm),
+//     Phi(r, y) = I / (2 pi) * Integral_0^inf K(lambda, y) J0(lambda r) dlambda     [V]
+// with the kernel K built by the layer recursion (docs/model.md):
+//   T_N = rho_N,  T_i = rho_i (T_{i+1} + rho_i t_i) / (rho_i + T_{i+1} t_i),  t_i = tanh(lambda
+//   h_i) K(lambda, 0) = T_1, and down through each layer (c_i = rho_i / T_{i+1}, s = depth in it)
+//   K(s) = K(top) e^{-lambda s} ((1 + c_i) + (1 - c_i) e^{-2 lambda (h_i - s)})
+//                               / ((1 + c_i) + (1 - c_i) e^{-2 lambda h_i})
+// written with decaying exponentials only, so it is stable for every lambda.  For large
+// lambda, K -> C_k e^{-lambda y} in layer k, C_k = rho_1 Prod_{i<k} 2 rho_{i+1} / (rho_i +
+// rho_{i+1}): that part is a point source's 1/R in closed form, and only the remainder,
+// which decays exponentially in lambda, is integrated numerically.
+
+#include <vector>
+
+namespace tp {
+
+struct Layer {
+  double thickness_mm = 0.0;  // ignored for the last (semi-infinite) layer
+  double resistivity_ohm_m = 0.0;
+};
+
+class LayeredHalfSpace {
+ public:
+  // At least one layer; every thickness (but the last's) and resistivity > 0 (bad input).
+  explicit LayeredHalfSpace(std::vector<Layer> layers);
+
+  const std::vector<Layer>& layers() const { return layers_; }
+  // The layer holding depth y (an interface belongs to the layer below it).
+  std::size_t layer_of(double y_mm) const;
+  // Depth of the top of layer k.
+  double top_of(std::size_t k) const { return tops_[k]; }
+
+  // K(lambda, y), ohm m.
+  double kernel(double lambda_per_mm, double y_mm) const;
+  // C_k for the layer holding y: K(lambda, y) e^{lambda y} -> C_k as lambda -> inf.
+  double leading(double y_mm) const;
+
+  // For 1 mA injected at the surface origin, at horizontal offsets (u, w) (r^2 = u^2 + w^2)
+  // and depth y > 0: the potential (V) and its second derivatives along u and along y
+  // (V/mm^2).  d2/dy2 holds inside a layer (it jumps at an interface).
+  struct Response {
+    double psi, psi_uu, psi_yy;
+  };
+  Response point(double u_mm, double w_mm, double y_mm) const;
+
+ private:
+  std::vector<Layer> layers_;
+  std::vector<double> tops_;  // depth of each layer's top, mm
+};
+
+}  // namespace tp
