@@ -89,15 +89,7 @@ int main(int argc, char** argv) {
       if (b == std::string::npos) break;
       a = b + 1;
     }
-    for (const std::string& m : modes) {  // every name checked before any work
-      std::string names;
-      bool known = false;
-      for (const auto& r : doc.setup.receptors) {
-        known = known || r.name == m;
-        names += (names.empty() ? "" : ", ") + r.name;
-      }
-      if (!known) tp::bad_input("unknown mode '" + m + "' (expected one of " + names + ")");
-    }
+    for (const std::string& m : modes) tp::receptor_index(doc.setup, m);  // all before any work
     if (modes.size() > 1 && format != "csv")
       tp::bad_input("--mode: several modes need --format csv (one row each)");
     if (certify && format != "json")

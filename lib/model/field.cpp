@@ -124,22 +124,19 @@ Peak Field::peak(const Receptor& r) const {
               if ((di || dj) && v[(j + dj) * nx + (i + di)] > c) peak_here = false;
           if (!peak_here) continue;
           double x = xat(i), y = yat(j), val = c;
+          // One golden-section search along a line through the point, within a grid step.
+          auto along = [&](double& t, double lo, double hi, double cell, auto&& f) {
+            const auto [tn, vn] =
+                maximize_1d(f, std::max(lo, t - cell), std::min(hi, t + cell), cell / 4);
+            if (vn >= val) {
+              t = tn;
+              val = vn;
+            }
+          };
           for (int round = 0; round < 40; ++round) {
             const double x0 = x, y0 = y;
-            auto [xn, vx] =
-                maximize_1d([&](double xv) { return af(r.fibre, xv, y); },
-                            std::max(reg.x0_mm, x - hx), std::min(reg.x1_mm, x + hx), hx / 4);
-            if (vx >= val) {
-              x = xn;
-              val = vx;
-            }
-            auto [yn, vy] =
-                maximize_1d([&](double yv) { return af(r.fibre, x, yv); },
-                            std::max(reg.y0_mm, y - hy), std::min(reg.y1_mm, y + hy), hy / 4);
-            if (vy >= val) {
-              y = yn;
-              val = vy;
-            }
+            along(x, reg.x0_mm, reg.x1_mm, hx, [&](double xv) { return af(r.fibre, xv, y); });
+            along(y, reg.y0_mm, reg.y1_mm, hy, [&](double yv) { return af(r.fibre, x, yv); });
             if (std::fabs(x - x0) < 1e-9 && std::fabs(y - y0) < 1e-9) break;
           }
           consider(val, x, y);
@@ -147,6 +144,14 @@ Peak Field::peak(const Receptor& r) const {
     }
   }
   return best;
+}
+
+std::size_t receptor_index(const Setup& setup, const std::string& mode) {
+  for (std::size_t r = 0; r < setup.receptors.size(); ++r)
+    if (setup.receptors[r].name == mode) return r;
+  std::string names;
+  for (const auto& r : setup.receptors) names += (names.empty() ? "" : ", ") + r.name;
+  bad_input("unknown mode '" + mode + "' (expected one of " + names + ")");
 }
 
 std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>& peaks,

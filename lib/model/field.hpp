@@ -71,6 +71,9 @@ struct Summary {
 };
 Summary summarize(const Setup& setup, const std::vector<double>& currents_mA);
 
+// The index of the receptor named `mode`; bad input naming the known ones otherwise.
+std::size_t receptor_index(const Setup& setup, const std::string& mode);
+
 std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>& peaks,
                                  const std::string& mode);
 

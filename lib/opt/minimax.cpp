@@ -109,12 +109,6 @@ bool PNormLogRatio::Evaluate(const double* zp, double* cost, double* gradient) c
   return std::isfinite(*cost);
 }
 
-double true_ratio(const Setup& setup, const std::string& mode, const std::vector<double>& w) {
-  const Summary s = summarize(setup, w);
-  const auto r = mode_ratio(s.peaks, mode);
-  return r ? *r : kInf;
-}
-
 OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
                              const OptimizeOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -97,8 +97,4 @@ struct Certificate {
 Certificate certify_mode(const Setup& setup, const std::string& mode, double step_mm,
                          double weight_bound = 0.0);
 
-// The mode's ratio for given weights (true maxima); +infinity when the target never
-// depolarises.
-double true_ratio(const Setup& setup, const std::string& mode, const std::vector<double>& w);
-
 }  // namespace tp

@@ -93,17 +93,7 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
   if (setup.receptors.size() < 2) bad_input("optimisation needs at least 2 receptors");
   ModeProblem p;
   p.mode = mode;
-  bool found = false;
-  for (std::size_t r = 0; r < setup.receptors.size(); ++r)
-    if (setup.receptors[r].name == mode) {
-      p.target = r;
-      found = true;
-    }
-  if (!found) {
-    std::string names;
-    for (const auto& r : setup.receptors) names += (names.empty() ? "" : ", ") + r.name;
-    bad_input("unknown mode '" + mode + "' (expected one of " + names + ")");
-  }
+  p.target = receptor_index(setup, mode);
   p.basis = zero_sum_basis(setup.array.size());
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const bool interior = !conductor->planar_harmonic();
