@@ -1,5 +1,6 @@
 #include "cli/array_options.hpp"
 
+#include "core/error.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
 
@@ -26,12 +27,16 @@ Document load_document(const ArrayOptions& o, int min_electrodes) {
 void add_model_options(CLI::App& app, ModelOptions& o) {
   app.add_option("--model", o.model,
                  "Conductor model: line2d (the paper's), strip2d, point3d or rect3d (3-D, "
-                 "half-space) [the document's, or line2d]")
+                 "half-space), layered (3-D, layered skin) [the document's, or line2d]")
       ->type_name("NAME");
   app.add_option("--z", o.plane_z,
                  "3-D models: the fibres' plane along the electrodes' length, mm, within +-500 "
                  "(0: their middle) [the document's, or 0]")
       ->type_name("MM");
+  app.add_option("--skin", o.skin,
+                 "layered model: the skin's layers, fingertip (hydrated, electrode gel), "
+                 "fingertip-dry, or a skin file (JSON; - for stdin) [the document's, or fingertip]")
+      ->type_name("NAME|FILE");
 }
 
 void apply_model_options(Document& doc, const ModelOptions& o) {
@@ -40,6 +45,10 @@ void apply_model_options(Document& doc, const ModelOptions& o) {
     doc.setup.conductor.plane_z_mm = parse_finite(o.plane_z, "--z");
     ranges::check(doc.setup.conductor.plane_z_mm, ranges::plane_z_mm, "--z");
   }
+  if (!o.skin.empty()) doc.setup.conductor.skin = load_skin(o.skin, "--skin");
+  if (!o.skin.empty() && doc.setup.conductor.model != "layered")
+    bad_input("--skin: applies to the layered model only (this is " + doc.setup.conductor.model +
+              "; add --model layered)");
   validate_setup(doc.setup);
 }
 

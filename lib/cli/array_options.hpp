@@ -24,7 +24,7 @@ Document load_document(const ArrayOptions& o, int min_electrodes);
 // The conductor model flags shared by the programs that compute fields: --model and --z
 // (the 3-D models' fibre plane).  Given, they override the document's.
 struct ModelOptions {
-  std::string model, plane_z;
+  std::string model, plane_z, skin;
 };
 void add_model_options(CLI::App& app, ModelOptions& o);
 // Applies the flags to doc and checks the model against the receptors (bad input, exit 2).

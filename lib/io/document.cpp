@@ -63,9 +63,10 @@ Document document_from_json(const Json& j) {
   if (j.contains("model")) {
     const Json& m = j["model"];
     if (!m.is_object()) bad_input("model: expected an object");
-    reject_unknown(
-        m, {"conductor", "resistivity_ohm_m", "lateral_margin_mm", "plane_z_mm", "source_depth_mm"},
-        "model");
+    reject_unknown(m,
+                   {"conductor", "resistivity_ohm_m", "lateral_margin_mm", "plane_z_mm",
+                    "source_depth_mm", "skin"},
+                   "model");
     if (m.contains("conductor")) {
       if (!m["conductor"].is_string()) bad_input("model.conductor: expected a string");
       d.setup.conductor.model = m["conductor"].get<std::string>();
@@ -90,6 +91,13 @@ Document document_from_json(const Json& j) {
           json_finite(m["source_depth_mm"], "model.source_depth_mm");
       ranges::check(d.setup.conductor.source_depth_mm, ranges::source_depth_mm,
                     "model.source_depth_mm");
+    }
+    if (m.contains("skin")) {
+      // A built-in name or a skin file's path (layered model), or the skin itself inline.
+      if (m["skin"].is_string())
+        d.setup.conductor.skin = load_skin(m["skin"].get<std::string>(), "model.skin");
+      else
+        d.setup.conductor.skin = skin_from_json(m["skin"], "model.skin");
     }
   }
   if (j.contains("receptors")) d.setup.receptors = receptors_from_json(j["receptors"]);
@@ -145,6 +153,7 @@ Json model_to_json(const Setup& s) {
   j["lateral_margin_mm"] = s.lateral_margin_mm;
   if (s.conductor.plane_z_mm != 0.0) j["plane_z_mm"] = s.conductor.plane_z_mm;
   if (s.conductor.source_depth_mm != 0.0) j["source_depth_mm"] = s.conductor.source_depth_mm;
+  if (s.conductor.model == "layered") j["skin"] = skin_to_json(effective_skin(s.conductor));
   return j;
 }
 

@@ -8,7 +8,8 @@
 namespace tp {
 
 const std::vector<std::string>& conductor_models() {
-  static const std::vector<std::string> names = {"line2d", "strip2d", "point3d", "rect3d"};
+  static const std::vector<std::string> names = {"line2d", "strip2d", "point3d", "rect3d",
+                                                 "layered"};
   return names;
 }
 
@@ -20,6 +21,10 @@ std::string conductor_model_list() {
   return s;
 }
 
+const Skin& effective_skin(const ConductorParams& p) {
+  return p.skin.layers.empty() ? builtin_skin("fingertip") : p.skin;
+}
+
 std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
                                           const ElectrodeArray& array) {
   const double rho = params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m
@@ -29,6 +34,9 @@ std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
   if (params.model == "point3d")
     return make_point3d(array, rho, params.plane_z_mm, params.source_depth_mm);
   if (params.model == "rect3d") return make_rect3d(array, rho, params.plane_z_mm);
+  if (params.model == "layered") {
+    return make_layered(array, effective_skin(params).layers, params.plane_z_mm);
+  }
   bad_input("unknown conductor model '" + params.model + "' (expected " + conductor_model_list() +
             ")");
 }

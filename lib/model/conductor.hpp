@@ -5,13 +5,15 @@
 // derivatives of Psi at a point.  Psi is linear in the currents, so the field of any current
 // pattern is the weighted sum (Eq. 25); the optimiser uses the per-electrode responses
 // directly.  Models: line2d and strip2d (2-D, the paper's), point3d and rect3d (3-D
-// half-space); each is registered in make_conductor() (model/conductor.cpp).
+// half-space), layered (rectangles on a layered skin); each is registered in make_conductor()
+// (model/conductor.cpp).
 
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "model/array.hpp"
+#include "model/skin.hpp"
 
 namespace tp {
 
@@ -20,6 +22,7 @@ struct ConductorParams {
   double resistivity_ohm_m = 0.0;  // 0: constants::tissue_resistivity_ohm_m
   double plane_z_mm = 0.0;         // 3-D models: the fibres' plane, along the electrodes' length
   double source_depth_mm = 0.0;    // point3d: depth of the point sources (0: on the surface)
+  Skin skin;                       // layered: the layers (empty: the built-in "fingertip")
 };
 
 class Conductor {
@@ -57,5 +60,9 @@ std::unique_ptr<Conductor> make_rect3d(const ElectrodeArray& array, double rho_o
                                        double plane_z_mm);
 // rect3d's d2Psi/dz2 for electrode i (the tests' Laplace check); c must be a rect3d.
 double rect3d_unit_zz(const Conductor& c, std::size_t i, double x_mm, double y_mm);
+// The layered model (model/layered_rect.cpp): rectangles on a layered half-space.
+std::unique_ptr<Conductor> make_layered(const ElectrodeArray& array,
+                                        const std::vector<Layer>& layers, double plane_z_mm);
+double layered_unit_zz(const Conductor& c, std::size_t i, double x_mm, double y_mm);
 
 }  // namespace tp

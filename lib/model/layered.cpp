@@ -7,39 +7,12 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/quadrature.hpp"
 
 namespace tp {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the Legendre recurrence).
-template <int N>
-struct GaussLegendre {
-  std::array<double, N> x{}, w{};
-  GaussLegendre() {
-    for (int i = 0; i < (N + 1) / 2; ++i) {
-      double z = std::cos(kPi * (i + 0.75) / (N + 0.5));
-      double dp = 0.0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1.0, p1 = 0.0;
-        for (int j = 1; j <= N; ++j) {
-          const double p2 = p1;
-          p1 = p0;
-          p0 = ((2.0 * j - 1.0) * z * p1 - (j - 1.0) * p2) / j;
-        }
-        dp = N * (z * p0 - p1) / (z * z - 1.0);
-        const double dz = p0 / dp;
-        z -= dz;
-        if (std::fabs(dz) < 1e-16) break;
-      }
-      x[static_cast<std::size_t>(i)] = -z;
-      x[static_cast<std::size_t>(N - 1 - i)] = z;
-      w[static_cast<std::size_t>(i)] = w[static_cast<std::size_t>(N - 1 - i)] =
-          2.0 / ((1.0 - z * z) * dp * dp);
-    }
-  }
-};
 
 const GaussLegendre<16>& gauss16() {
   static const GaussLegendre<16> g;
@@ -55,6 +28,9 @@ double j1_over_x(double x) {
 
 LayeredHalfSpace::LayeredHalfSpace(std::vector<Layer> layers) : layers_(std::move(layers)) {
   if (layers_.empty()) bad_input("layers: none given");
+  if (layers_.size() > kMaxLayers)
+    bad_input("layers: at most " + std::to_string(kMaxLayers) + ", got " +
+              std::to_string(layers_.size()));
   double top = 0.0;
   for (std::size_t i = 0; i < layers_.size(); ++i) {
     const std::string where = "layers[" + std::to_string(i) + "]";
@@ -65,7 +41,15 @@ LayeredHalfSpace::LayeredHalfSpace(std::vector<Layer> layers) : layers_(std::mov
         (!(layers_[i].thickness_mm > 0.0) || !std::isfinite(layers_[i].thickness_mm)))
       bad_input(where + ".thickness_mm: must be > 0, got " + number_text(layers_[i].thickness_mm));
     tops_.push_back(top);
-    top += layers_[i].thickness_mm;
+    if (i + 1 < layers_.size()) top += layers_[i].thickness_mm;
+  }
+  double c = layers_[0].resistivity_ohm_m;
+  for (std::size_t k = 0; k < layers_.size(); ++k) {
+    if (k > 0) {
+      const double a = layers_[k - 1].resistivity_ohm_m, b = layers_[k].resistivity_ohm_m;
+      c *= 2.0 * b / (a + b);
+    }
+    leading_.push_back(c);
   }
 }
 
@@ -75,41 +59,69 @@ std::size_t LayeredHalfSpace::layer_of(double y_mm) const {
   return k;
 }
 
-double LayeredHalfSpace::kernel(double lambda, double y_mm) const {
+bool LayeredHalfSpace::uniform() const {
+  for (const Layer& l : layers_)
+    if (l.resistivity_ohm_m != layers_[0].resistivity_ohm_m) return false;
+  return true;
+}
+
+void LayeredHalfSpace::top_of_layer(double lambda, std::size_t k, double& k_top, double& c) const {
   const std::size_t n = layers_.size();
   // T from the bottom up (Koefoed's resistivity transform).
-  std::vector<double> t(n);
+  std::array<double, kMaxLayers> t{};
   t[n - 1] = layers_[n - 1].resistivity_ohm_m;
   for (std::size_t i = n - 1; i-- > 0;) {
     const double rho = layers_[i].resistivity_ohm_m;
     const double th = std::tanh(lambda * layers_[i].thickness_mm);
     t[i] = rho * (t[i + 1] + rho * th) / (rho + t[i + 1] * th);
   }
-  const std::size_t k = layer_of(y_mm);
-  double k_top = t[0];
+  k_top = t[0];
   for (std::size_t i = 0; i < k; ++i) {  // through each whole layer above the point
     const double h = layers_[i].thickness_mm;
-    const double c = layers_[i].resistivity_ohm_m / t[i + 1];
+    const double ci = layers_[i].resistivity_ohm_m / t[i + 1];
     const double e2 = std::exp(-2.0 * lambda * h);
-    k_top *= 2.0 * std::exp(-lambda * h) / ((1.0 + c) + (1.0 - c) * e2);
+    k_top *= 2.0 * std::exp(-lambda * h) / ((1.0 + ci) + (1.0 - ci) * e2);
   }
-  const double s = y_mm - tops_[k];
-  if (k + 1 == n) return k_top * std::exp(-lambda * s);
+  c = k + 1 == n ? 1.0 : layers_[k].resistivity_ohm_m / t[k + 1];
+}
+
+void LayeredHalfSpace::remainder_coefficients(double lambda, std::size_t k, double& alpha,
+                                              double& beta) const {
+  double k_top = 0.0, c = 1.0;
+  top_of_layer(lambda, k, k_top, c);
+  const double lead = leading_[k] * std::exp(-lambda * tops_[k]);
+  if (k + 1 == layers_.size()) {
+    alpha = k_top - lead;
+    beta = 0.0;
+    return;
+  }
   const double h = layers_[k].thickness_mm;
-  const double c = layers_[k].resistivity_ohm_m / t[k + 1];
-  return k_top * std::exp(-lambda * s) *
-         ((1.0 + c) + (1.0 - c) * std::exp(-2.0 * lambda * (h - s))) /
-         ((1.0 + c) + (1.0 - c) * std::exp(-2.0 * lambda * h));
+  const double d = (1.0 + c) + (1.0 - c) * std::exp(-2.0 * lambda * h);
+  alpha = k_top * (1.0 + c) / d - lead;
+  beta = k_top * (1.0 - c) / d;
+}
+
+double LayeredHalfSpace::kernel(double lambda, double y_mm) const {
+  const std::size_t k = layer_of(y_mm);
+  double alpha = 0.0, beta = 0.0;
+  remainder_coefficients(lambda, k, alpha, beta);
+  const double s = y_mm - tops_[k];
+  double v = leading_[k] * std::exp(-lambda * y_mm) + alpha * std::exp(-lambda * s);
+  if (beta != 0.0) v += beta * std::exp(-lambda * (2.0 * layers_[k].thickness_mm - s));
+  return v;
 }
 
 double LayeredHalfSpace::leading(double y_mm) const {
+  return leading_[layer_of(y_mm)];
+}
+
+double LayeredHalfSpace::remainder_distance(double y_mm) const {
   const std::size_t k = layer_of(y_mm);
-  double c = layers_[0].resistivity_ohm_m;
-  for (std::size_t i = 0; i < k; ++i) {
-    const double a = layers_[i].resistivity_ohm_m, b = layers_[i + 1].resistivity_ohm_m;
-    c *= 2.0 * b / (a + b);
-  }
-  return c;
+  double d = INFINITY;
+  for (std::size_t i = 0; i < k; ++i) d = std::min(d, layers_[i].thickness_mm);
+  double a = y_mm + 2.0 * d;
+  if (k + 1 < layers_.size()) a = std::min(a, 2.0 * tops_[k + 1] - y_mm);
+  return a;
 }
 
 LayeredHalfSpace::Response LayeredHalfSpace::point(double u_mm, double w_mm, double y_mm) const {
@@ -124,14 +136,9 @@ LayeredHalfSpace::Response LayeredHalfSpace::point(double u_mm, double w_mm, dou
   Response out{c / big_r, c * (3.0 * u_mm * u_mm - big_r2) / big_r5,
                c * (3.0 * y_mm * y_mm - big_r2) / big_r5};
 
-  // The remainder K - C e^{-lambda y} decays as e^{-lambda a}: a = y plus twice the
-  // thinnest layer above the point, or its distance to the interface below.
-  const std::size_t k = layer_of(y_mm);
-  double d = INFINITY;
-  for (std::size_t i = 0; i < k; ++i) d = std::min(d, layers_[i].thickness_mm);
-  if (k + 1 < layers_.size()) d = std::min(d, tops_[k + 1] - y_mm);
-  if (std::isfinite(d)) {
-    const double a = y_mm + 2.0 * d;
+  // The remainder K - C e^{-lambda y} decays as e^{-lambda a}, a = remainder_distance(y).
+  const double a = remainder_distance(y_mm);
+  if (std::isfinite(a) && !uniform()) {
     const double lambda_max = 40.0 / a;  // e^-40: far below double rounding of the total
     // Panels: half a period of J0 at most, and fine enough for the remainder's decay.  At
     // small lambda the kernel changes on the scale of the whole stack, 1 / (2 H), and has

@@ -27,7 +27,11 @@ struct Layer {
 
 class LayeredHalfSpace {
  public:
-  // At least one layer; every thickness (but the last's) and resistivity > 0 (bad input).
+  // At most this many layers (a skin file's range).
+  static constexpr std::size_t kMaxLayers = 16;
+
+  // 1 to kMaxLayers layers; every thickness (but the last's) and resistivity > 0 and finite
+  // (bad input).
   explicit LayeredHalfSpace(std::vector<Layer> layers);
 
   const std::vector<Layer>& layers() const { return layers_; }
@@ -40,6 +44,21 @@ class LayeredHalfSpace {
   double kernel(double lambda_per_mm, double y_mm) const;
   // C_k for the layer holding y: K(lambda, y) e^{lambda y} -> C_k as lambda -> inf.
   double leading(double y_mm) const;
+  double leading_of(std::size_t k) const { return leading_[k]; }
+
+  // The remainder K - C_k e^{-lambda y} inside layer k (top t_k, thickness h, s = y - t_k):
+  //     alpha e^{-lambda s} + beta e^{-lambda (2 h - s)}      (beta = 0 in the bottom layer)
+  // so that, once alpha and beta are known at a lambda, every depth of the layer costs two
+  // exponentials.  Both decay with lambda: alpha as e^{-lambda (t_k + 2 h_min)} (h_min the
+  // thinnest layer above), beta e^{-2 lambda h} as e^{-lambda (2 t_{k+1} - t_k)}.
+  void remainder_coefficients(double lambda_per_mm, std::size_t k, double& alpha,
+                              double& beta) const;
+  // a(y): the remainder at depth y decays as e^{-lambda a(y)}; a is the distance from the
+  // point to the remainder's nearest image, so the remainder is analytic within a(y) of it.
+  // Infinite for a single layer (no remainder).
+  double remainder_distance(double y_mm) const;
+  // True when every layer has the same resistivity: the remainder is zero.
+  bool uniform() const;
 
   // For 1 mA injected at the surface origin, at horizontal offsets (u, w) (r^2 = u^2 + w^2)
   // and depth y > 0: the potential (V) and its second derivatives along u and along y
@@ -50,8 +69,12 @@ class LayeredHalfSpace {
   Response point(double u_mm, double w_mm, double y_mm) const;
 
  private:
+  // K at the top of layer k and c_k = rho_k / T_{k+1} (c = 1 in the bottom layer).
+  void top_of_layer(double lambda, std::size_t k, double& k_top, double& c) const;
+
   std::vector<Layer> layers_;
-  std::vector<double> tops_;  // depth of each layer's top, mm
+  std::vector<double> tops_;     // depth of each layer's top, mm
+  std::vector<double> leading_;  // C_k of each layer
 };
 
 }  // namespace tp

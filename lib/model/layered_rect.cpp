@@ -1,0 +1,565 @@
+// The `layered` conductor: each electrode a width_mm x length_mm rectangle of uniform
+// current density on the insulated surface of a horizontally layered half-space
+// (model/layered.hpp).  Coordinates as in rect3d: x across the electrodes, y depth, z along
+// their length; the fibres lie in the plane z = plane_z_mm.
+//
+// In layer k the point response is C_k / R (closed form) plus a smooth remainder (layered.hpp),
+// so a rectangle's field is rect3d's with rho = C_k plus the rectangle's remainder, a
+// function of u = x - x_i and y only (every electrode is the same rectangle):
+//   F_xx(u, y) = 1/(wL) Int_{b1}^{b2} [g(a2, b) - g(a1, b)] db,   g(a, b) = R'(r, y) a / r
+//   F_zz(u, y) = 1/(wL) Int_{a1}^{a2} [g(b2, a) - g(b1, a)] da,   (a and b swapped)
+//   F_yy = -(F_xx + F_zz)               (the remainder is harmonic inside the layer)
+// with a1,2 = u -+ w/2, b1,2 = plane_z -+ L/2, r = sqrt(a^2 + b^2) and the remainder's radial
+// derivative  R'(r, y) = -(1/2pi) Int rem(lambda, y) lambda J1(lambda r) dlambda.
+//
+// The remainder is analytic within a(y) = remainder_distance(y) of each point, so it is
+// tabulated once per design as piecewise Chebyshev interpolants on fixed lattices:
+//   - R'(r, y) on r-tiles [0, s], [s, 2s], [2s, 4s], ... (s = the smallest a of the stack),
+//     16 nodes each, for each depth node; the Hankel integral is a fixed Gauss-Legendre rule
+//     per r-tile (panels of at most half a period of J1 at the tile's largest r), so the
+//     Bessel values are computed once per tile and every depth costs two exponentials per
+//     node (remainder_coefficients);
+//   - F_xx, F_zz on (u, y) tiles: y-tiles of half the layer's smallest a (geometric in the
+//     semi-infinite bottom layer), u-tiles of that a near the rectangle, then doubling with
+//     the distance from its edge; 14 x 10 nodes each, the edge integrals by 8-point
+//     Gauss-Legendre on panels graded the same way.
+// Each tile is built when first needed and kept (shared by every conductor of the same
+// design in the process), and depends only on its own nodes: results do not depend on the
+// order of evaluation.  A conductor object caches the current depth's row (not for use by
+// two threads at once; separate objects are).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <list>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+#include "model/conductor.hpp"
+#include "model/layered.hpp"
+#include "model/quadrature.hpp"
+
+namespace tp {
+namespace {
+
+constexpr int kNu = 14;          // Chebyshev nodes along u per tile
+constexpr int kNy = 10;          // along y
+constexpr int kNr = 16;          // along r, per r-tile
+constexpr int kGl = 8;           // Gauss-Legendre points per panel
+constexpr double kDecay = 40.0;  // Hankel integrals stop at e^-40 of the remainder's decay
+
+const Chebyshev<kNu>& cheb_u() {
+  static const Chebyshev<kNu> c;
+  return c;
+}
+const Chebyshev<kNy>& cheb_y() {
+  static const Chebyshev<kNy> c;
+  return c;
+}
+const Chebyshev<kNr>& cheb_r() {
+  static const Chebyshev<kNr> c;
+  return c;
+}
+const GaussLegendre<kGl>& gl8() {
+  static const GaussLegendre<kGl> g;
+  return g;
+}
+
+// Breakpoints 0, s, 2s, ... up to `shift + s`, then doubling the distance from `shift`:
+// tiles of width s near the source and of width equal to their distance from it beyond.
+struct Lattice {
+  double s = 1.0, shift = 0.0;
+  long m0 = 1;      // first geometric index
+  double b0 = 1.0;  // B(m0)
+  Lattice() = default;
+  Lattice(double s_, double shift_) : s(s_), shift(shift_) {
+    m0 = std::max(1L, static_cast<long>(std::ceil((shift + s) / s)));
+    b0 = static_cast<double>(m0) * s;
+  }
+  double at(long m) const {
+    if (m <= m0) return static_cast<double>(m) * s;
+    return shift + (b0 - shift) * std::ldexp(1.0, static_cast<int>(m - m0));
+  }
+  long index(double v) const {  // the tile [B(m), B(m+1)) holding v >= 0
+    long m = v < b0 ? static_cast<long>(std::floor(v / s))
+                    : m0 + static_cast<long>(std::floor(std::log2((v - shift) / (b0 - shift))));
+    m = std::max(0L, m);
+    while (m > 0 && at(m) > v) --m;
+    while (at(m + 1) <= v) ++m;
+    return m;
+  }
+};
+
+// Gauss-Legendre points of an integral over [lo, hi], on panels cut at +-B(m) of a lattice
+// with shift 0 centred on 0 (graded toward 0, where the integrands vary fastest).
+template <class F>
+double graded_integral(double lo, double hi, double s, F&& f) {
+  if (!(hi > lo)) return 0.0;
+  const Lattice lat(s, 0.0);
+  std::vector<double> cuts = {lo, hi};
+  for (int sign : {-1, 1}) {
+    for (long m = 0;; ++m) {
+      const double b = sign * lat.at(m);
+      if (b > lo && b < hi) cuts.push_back(b);
+      if (lat.at(m) >= std::max(std::fabs(lo), std::fabs(hi))) break;
+    }
+  }
+  std::sort(cuts.begin(), cuts.end());
+  const auto& g = gl8();
+  double sum = 0.0;
+  for (std::size_t p = 0; p + 1 < cuts.size(); ++p) {
+    const double a = cuts[p], b = cuts[p + 1];
+    if (!(b > a)) continue;
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    for (std::size_t q = 0; q < kGl; ++q) sum += half * g.w[q] * f(mid + half * g.x[q]);
+  }
+  return sum;
+}
+
+// The shared, lazily built tables of one design: stack, rectangle and fibre plane.
+class Tables {
+ public:
+  Tables(std::vector<Layer> layers, double width_mm, double length_mm, double plane_z_mm)
+      : stack_(std::move(layers)), w_(width_mm), l_(length_mm), z_(plane_z_mm) {
+    const auto& ls = stack_.layers();
+    const std::size_t n = ls.size();
+    a_glob_ = INFINITY;
+    h_max_ = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      a_glob_ = std::min(a_glob_, layer_a_min(k, stack_.top_of(k),
+                                              k + 1 < n ? stack_.top_of(k + 1) : stack_.top_of(k)));
+      if (k + 1 < n) h_max_ = std::max(h_max_, ls[k].thickness_mm);
+    }
+    stack_depth_ = std::max(stack_.top_of(n - 1), a_glob_);
+    r_lattice_ = Lattice(a_glob_, 0.0);
+    lambda_max_ = kDecay / a_glob_;
+  }
+
+  const LayeredHalfSpace& stack() const { return stack_; }
+
+  struct Tile {
+    double u0, u1;
+    std::array<double, kNy * kNu> cxx{}, czz{};  // [j * kNu + i]: y-degree j, u-degree i
+  };
+  struct YTile {
+    std::size_t layer = 0;
+    double y0 = 0.0, y1 = 0.0, s = 0.0;
+    Lattice u;
+    std::vector<std::unique_ptr<Tile>> tiles;  // by u-tile index
+  };
+
+  // The y-tile holding depth y (> 0), built on first use.
+  const YTile& ytile(double y) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::size_t k = stack_.layer_of(y);
+    const std::size_t n = stack_.layers().size();
+    double y0 = 0.0, y1 = 0.0;
+    long j = 0;
+    if (k + 1 < n) {
+      const double t0 = stack_.top_of(k), t1 = stack_.top_of(k + 1);
+      const double a = layer_a_min(k, t0, t1);
+      const long count = static_cast<long>(std::ceil((t1 - t0) / (0.5 * a)));
+      j = std::clamp(
+          static_cast<long>(std::floor((y - t0) / (t1 - t0) * static_cast<double>(count))), 0L,
+          count - 1);
+      y0 = t0 + (t1 - t0) * static_cast<double>(j) / static_cast<double>(count);
+      y1 = j + 1 == count
+               ? t1
+               : t0 + (t1 - t0) * static_cast<double>(j + 1) / static_cast<double>(count);
+    } else {
+      // y + g grows by 3/2 per tile: tile height half the remainder distance a = y + g.
+      const double t = stack_.top_of(k), g = stack_.remainder_distance(t) - t;
+      auto at = [&](long i) { return (t + g) * std::pow(1.5, static_cast<double>(i)) - g; };
+      j = std::max(0L, static_cast<long>(std::floor(std::log((y + g) / (t + g)) / std::log(1.5))));
+      while (j > 0 && at(j) > y) --j;
+      while (at(j + 1) <= y) ++j;
+      y0 = j == 0 ? t : at(j);
+      y1 = at(j + 1);
+    }
+    auto& slot = ytiles_[{k, j}];
+    if (!slot) {
+      slot = std::make_unique<YTile>();
+      slot->layer = k;
+      slot->y0 = y0;
+      slot->y1 = y1;
+      slot->s = std::min(layer_a(k, y0), layer_a(k, y1));
+      slot->u = Lattice(slot->s, 0.5 * w_);
+    }
+    return *slot;
+  }
+
+  // Tile m of a y-tile, built on first use.
+  const Tile& tile(const YTile& yt_const, long m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& yt = const_cast<YTile&>(yt_const);  // owned by ytiles_; only this object mutates it
+    const auto mi = static_cast<std::size_t>(m);
+    if (yt.tiles.size() <= mi) yt.tiles.resize(mi + 1);
+    if (!yt.tiles[mi]) yt.tiles[mi] = build_tile(yt, m);
+    return *yt.tiles[mi];
+  }
+
+  // The remainder's potential (V, 1 mA injected) of one rectangle at (u, y): a 2-D integral
+  // of the tabulated point remainder (for unit_potentials, which only the checks use).
+  double remainder_potential(double u, double y) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double s = stack_.remainder_distance(y);
+    const double b1 = z_ - 0.5 * l_, b2 = z_ + 0.5 * l_;
+    const double r_max =
+        std::hypot(std::fabs(u) + 0.5 * w_, std::max(std::fabs(b1), std::fabs(b2)));
+    RTable& rt = rtable(y, r_max, true);
+    const double total = graded_integral(u - 0.5 * w_, u + 0.5 * w_, s, [&](double a) {
+      return graded_integral(b1, b2, s,
+                             [&](double b) { return rt.eval(*this, std::hypot(a, b), true); });
+    });
+    return total / (w_ * l_);
+  }
+
+ private:
+  // a(y) inside layer k (the layer's own formula, also at its bottom interface).
+  double layer_a(std::size_t k, double y) const {
+    const auto& ls = stack_.layers();
+    double d = INFINITY;
+    for (std::size_t i = 0; i < k; ++i) d = std::min(d, ls[i].thickness_mm);
+    double a = y + 2.0 * d;
+    if (k + 1 < ls.size()) a = std::min(a, 2.0 * stack_.top_of(k + 1) - y);
+    return a;
+  }
+  double layer_a_min(std::size_t k, double t0, double t1) const {
+    return std::min(layer_a(k, t0), layer_a(k, t1));
+  }
+
+  // The Hankel rule of one r-tile: nodes, weights and lambda W J1(lambda r_i) (and, when
+  // potentials are asked for, W J0(lambda r_i)) at its 16 r nodes.
+  struct RGrid {
+    double r0 = 0.0, r1 = 0.0;
+    std::vector<double> lambda, weight;
+    std::vector<std::size_t> panel_end;            // nodes up to each panel's end
+    std::vector<double> j1, j0;                    // [q * kNr + i]
+    std::vector<std::vector<double>> alpha, beta;  // per layer, at the nodes (on demand)
+  };
+  RGrid& rgrid(long m) {
+    const auto mi = static_cast<std::size_t>(m);
+    if (rgrids_.size() <= mi) rgrids_.resize(mi + 1);
+    if (rgrids_[mi]) return *rgrids_[mi];
+    auto g = std::make_unique<RGrid>();
+    g->r0 = r_lattice_.at(m);
+    g->r1 = r_lattice_.at(m + 1);
+    // Panels: graded toward lambda = 0 (the kernel's poles near the origin for high
+    // contrasts), then at most 1/(4 H) up to 20 / H (the kernel's slow scale, H the stack's
+    // depth), then the coarse width: half a period of J1 at r1, and fine enough for the
+    // remainder's decay and the thickest layer's resonances.
+    const double coarse =
+        std::min({kQuadPi / g->r1, 0.5 / a_glob_, h_max_ > 0.0 ? 1.0 / h_max_ : INFINITY});
+    const double fine = std::min(coarse, 0.25 / stack_depth_);
+    const double lambda_fine = std::min(20.0 / stack_depth_, lambda_max_);
+    const double panels = (lambda_max_ - lambda_fine) / coarse + lambda_fine / fine + 20.0;
+    if (!(panels <= 2e6))
+      failure("layered: the Hankel rule needs " + number_text(panels) +
+              " panels (a field point too far from the electrodes for the stack)");
+    std::vector<double> cuts = {0.0};
+    auto cut_to = [&](double end, double width) {  // equal panels of at most `width`
+      const double start = cuts.back();
+      const double n = std::ceil((end - start) / width);
+      for (double i = 1; i <= n; ++i) cuts.push_back(i == n ? end : start + (end - start) * i / n);
+    };
+    for (double e = 1e-3 / stack_depth_; e < 1.0 / stack_depth_ && e < lambda_fine; e *= 2.0)
+      cut_to(e, fine);
+    cut_to(lambda_fine, fine);
+    cut_to(lambda_max_, coarse);
+    const auto& gl = gl8();
+    for (std::size_t p = 0; p + 1 < cuts.size(); ++p) {
+      const double half = 0.5 * (cuts[p + 1] - cuts[p]), mid = 0.5 * (cuts[p + 1] + cuts[p]);
+      for (std::size_t q = 0; q < kGl; ++q) {
+        g->lambda.push_back(mid + half * gl.x[q]);
+        g->weight.push_back(half * gl.w[q]);
+      }
+      g->panel_end.push_back(g->lambda.size());
+    }
+    const std::size_t nq = g->lambda.size();
+    g->j1.resize(nq * kNr);
+    const double mid = 0.5 * (g->r0 + g->r1), half = 0.5 * (g->r1 - g->r0);
+    for (std::size_t q = 0; q < nq; ++q)
+      for (std::size_t i = 0; i < kNr; ++i) {
+        const double r = mid + half * cheb_r().t[i];
+        g->j1[q * kNr + i] = g->weight[q] * g->lambda[q] * ::j1(g->lambda[q] * r);
+      }
+    g->alpha.resize(stack_.layers().size());
+    g->beta.resize(stack_.layers().size());
+    rgrids_[mi] = std::move(g);
+    return *rgrids_[mi];
+  }
+  void need_j0(RGrid& g) {
+    if (!g.j0.empty()) return;
+    const std::size_t nq = g.lambda.size();
+    g.j0.resize(nq * kNr);
+    const double mid = 0.5 * (g.r0 + g.r1), half = 0.5 * (g.r1 - g.r0);
+    for (std::size_t q = 0; q < nq; ++q)
+      for (std::size_t i = 0; i < kNr; ++i)
+        g.j0[q * kNr + i] = g.weight[q] * ::j0(g.lambda[q] * (mid + half * cheb_r().t[i]));
+  }
+  void need_coefficients(RGrid& g, std::size_t k) {
+    if (!g.alpha[k].empty()) return;
+    const std::size_t nq = g.lambda.size();
+    g.alpha[k].resize(nq);
+    g.beta[k].resize(nq);
+    for (std::size_t q = 0; q < nq; ++q)
+      stack_.remainder_coefficients(g.lambda[q], k, g.alpha[k][q], g.beta[k][q]);
+  }
+
+  // R'(r, y) (and the remainder itself, for potentials) at one depth, on the r-tiles.
+  struct RTable {
+    double y = 0.0;
+    std::size_t layer = 0;
+    std::vector<std::array<double, kNr>> dr, pot;  // per r-tile; pot only on demand
+    std::vector<char> have_dr, have_pot;
+    double eval(Tables& t, double r, bool potential) {
+      const long m = t.r_lattice_.index(r);
+      const auto mi = static_cast<std::size_t>(m);
+      auto& have = potential ? have_pot : have_dr;
+      if (have.size() <= mi || !have[mi]) t.fill(*this, m, potential);
+      const double r0 = t.r_lattice_.at(m), r1 = t.r_lattice_.at(m + 1);
+      const auto& c = potential ? pot[mi] : dr[mi];
+      return Chebyshev<kNr>::eval(c.data(), (2.0 * r - r0 - r1) / (r1 - r0));
+    }
+  };
+  RTable& rtable(double y, double /*r_max*/, bool /*potential*/) {
+    auto& slot = rtables_[y];
+    if (!slot) {
+      slot = std::make_unique<RTable>();
+      slot->y = y;
+      slot->layer = stack_.layer_of(y);
+    }
+    return *slot;
+  }
+  void fill(RTable& rt, long m, bool potential) {
+    const auto mi = static_cast<std::size_t>(m);
+    RGrid& g = rgrid(m);
+    if (potential) need_j0(g);
+    const std::size_t k = rt.layer;
+    need_coefficients(g, k);
+    const double y = rt.y;
+    const double s = y - stack_.top_of(k);
+    const double h2 = k + 1 < stack_.layers().size() ? 2.0 * stack_.layers()[k].thickness_mm : 0.0;
+    const double lam_stop = kDecay / stack_.remainder_distance(y);
+    std::array<double, kNr> v{};
+    const auto& mat = potential ? g.j0 : g.j1;
+    std::size_t end = 0;
+    for (std::size_t p = 0; p < g.panel_end.size(); ++p) {
+      const std::size_t start = end;
+      end = g.panel_end[p];
+      if (g.lambda[start] > lam_stop) break;
+      for (std::size_t q = start; q < end; ++q) {
+        const double lam = g.lambda[q];
+        double rem = g.alpha[k][q] * std::exp(-lam * s);
+        if (g.beta[k][q] != 0.0) rem += g.beta[k][q] * std::exp(-lam * (h2 - s));
+        const double* row = &mat[q * kNr];
+        for (std::size_t i = 0; i < kNr; ++i) v[i] += rem * row[i];
+      }
+    }
+    // R' = -(1/2pi) Int rem lambda J1;  R = (1/2pi) Int rem J0.
+    const double scale = (potential ? 1.0 : -1.0) / (2.0 * kQuadPi);
+    for (double& x : v) x *= scale;
+    auto& store = potential ? rt.pot : rt.dr;
+    auto& have = potential ? rt.have_pot : rt.have_dr;
+    if (store.size() <= mi) {
+      store.resize(mi + 1);
+      have.resize(mi + 1, 0);
+    }
+    cheb_r().fit(v.data(), store[mi].data());
+    have[mi] = 1;
+  }
+
+  std::unique_ptr<Tile> build_tile(const YTile& yt, long m) {
+    auto tile = std::make_unique<Tile>();
+    tile->u0 = yt.u.at(m);
+    tile->u1 = yt.u.at(m + 1);
+    const double b1 = z_ - 0.5 * l_, b2 = z_ + 0.5 * l_;
+    const double hw = 0.5 * w_;
+    std::array<double, kNy * kNu> fxx{}, fzz{};
+    const double umid = 0.5 * (tile->u0 + tile->u1), uhalf = 0.5 * (tile->u1 - tile->u0);
+    const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
+    for (std::size_t j = 0; j < kNy; ++j) {
+      const double y = ymid + yhalf * cheb_y().t[j];
+      RTable& rt = rtable(y, 0.0, false);
+      auto g = [&](double a, double b) {
+        const double r = std::hypot(a, b);
+        return r > 0.0 ? rt.eval(*this, r, false) * a / r : 0.0;
+      };
+      for (std::size_t i = 0; i < kNu; ++i) {
+        const double u = umid + uhalf * cheb_u().t[i];
+        const double a1 = u - hw, a2 = u + hw;
+        fxx[j * kNu + i] =
+            graded_integral(b1, b2, yt.s, [&](double b) { return g(a2, b) - g(a1, b); }) /
+            (w_ * l_);
+        fzz[j * kNu + i] =
+            graded_integral(a1, a2, yt.s, [&](double a) { return g(b2, a) - g(b1, a); }) /
+            (w_ * l_);
+      }
+    }
+    // 2-D coefficients: along u for each y node, then along y for each u degree.
+    std::array<double, kNy * kNu> tmp{};
+    for (auto [f, c] : {std::pair{&fxx, &tile->cxx}, std::pair{&fzz, &tile->czz}}) {
+      for (std::size_t j = 0; j < kNy; ++j) cheb_u().fit(&(*f)[j * kNu], &tmp[j * kNu]);
+      for (std::size_t i = 0; i < kNu; ++i) cheb_y().fit(&tmp[i], &(*c)[i], kNu);
+    }
+    return tile;
+  }
+
+  LayeredHalfSpace stack_;
+  double w_, l_, z_;
+  double a_glob_ = 1.0, h_max_ = 0.0, stack_depth_ = 1.0, lambda_max_ = 1.0;
+  Lattice r_lattice_;
+  std::mutex mutex_;
+  std::map<std::pair<std::size_t, long>, std::unique_ptr<YTile>> ytiles_;
+  std::vector<std::unique_ptr<RGrid>> rgrids_;
+  std::map<double, std::unique_ptr<RTable>> rtables_;
+};
+
+// The process's tables, by design: the last few designs are kept, so that the many
+// conductors an optimisation makes share one set.
+std::shared_ptr<Tables> tables_for(const std::vector<Layer>& layers, double w, double l, double z) {
+  static std::mutex mutex;
+  static std::list<std::pair<std::vector<double>, std::shared_ptr<Tables>>> cache;
+  std::vector<double> key = {w, l, z};
+  for (const Layer& ly : layers) {
+    key.push_back(ly.thickness_mm);
+    key.push_back(ly.resistivity_ohm_m);
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  for (auto it = cache.begin(); it != cache.end(); ++it)
+    if (it->first == key) {
+      cache.splice(cache.begin(), cache, it);
+      return cache.front().second;
+    }
+  cache.emplace_front(key, std::make_shared<Tables>(layers, w, l, z));
+  if (cache.size() > 4) cache.pop_back();
+  return cache.front().second;
+}
+
+class Layered : public Conductor {
+ public:
+  Layered(const ElectrodeArray& array, const std::vector<Layer>& layers, double plane_z_mm)
+      : x_(array.positions_mm), stack_(layers) {
+    if (!(array.width_mm > 0.0)) bad_input("layered: array.width_mm must be > 0");
+    for (std::size_t k = 0; k < layers.size(); ++k)
+      rect_.push_back(make_rect3d(array, stack_.leading_of(k), plane_z_mm));
+    if (!stack_.uniform())
+      tables_ = tables_for(layers, array.width_mm, array.length_mm, plane_z_mm);
+    scratch_.resize(2 * x_.size());
+  }
+  const char* name() const override { return "layered"; }
+  std::size_t size() const override { return x_.size(); }
+  bool planar_harmonic() const override { return false; }
+
+  void unit_potentials(double x_mm, double y_mm, double* psi) const override {
+    check_depth(y_mm);
+    rect_[stack_.layer_of(y_mm)]->unit_potentials(x_mm, y_mm, psi);
+    if (!tables_) return;
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      psi[i] -= tables_->remainder_potential(x_mm - x_[i], y_mm);  // cathodic
+  }
+
+  void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
+    check_depth(y_mm);
+    const std::size_t n = x_.size();
+    double* rx = scratch_.data();
+    double* ry = rx + n;
+    rect_[stack_.layer_of(y_mm)]->unit_second_derivatives(x_mm, y_mm, rx, ry);
+    if (tables_) {
+      select_row(y_mm);
+      for (std::size_t i = 0; i < n; ++i) {
+        double fxx = 0.0, fzz = 0.0;
+        remainder(std::fabs(x_mm - x_[i]), fxx, fzz);
+        rx[i] -= fxx;  // cathodic: minus the injected current's field
+        ry[i] += fxx + fzz;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (xx) xx[i] = rx[i];
+      if (yy) yy[i] = ry[i];
+    }
+  }
+
+  // d2Psi/dz2 of electrode i (the tests' Laplace check).
+  double unit_zz(std::size_t i, double x_mm, double y_mm) const {
+    check_depth(y_mm);
+    double zz = rect3d_unit_zz(*rect_[stack_.layer_of(y_mm)], i, x_mm, y_mm);
+    if (tables_) {
+      select_row(y_mm);
+      double fxx = 0.0, fzz = 0.0;
+      remainder(std::fabs(x_mm - x_[i]), fxx, fzz);
+      zz -= fzz;
+    }
+    return zz;
+  }
+
+ private:
+  static void check_depth(double y_mm) {
+    if (!(y_mm > 0.0) || !std::isfinite(y_mm))
+      bad_input("layered: depth must be > 0 mm, got " + number_text(y_mm));
+  }
+
+  // The current depth's y-tile, and each u-tile's coefficients collapsed along y.
+  void select_row(double y) const {
+    if (y == row_y_) return;
+    row_y_ = y;
+    row_ = &tables_->ytile(y);
+    row_t_ = (2.0 * y - row_->y0 - row_->y1) / (row_->y1 - row_->y0);
+    row_have_.assign(row_have_.size(), 0);
+  }
+  void remainder(double u, double& fxx, double& fzz) const {
+    const long m = row_->u.index(u);
+    const auto mi = static_cast<std::size_t>(m);
+    if (row_have_.size() <= mi) {
+      row_have_.resize(mi + 1, 0);
+      row_coef_.resize(mi + 1);
+      row_tile_.resize(mi + 1, nullptr);
+    }
+    if (!row_have_[mi]) {
+      const Tables::Tile& t = tables_->tile(*row_, m);
+      row_tile_[mi] = &t;
+      auto& c = row_coef_[mi];
+      for (std::size_t i = 0; i < kNu; ++i) {
+        c[i] = Chebyshev<kNy>::eval(&t.cxx[i], row_t_, kNu);
+        c[kNu + i] = Chebyshev<kNy>::eval(&t.czz[i], row_t_, kNu);
+      }
+      row_have_[mi] = 1;
+    }
+    const Tables::Tile& t = *row_tile_[mi];
+    const double tu = (2.0 * u - t.u0 - t.u1) / (t.u1 - t.u0);
+    fxx = Chebyshev<kNu>::eval(row_coef_[mi].data(), tu);
+    fzz = Chebyshev<kNu>::eval(row_coef_[mi].data() + kNu, tu);
+  }
+
+  std::vector<double> x_;
+  LayeredHalfSpace stack_;
+  std::vector<std::unique_ptr<Conductor>> rect_;  // rect3d with rho = C_k, per layer
+  std::shared_ptr<Tables> tables_;                // null when the stack is uniform
+  mutable std::vector<double> scratch_;
+  mutable double row_y_ = NAN;
+  mutable const Tables::YTile* row_ = nullptr;
+  mutable double row_t_ = 0.0;
+  mutable std::vector<char> row_have_;
+  mutable std::vector<std::array<double, 2 * kNu>> row_coef_;
+  mutable std::vector<const Tables::Tile*> row_tile_;
+};
+
+}  // namespace
+
+std::unique_ptr<Conductor> make_layered(const ElectrodeArray& array,
+                                        const std::vector<Layer>& layers, double plane_z_mm) {
+  return std::make_unique<Layered>(array, layers, plane_z_mm);
+}
+
+double layered_unit_zz(const Conductor& c, std::size_t i, double x_mm, double y_mm) {
+  const auto* l = dynamic_cast<const Layered*>(&c);
+  if (!l) failure("layered_unit_zz: not a layered conductor");
+  return l->unit_zz(i, x_mm, y_mm);
+}
+
+}  // namespace tp
