@@ -71,7 +71,10 @@ int main(int argc, char** argv) {
     const tp::Axis x =
         x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
     const tp::Axis y = y_spec.empty() ? tp::default_y_axis() : tp::parse_axis(y_spec, "--y");
-    if (!summary) tp::validate_grid(x, y);  // every check before the first row is written
+    if (!summary) {  // every check before the first row is written
+      tp::validate_grid(x, y);
+      tp::check_model_depth(doc.setup, y.at(y.count() - 1), "--y: the deepest row,");
+    }
     const tp::Field field(doc.setup, currents_mA);
     if (summary) {
       const tp::Summary s = tp::summarize(doc.setup, currents_mA);

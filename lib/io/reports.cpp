@@ -58,6 +58,7 @@ Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA,
   j["format"] = "tactile-primaries/af-summary/1";
   j["af_unit"] = "V/ms";
   j["conductor"] = setup.conductor.model;
+  if (setup.conductor.model == "layered") j["skin"] = effective_skin(setup.conductor).name;
   j["currents_mA"] = currents_mA;
   Json rec = Json::object();
   for (std::size_t i = 0; i < s.peaks.size(); ++i) {

@@ -13,16 +13,18 @@ void refuse_sample_count(const char* what, double count) {
             number_text(kMaxSamples) + " (a depth, margin or array span out of range)");
 }
 
+void check_model_depth(const Setup& setup, double depth_mm, const std::string& what) {
+  if (setup.conductor.model != "layered") return;
+  const Skin& skin = effective_skin(setup.conductor);
+  if (depth_mm > skin.valid_to_mm)
+    bad_input(what + " " + number_text(depth_mm) + " mm is below the skin model's validity (" +
+              skin.name + ": to " + number_text(skin.valid_to_mm) + " mm, valid_to_mm)");
+}
+
 void validate_setup(const Setup& setup) {
   make_conductor(setup.conductor, setup.array);  // the name, and the model's own checks
-  if (setup.conductor.model == "layered") {
-    const Skin& skin = effective_skin(setup.conductor);
-    for (const Receptor& r : setup.receptors)
-      if (r.depth_max_mm > skin.valid_to_mm)
-        bad_input("receptor " + r.name + ": depth " + number_text(r.depth_max_mm) +
-                  " mm is below the skin model's validity (" + skin.name + ": to " +
-                  number_text(skin.valid_to_mm) + " mm, valid_to_mm)");
-  }
+  for (const Receptor& r : setup.receptors)
+    check_model_depth(setup, r.depth_max_mm, "receptor " + r.name + ": depth");
   if (setup.conductor.model == "point3d" && setup.conductor.source_depth_mm > 0.0) {
     const double d = setup.conductor.source_depth_mm;
     for (const Receptor& r : setup.receptors)

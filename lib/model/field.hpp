@@ -25,6 +25,9 @@ struct Setup {
 // receptor's depths may reach a buried source, where the field is singular).  Throws
 // tp::Error (bad input) naming the field.
 void validate_setup(const Setup& setup);
+// The layered model stands for the finger only down to its skin's valid_to_mm: a deeper
+// depth is bad input, "WHAT DEPTH mm is below the skin model's validity (...)".
+void check_model_depth(const Setup& setup, double depth_mm, const std::string& what);
 
 // Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
 // single depth line).

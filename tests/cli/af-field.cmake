@@ -27,6 +27,18 @@ tp_cli_test(af-field refuses-config-plane-z refuses 2 --stdin ${CMAKE_CURRENT_SO
 tp_cli_test(af-field refuses-source-among-fibres refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-among-fibres.json -- af-field --config - --summary)
 tp_cli_test(af-field refuses-rect3d-zero-width refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/rect3d-zero-width.json -- af-field --config - --summary)
 tp_cli_test(af-field refuses-summary-with-grid refuses 2 -- af-field --summary --x 0:1:1)
+# The layered model: bad skin files, a skin without the model, depths below its validity,
+# overlapping electrodes.
+foreach(bad zero-thickness negative-resistivity no-layers)
+  tp_cli_test(af-field refuses-skin-${bad} refuses 2 --
+    af-field --model layered --skin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/skin-${bad}.json --summary)
+endforeach()
+tp_cli_test(af-field refuses-missing-skin refuses 2 -- af-field --model layered --skin /nonexistent.json)
+tp_cli_test(af-field refuses-unknown-skin refuses 2 -- af-field --model layered --skin palm)
+tp_cli_test(af-field refuses-skin-without-layered refuses 2 -- af-field --skin fingertip-dry)
+tp_cli_test(af-field refuses-layered-receptor-too-deep refuses 2 --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/layered-receptor-too-deep.json -- af-field --config - --summary)
+tp_cli_test(af-field refuses-layered-grid-too-deep refuses 2 -- af-field --model layered --y 0.2:6:0.1)
+tp_cli_test(af-field refuses-layered-overlap refuses 2 -- af-field --model layered --pitch 0.3)
 
 # Golden files (scripts/regen-golden rewrites them).
 tp_cli_test(af-field golden-one-cathode-csv golden af-field/one-cathode.csv --
@@ -45,6 +57,13 @@ foreach(model rect3d point3d)
   tp_cli_test(af-field golden-${model}-summary golden af-field/${model}-summary.json --rtol 1e-6 --
     af-field --model ${model} --z 1 --weights 0.3,-0.9,1.2,0.4,-1.5,0.8,-0.6,0.3 --summary)
 endforeach()
+
+tp_cli_test(af-field golden-layered-csv golden af-field/layered-sai.csv --
+  af-field --model layered --weights 0,0,-0.5,1,-0.5,0,0,0 --x -4:4:0.5 --y 0.5:2.5:0.5)
+tp_cli_test(af-field golden-layered-dry-summary golden af-field/layered-dry-summary.json --rtol 1e-6 --
+  af-field --model layered --skin fingertip-dry --z 1 --weights 0.3,-0.9,1.2,0.4,-1.5,0.8,-0.6,0.3 --summary)
+tp_cli_test(af-field golden-layered-inline-skin golden af-field/layered-inline-skin.json --rtol 1e-6
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/layered-inline-skin.json -- af-field --config - --summary)
 
 # Scripted checks.
 tp_cli_test(af-field eq23-single-electrode script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/eq23.sh)

@@ -26,6 +26,8 @@ endforeach()
 tp_cli_test(optimize-weights refuses-unknown-model refuses 2 -- optimize-weights --mode SAI --model foo)
 tp_cli_test(optimize-weights golden-rect3d golden optimize-weights/rect3d-6x1.2.csv --rtol 1e-6 --
   optimize-weights --mode RA,SAI,PC --model rect3d --electrodes 6 --pitch 1.2 --format csv)
+tp_cli_test(optimize-weights golden-layered golden optimize-weights/layered-6x1.2.csv --rtol 1e-6 --
+  optimize-weights --mode RA,SAI,PC --model layered --electrodes 6 --pitch 1.2 --format csv)
 tp_cli_test(optimize-weights golden-csv golden optimize-weights/pc-12x0.75.csv --rtol 1e-6 --
   optimize-weights --mode PC --electrodes 12 --pitch 0.75 --format csv)
 

@@ -1,7 +1,7 @@
 # The 3-D models (fibre regions searched inside, not only on their edges): on the paper's
 # array every mode's ratio is within 1 % of the certified optimum, which solves the LP at
 # every sample of the target's region (its interior too for these models).
-for model in rect3d point3d; do
+for model in rect3d point3d layered; do
   for mode in RA SAI PC; do
     optimize-weights --mode "$mode" --model "$model" --certify > "$model-$mode.json" 2> err.txt \
       || fail "$model $mode: $(cat err.txt)"
