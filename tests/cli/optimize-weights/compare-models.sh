@@ -9,6 +9,13 @@ for model in line2d rect3d; do
   awk -v a="$want" -v b="$got" 'BEGIN { exit !(a - b < 6e-5 && b - a < 6e-5) }' \
     || fail "$model SAI: table $got, optimize-weights $want"
 done
+# layered:SKIN rows: the layered model on a built-in skin, labelled with it.
+"$TP_SOURCE/scripts/compare-models" --models layered:fingertip-dry --electrodes 4 --pitch 1.5 > layered.md 2> err.txt \
+  || fail "compare-models layered: $(cat err.txt)"
+want=$(optimize-weights --mode PC --model layered --skin fingertip-dry --electrodes 4 --pitch 1.5 2> /dev/null | jq -r '.ratio')
+got=$(awk -F'|' '$2 == " layered (fingertip-dry) " && NF == 9 { gsub(/ /, "", $5); print $5 }' layered.md)
+awk -v a="$want" -v b="$got" 'BEGIN { exit !(a - b < 6e-5 && b - a < 6e-5) }' \
+  || fail "layered PC: table '$got', optimize-weights $want: $(cat layered.md)"
 set +e; "$TP_SOURCE/scripts/compare-models" --models line2d,nonesuch > out.md 2> err.txt; rc=$?; set -e
 [[ $rc -eq 2 && $(wc -l < err.txt) -eq 1 ]] || fail "bad model: exit $rc, $(cat err.txt)"
 echo "ok: $(sed -n 3p table.md)"
