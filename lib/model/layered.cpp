@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/Dense>
+
 #include "core/error.hpp"
 #include "io/number.hpp"
 #include "model/quadrature.hpp"
@@ -108,6 +110,55 @@ double LayeredHalfSpace::kernel(double lambda, double y_mm) const {
   const double s = y_mm - tops_[k];
   double v = leading_[k] * std::exp(-lambda * y_mm) + alpha * std::exp(-lambda * s);
   if (beta != 0.0) v += beta * std::exp(-lambda * (2.0 * layers_[k].thickness_mm - s));
+  return v;
+}
+
+double LayeredHalfSpace::kernel_between(double lambda, double d, double y) const {
+  const std::size_t n = layers_.size();
+  const std::size_t j = layer_of(d);
+  const double rho_j = layers_[j].resistivity_ohm_m;
+  // The source's own term and its derivative / lambda at depth t (above the source when
+  // t <= d: d = 0 is a surface source, just below the surface).
+  auto prim = [&](double t) { return 0.5 * rho_j * std::exp(-lambda * std::fabs(t - d)); };
+  auto prim_d = [&](double t) { return (t <= d ? 1.0 : -1.0) * prim(t); };
+  // Unknowns: a_k (k = 0..n-1) at 2k, b_k (k = 0..n-2) at 2k+1.
+  const auto m = static_cast<Eigen::Index>(2 * n - 1);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+  auto ia = [](std::size_t k) { return static_cast<Eigen::Index>(2 * k); };
+  auto ib = [](std::size_t k) { return static_cast<Eigen::Index>(2 * k + 1); };
+  auto e = [&](std::size_t k) { return std::exp(-lambda * layers_[k].thickness_mm); };
+  // Surface: dPhi/dy = 0 at y = 0 (top of layer 0).
+  Eigen::Index row = 0;
+  a(row, ia(0)) = -1.0;
+  if (n > 1) a(row, ib(0)) = e(0);
+  if (j == 0) rhs(row) = -prim_d(0.0);
+  ++row;
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    const double t = tops_[k + 1];
+    const double src_above = j == k ? 1.0 : 0.0, src_below = j == k + 1 ? 1.0 : 0.0;
+    // Potential: Phi_k(t) = Phi_{k+1}(t).
+    a(row, ia(k)) = e(k);
+    a(row, ib(k)) = 1.0;
+    a(row, ia(k + 1)) = -1.0;
+    if (k + 2 < n) a(row, ib(k + 1)) = -e(k + 1);
+    rhs(row) = (src_below - src_above) * prim(t);
+    ++row;
+    // Normal current: (1 / rho_k) dPhi_k/dy = (1 / rho_{k+1}) dPhi_{k+1}/dy.
+    const double gk = 1.0 / layers_[k].resistivity_ohm_m;
+    const double g1 = 1.0 / layers_[k + 1].resistivity_ohm_m;
+    a(row, ia(k)) = -gk * e(k);
+    a(row, ib(k)) = gk;
+    a(row, ia(k + 1)) = g1;
+    if (k + 2 < n) a(row, ib(k + 1)) = -g1 * e(k + 1);
+    rhs(row) = g1 * src_below * prim_d(t) - gk * src_above * prim_d(t);
+    ++row;
+  }
+  const Eigen::VectorXd x = a.partialPivLu().solve(rhs);
+  const std::size_t k = layer_of(y);
+  double v = x(ia(k)) * std::exp(-lambda * (y - tops_[k]));
+  if (k + 1 < n) v += x(ib(k)) * std::exp(-lambda * (tops_[k + 1] - y));
+  if (k == j) v += prim(y);
   return v;
 }
 

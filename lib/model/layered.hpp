@@ -42,6 +42,13 @@ class LayeredHalfSpace {
 
   // K(lambda, y), ohm m.
   double kernel(double lambda_per_mm, double y_mm) const;
+  // K for a source buried at depth d (d = 0: on the surface) and a receiver at depth y,
+  // normalised as kernel() (Phi = I / (2 pi) Int K J0(lambda r) dlambda).  Solved directly:
+  // in each layer a e^{-lambda (y - top)} + b e^{-lambda (bottom - y)}, plus the source's own
+  // (rho_j / 2) e^{-lambda |y - d|} in its layer; the insulated surface, and continuity of
+  // the potential and of the normal current at each interface, as a (2N - 1)-square linear
+  // system (Eigen LU).  Slower than kernel(); used for reciprocity and buried sources.
+  double kernel_between(double lambda_per_mm, double source_depth_mm, double y_mm) const;
   // C_k for the layer holding y: K(lambda, y) e^{lambda y} -> C_k as lambda -> inf.
   double leading(double y_mm) const;
   double leading_of(std::size_t k) const { return leading_[k]; }

@@ -129,11 +129,9 @@ class Tables {
     const auto& ls = stack_.layers();
     const std::size_t n = ls.size();
     a_glob_ = INFINITY;
-    h_max_ = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
       a_glob_ = std::min(a_glob_, layer_a_min(k, stack_.top_of(k),
                                               k + 1 < n ? stack_.top_of(k + 1) : stack_.top_of(k)));
-      if (k + 1 < n) h_max_ = std::max(h_max_, ls[k].thickness_mm);
     }
     stack_depth_ = std::max(stack_.top_of(n - 1), a_glob_);
     r_lattice_ = Lattice(a_glob_, 0.0);
@@ -237,10 +235,15 @@ class Tables {
   // potentials are asked for, W J0(lambda r_i)) at its 16 r nodes.
   struct RGrid {
     double r0 = 0.0, r1 = 0.0;
+    std::vector<double> fixed_cuts;  // the panels up to coarse_start
+    double coarse_start = 0.0, coarse_width = 1.0, coarse_count = 0.0;
+    // The nodes, extended as depths need them:
     std::vector<double> lambda, weight;
-    std::vector<std::size_t> panel_end;            // nodes up to each panel's end
+    std::vector<std::size_t> panel_end;  // nodes up to each panel's end
+    // Filled on demand up to the largest lambda a depth has needed (each entry depends on
+    // its node alone, so how far they are filled changes no value):
     std::vector<double> j1, j0;                    // [q * kNr + i]
-    std::vector<std::vector<double>> alpha, beta;  // per layer, at the nodes (on demand)
+    std::vector<std::vector<double>> alpha, beta;  // per layer
   };
   RGrid& rgrid(long m) {
     const auto mi = static_cast<std::size_t>(m);
@@ -250,17 +253,20 @@ class Tables {
     g->r0 = r_lattice_.at(m);
     g->r1 = r_lattice_.at(m + 1);
     // Panels: graded toward lambda = 0 (the kernel's poles near the origin for high
-    // contrasts), then at most 1/(4 H) up to 20 / H (the kernel's slow scale, H the stack's
-    // depth), then the coarse width: half a period of J1 at r1, and fine enough for the
-    // remainder's decay and the thickest layer's resonances.
-    const double coarse =
-        std::min({kQuadPi / g->r1, 0.5 / a_glob_, h_max_ > 0.0 ? 1.0 / h_max_ : INFINITY});
+    // contrasts), then at most 1/(4 H) up to 20 / H (the kernel's slow scale, where its
+    // poles lie within ~pi / h of the axis; H the stack's depth, at least its thickest
+    // layer), then the coarse width: half a period of J1 at r1, and fine enough for the
+    // remainder's decay.  The rule's memory is bounded: at most 2e5 panels, their nodes and
+    // Bessel values built only as far as a depth needs (at most ~200 MB for the shallowest
+    // depths of a stack of the thinnest layers, far from the electrodes).
+    const double coarse = std::min(kQuadPi / g->r1, 0.5 / a_glob_);
     const double fine = std::min(coarse, 0.25 / stack_depth_);
     const double lambda_fine = std::min(20.0 / stack_depth_, lambda_max_);
     const double panels = (lambda_max_ - lambda_fine) / coarse + lambda_fine / fine + 20.0;
-    if (!(panels <= 2e6))
-      failure("layered: the Hankel rule needs " + number_text(panels) +
-              " panels (a field point too far from the electrodes for the stack)");
+    if (!(panels <= 2e5))
+      failure("layered: the Hankel rule needs " + number_text(panels) + " panels (a field point " +
+              number_text(g->r1) +
+              " mm from an electrode is too far for a stack with layers this thin)");
     std::vector<double> cuts = {0.0};
     auto cut_to = [&](double end, double width) {  // equal panels of at most `width`
       const double start = cuts.back();
@@ -270,45 +276,62 @@ class Tables {
     for (double e = 1e-3 / stack_depth_; e < 1.0 / stack_depth_ && e < lambda_fine; e *= 2.0)
       cut_to(e, fine);
     cut_to(lambda_fine, fine);
-    cut_to(lambda_max_, coarse);
-    const auto& gl = gl8();
-    for (std::size_t p = 0; p + 1 < cuts.size(); ++p) {
-      const double half = 0.5 * (cuts[p + 1] - cuts[p]), mid = 0.5 * (cuts[p + 1] + cuts[p]);
-      for (std::size_t q = 0; q < kGl; ++q) {
-        g->lambda.push_back(mid + half * gl.x[q]);
-        g->weight.push_back(half * gl.w[q]);
-      }
-      g->panel_end.push_back(g->lambda.size());
-    }
-    const std::size_t nq = g->lambda.size();
-    g->j1.resize(nq * kNr);
-    const double mid = 0.5 * (g->r0 + g->r1), half = 0.5 * (g->r1 - g->r0);
-    for (std::size_t q = 0; q < nq; ++q)
-      for (std::size_t i = 0; i < kNr; ++i) {
-        const double r = mid + half * cheb_r().t[i];
-        g->j1[q * kNr + i] = g->weight[q] * g->lambda[q] * ::j1(g->lambda[q] * r);
-      }
+    g->fixed_cuts = std::move(cuts);
+    // Beyond lambda_fine, equal panels to lambda_max, added as depths need them.
+    g->coarse_count = std::max(1.0, std::ceil((lambda_max_ - lambda_fine) / coarse));
+    g->coarse_start = lambda_fine;
+    g->coarse_width = (lambda_max_ - lambda_fine) / g->coarse_count;
     g->alpha.resize(stack_.layers().size());
     g->beta.resize(stack_.layers().size());
     rgrids_[mi] = std::move(g);
     return *rgrids_[mi];
   }
-  void need_j0(RGrid& g) {
-    if (!g.j0.empty()) return;
-    const std::size_t nq = g.lambda.size();
-    g.j0.resize(nq * kNr);
-    const double mid = 0.5 * (g.r0 + g.r1), half = 0.5 * (g.r1 - g.r0);
-    for (std::size_t q = 0; q < nq; ++q)
-      for (std::size_t i = 0; i < kNr; ++i)
-        g.j0[q * kNr + i] = g.weight[q] * ::j0(g.lambda[q] * (mid + half * cheb_r().t[i]));
+  // The panel start of panel p, and the nodes of every panel that starts at or below
+  // lam_stop (built on demand; returns how many panels that is).
+  static double panel_start(const RGrid& g, std::size_t p) {
+    const std::size_t nf = g.fixed_cuts.size() - 1;
+    return p < nf ? g.fixed_cuts[p] : g.coarse_start + static_cast<double>(p - nf) * g.coarse_width;
   }
-  void need_coefficients(RGrid& g, std::size_t k) {
-    if (!g.alpha[k].empty()) return;
-    const std::size_t nq = g.lambda.size();
-    g.alpha[k].resize(nq);
-    g.beta[k].resize(nq);
-    for (std::size_t q = 0; q < nq; ++q)
-      stack_.remainder_coefficients(g.lambda[q], k, g.alpha[k][q], g.beta[k][q]);
+  static double panel_stop(const RGrid& g, std::size_t p) {
+    const std::size_t nf = g.fixed_cuts.size() - 1;
+    return p + 1 < nf + 1 ? g.fixed_cuts[p + 1]
+                          : g.coarse_start + static_cast<double>(p + 1 - nf) * g.coarse_width;
+  }
+  static std::size_t extend_panels(RGrid& g, double lam_stop) {
+    const std::size_t total = g.fixed_cuts.size() - 1 + static_cast<std::size_t>(g.coarse_count);
+    std::size_t p = 0;
+    while (p < total && panel_start(g, p) <= lam_stop) {
+      if (p == g.panel_end.size()) {
+        const double a = panel_start(g, p), b = panel_stop(g, p);
+        const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+        const auto& gl = gl8();
+        for (std::size_t q = 0; q < kGl; ++q) {
+          g.lambda.push_back(mid + half * gl.x[q]);
+          g.weight.push_back(half * gl.w[q]);
+        }
+        g.panel_end.push_back(g.lambda.size());
+      }
+      ++p;
+    }
+    return p;
+  }
+
+  // The Bessel values (J1, or J0 for potentials) and layer k's coefficients at the nodes
+  // below `nq`.
+  void need(RGrid& g, std::size_t nq, bool potential, std::size_t k) {
+    auto& mat = potential ? g.j0 : g.j1;
+    const double mid = 0.5 * (g.r0 + g.r1), half = 0.5 * (g.r1 - g.r0);
+    for (std::size_t q = mat.size() / kNr; q < nq; ++q)
+      for (std::size_t i = 0; i < kNr; ++i) {
+        const double x = g.lambda[q] * (mid + half * cheb_r().t[i]);
+        mat.push_back(potential ? g.weight[q] * ::j0(x) : g.weight[q] * g.lambda[q] * ::j1(x));
+      }
+    for (std::size_t q = g.alpha[k].size(); q < nq; ++q) {
+      double a = 0.0, b = 0.0;
+      stack_.remainder_coefficients(g.lambda[q], k, a, b);
+      g.alpha[k].push_back(a);
+      g.beta[k].push_back(b);
+    }
   }
 
   // R'(r, y) (and the remainder itself, for potentials) at one depth, on the r-tiles.
@@ -339,21 +362,19 @@ class Tables {
   void fill(RTable& rt, long m, bool potential) {
     const auto mi = static_cast<std::size_t>(m);
     RGrid& g = rgrid(m);
-    if (potential) need_j0(g);
     const std::size_t k = rt.layer;
-    need_coefficients(g, k);
     const double y = rt.y;
     const double s = y - stack_.top_of(k);
     const double h2 = k + 1 < stack_.layers().size() ? 2.0 * stack_.layers()[k].thickness_mm : 0.0;
     const double lam_stop = kDecay / stack_.remainder_distance(y);
+    // The panels this depth needs: up to the first that starts beyond lam_stop.
+    const std::size_t panels = extend_panels(g, lam_stop);
+    const std::size_t nq = panels == 0 ? 0 : g.panel_end[panels - 1];
+    need(g, nq, potential, k);
     std::array<double, kNr> v{};
     const auto& mat = potential ? g.j0 : g.j1;
-    std::size_t end = 0;
-    for (std::size_t p = 0; p < g.panel_end.size(); ++p) {
-      const std::size_t start = end;
-      end = g.panel_end[p];
-      if (g.lambda[start] > lam_stop) break;
-      for (std::size_t q = start; q < end; ++q) {
+    {
+      for (std::size_t q = 0; q < nq; ++q) {
         const double lam = g.lambda[q];
         double rem = g.alpha[k][q] * std::exp(-lam * s);
         if (g.beta[k][q] != 0.0) rem += g.beta[k][q] * std::exp(-lam * (h2 - s));
@@ -412,7 +433,7 @@ class Tables {
 
   LayeredHalfSpace stack_;
   double w_, l_, z_;
-  double a_glob_ = 1.0, h_max_ = 0.0, stack_depth_ = 1.0, lambda_max_ = 1.0;
+  double a_glob_ = 1.0, stack_depth_ = 1.0, lambda_max_ = 1.0;
   Lattice r_lattice_;
   std::mutex mutex_;
   std::map<std::pair<std::size_t, long>, std::unique_ptr<YTile>> ytiles_;
