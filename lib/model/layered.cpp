@@ -167,7 +167,10 @@ double LayeredHalfSpace::leading(double y_mm) const {
 }
 
 double LayeredHalfSpace::remainder_distance(double y_mm) const {
-  const std::size_t k = layer_of(y_mm);
+  return remainder_distance_in(layer_of(y_mm), y_mm);
+}
+
+double LayeredHalfSpace::remainder_distance_in(std::size_t k, double y_mm) const {
   double d = INFINITY;
   for (std::size_t i = 0; i < k; ++i) d = std::min(d, layers_[i].thickness_mm);
   double a = y_mm + 2.0 * d;

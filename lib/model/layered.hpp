@@ -64,6 +64,9 @@ class LayeredHalfSpace {
   // point to the remainder's nearest image, so the remainder is analytic within a(y) of it.
   // Infinite for a single layer (no remainder).
   double remainder_distance(double y_mm) const;
+  // The same by layer k's own formula, also at its bottom interface (which belongs to the
+  // layer below): a = min(y + 2 h_min above, 2 t_{k+1} - y).
+  double remainder_distance_in(std::size_t k, double y_mm) const;
   // True when every layer has the same resistivity: the remainder is zero.
   bool uniform() const;
 

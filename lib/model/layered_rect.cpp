@@ -185,7 +185,7 @@ class Tables {
       slot->layer = k;
       slot->y0 = y0;
       slot->y1 = y1;
-      slot->s = std::min(layer_a(k, y0), layer_a(k, y1));
+      slot->s = layer_a_min(k, y0, y1);
       slot->u = Lattice(slot->s, 0.5 * w_);
     }
     return *slot;
@@ -207,9 +207,7 @@ class Tables {
     std::lock_guard<std::mutex> lock(mutex_);
     const double s = stack_.remainder_distance(y);
     const double b1 = z_ - 0.5 * l_, b2 = z_ + 0.5 * l_;
-    const double r_max =
-        std::hypot(std::fabs(u) + 0.5 * w_, std::max(std::fabs(b1), std::fabs(b2)));
-    RTable& rt = rtable(y, r_max, true);
+    RTable& rt = rtable(y);
     const double total = graded_integral(u - 0.5 * w_, u + 0.5 * w_, s, [&](double a) {
       return graded_integral(b1, b2, s,
                              [&](double b) { return rt.eval(*this, std::hypot(a, b), true); });
@@ -218,17 +216,8 @@ class Tables {
   }
 
  private:
-  // a(y) inside layer k (the layer's own formula, also at its bottom interface).
-  double layer_a(std::size_t k, double y) const {
-    const auto& ls = stack_.layers();
-    double d = INFINITY;
-    for (std::size_t i = 0; i < k; ++i) d = std::min(d, ls[i].thickness_mm);
-    double a = y + 2.0 * d;
-    if (k + 1 < ls.size()) a = std::min(a, 2.0 * stack_.top_of(k + 1) - y);
-    return a;
-  }
   double layer_a_min(std::size_t k, double t0, double t1) const {
-    return std::min(layer_a(k, t0), layer_a(k, t1));
+    return std::min(stack_.remainder_distance_in(k, t0), stack_.remainder_distance_in(k, t1));
   }
 
   // The Hankel rule of one r-tile: nodes, weights and lambda W J1(lambda r_i) (and, when
@@ -350,7 +339,7 @@ class Tables {
       return Chebyshev<kNr>::eval(c.data(), (2.0 * r - r0 - r1) / (r1 - r0));
     }
   };
-  RTable& rtable(double y, double /*r_max*/, bool /*potential*/) {
+  RTable& rtable(double y) {
     auto& slot = rtables_[y];
     if (!slot) {
       slot = std::make_unique<RTable>();
@@ -406,7 +395,7 @@ class Tables {
     const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
     for (std::size_t j = 0; j < kNy; ++j) {
       const double y = ymid + yhalf * cheb_y().t[j];
-      RTable& rt = rtable(y, 0.0, false);
+      RTable& rt = rtable(y);
       auto g = [&](double a, double b) {
         const double r = std::hypot(a, b);
         return r > 0.0 ? rt.eval(*this, r, false) * a / r : 0.0;

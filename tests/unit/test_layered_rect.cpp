@@ -5,31 +5,17 @@
 #include <cmath>
 #include <vector>
 
+#include "conductor_support.hpp"
 #include "core/error.hpp"
 #include "model/conductor.hpp"
 #include "model/layered.hpp"
+#include "model/quadrature.hpp"
 #include "model/skin.hpp"
 
 using namespace tp;
+using namespace tp::test;
 
 namespace {
-
-ElectrodeArray one_rect(double w, double l) {
-  ElectrodeArray a;
-  a.positions_mm = {0.0};
-  a.width_mm = w;
-  a.length_mm = l;
-  return a;
-}
-
-struct D2 {
-  double xx, yy;
-};
-D2 d2(const Conductor& c, double x, double y) {
-  double xx = 0, yy = 0;
-  c.unit_second_derivatives(x, y, &xx, &yy);
-  return {xx, yy};
-}
 
 // A rectangle on a two-layer half-space (top rho1, thickness h, over rho2) by the image
 // series: each image a rect3d rectangle (rho 1) seen at the image's depth |v|; the
@@ -40,7 +26,7 @@ D2 two_layer_rect(double rho1, double rho2, double h, double w, double l, double
   p.model = "rect3d";
   p.resistivity_ohm_m = 1.0;
   p.plane_z_mm = z;
-  const auto unit = make_conductor(p, one_rect(w, l));
+  const auto unit = make_conductor(p, one_electrode(w, l));
   const double k = (rho2 - rho1) / (rho2 + rho1);
   D2 s{0, 0};
   auto add = [&](double coef, double v) {
@@ -70,7 +56,7 @@ std::unique_ptr<Conductor> layered(std::vector<Layer> layers, double w = 0.5, do
   p.plane_z_mm = z;
   p.skin.layers = std::move(layers);
   p.skin.layer_names.assign(p.skin.layers.size(), "x");
-  return make_conductor(p, one_rect(w, l));
+  return make_conductor(p, one_electrode(w, l));
 }
 
 }  // namespace
@@ -79,7 +65,7 @@ TEST_CASE("layered: equal layers are rect3d", "[model][layered]") {
   ConductorParams p;
   p.model = "rect3d";
   p.resistivity_ohm_m = 3.0;
-  const auto rect = make_conductor(p, one_rect(0.5, 10));
+  const auto rect = make_conductor(p, one_electrode(0.5, 10));
   const auto one = layered({{0.0, 3.0}});
   const auto equal = layered({{0.3, 3.0}, {1.0, 3.0}, {0.0, 3.0}});
   for (double y : {0.05, 0.3, 0.9, 2.0})
@@ -140,7 +126,7 @@ TEST_CASE("layered: a fingertip stack matches the point response integrated over
       ConductorParams p;
       p.model = "rect3d";
       p.resistivity_ohm_m = stack.leading(y);
-      const D2 lead = d2(*make_conductor(p, one_rect(0.5, 10)), x, y);
+      const D2 lead = d2(*make_conductor(p, one_electrode(0.5, 10)), x, y);
       const double cpi = stack.leading(y) / (2 * 3.14159265358979323846);
       auto rem = [&](double a, double b) {
         const auto pt = stack.point(a, b, y);
@@ -151,21 +137,19 @@ TEST_CASE("layered: a fingertip stack matches the point response integrated over
       // Both integrands at once: each point response is one Hankel integral.
       double ixx = 0, iyy = 0;
       {
-        static const double gx[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                     -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                     0.7966664774136267,  0.9602898564975363};
-        static const double gw[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                     0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                     0.2223810344533745, 0.1012285362903763};
+        static const GaussLegendre<8> gl;  // the library's rule (model/quadrature.hpp)
+        const auto& gx = gl.x;
+        const auto& gw = gl.w;
         const int pa = 2, pb = 16;
         const double wa = 0.5 / pa, wb = 10.0 / pb;
         for (int i = 0; i < pa; ++i)
           for (int qi = 0; qi < 8; ++qi)
             for (int j = 0; j < pb; ++j)
               for (int qj = 0; qj < 8; ++qj) {
-                const double a = x - 0.25 + wa * (i + 0.5 + 0.5 * gx[qi]);
-                const double b = -5.0 + wb * (j + 0.5 + 0.5 * gx[qj]);
-                const double wt = 0.25 * wa * wb * gw[qi] * gw[qj];
+                const double a = x - 0.25 + wa * (i + 0.5 + 0.5 * gx[static_cast<std::size_t>(qi)]);
+                const double b = -5.0 + wb * (j + 0.5 + 0.5 * gx[static_cast<std::size_t>(qj)]);
+                const double wt = 0.25 * wa * wb * gw[static_cast<std::size_t>(qi)] *
+                                  gw[static_cast<std::size_t>(qj)];
                 const auto [uu, yy] = rem(a, b);
                 ixx += wt * uu;
                 iyy += wt * yy;
@@ -190,14 +174,9 @@ TEST_CASE("layered: second derivatives match finite differences of the potential
   for (auto [x, y] :
        {std::pair{0.0, 0.8}, std::pair{0.3, 1.1}, std::pair{1.7, 1.5}, std::pair{0.6, 2.4}}) {
     const double h = 2e-3;
-    auto psi = [&](double xx, double yy) {
-      double v = 0;
-      c->unit_potentials(xx, yy, &v);
-      return v;
-    };
-    const double p0 = psi(x, y);
-    const double fxx = (psi(x + h, y) - 2 * p0 + psi(x - h, y)) / (h * h);
-    const double fyy = (psi(x, y + h) - 2 * p0 + psi(x, y - h)) / (h * h);
+    const double p0 = psi(*c, x, y);
+    const double fxx = (psi(*c, x + h, y) - 2 * p0 + psi(*c, x - h, y)) / (h * h);
+    const double fyy = (psi(*c, x, y + h) - 2 * p0 + psi(*c, x, y - h)) / (h * h);
     const D2 got = d2(*c, x, y);
     const double scale = std::max(std::fabs(got.xx), std::fabs(got.yy));
     INFO("(" << x << ", " << y << "): xx " << got.xx << " vs " << fxx << ", yy " << got.yy << " vs "
@@ -251,7 +230,7 @@ TEST_CASE("layered: bad stacks and depths are refused", "[model][layered]") {
   CHECK_THROWS_AS(c->unit_second_derivatives(0.0, NAN, &xx, &yy), Error);
   ConductorParams p;
   p.model = "layered";
-  ElectrodeArray line = one_rect(0.0, 10.0);  // the paper's line electrode has no area
+  ElectrodeArray line = one_electrode(0.0, 10.0);  // the paper's line electrode has no area
   CHECK_THROWS_AS(make_conductor(p, line), Error);
 }
 

@@ -5,23 +5,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include "conductor_support.hpp"
 #include "core/error.hpp"
 #include "model/field.hpp"
 
 using namespace tp;
+using namespace tp::test;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kRho = 3.0;  // ohm m
-
-ElectrodeArray one_electrode(double width_mm, double length_mm) {
-  ElectrodeArray a;
-  a.positions_mm = {0.0};
-  a.width_mm = width_mm;
-  a.length_mm = length_mm;
-  return a;
-}
 
 ConductorParams params(const std::string& model, double plane_z = 0.0, double depth = 0.0) {
   ConductorParams p;
@@ -29,20 +23,6 @@ ConductorParams params(const std::string& model, double plane_z = 0.0, double de
   p.resistivity_ohm_m = kRho;
   p.plane_z_mm = plane_z;
   p.source_depth_mm = depth;
-  return p;
-}
-
-struct D2 {
-  double xx, yy;
-};
-D2 d2(const Conductor& c, double x, double y) {
-  D2 r{};
-  c.unit_second_derivatives(x, y, &r.xx, &r.yy);
-  return r;
-}
-double psi(const Conductor& c, double x, double y) {
-  double p = 0;
-  c.unit_potentials(x, y, &p);
   return p;
 }
 
