@@ -1,6 +1,7 @@
 #include "model/skin.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 
@@ -125,6 +126,10 @@ Skin load_skin(const std::string& spec, const std::string& what) {
   for (const auto& n : builtin_skin_names())
     if (spec == n) return builtin_skin(n);
   if (spec.empty()) bad_input(what + ": empty");
+  // A bare word that names no file is a mistyped built-in name more often than a path.
+  if (spec != "-" && spec.find('/') == std::string::npos && !std::filesystem::exists(spec))
+    bad_input(what + ": '" + spec +
+              "' is neither a built-in skin (fingertip, fingertip-dry) nor a file");
   Skin s = skin_from_json(read_json(spec, what), what + " " + spec);
   if (s.name.empty()) s.name = spec;
   return s;
