@@ -1,0 +1,84 @@
+#pragma once
+// Integration of an axon in an extracellular potential: backward Euler on the cable's linear
+// network with the ionic conductances taken from the previous step, then the gates advanced
+// by exponential Euler at the new potential (NEURON's fixed-step scheme, secondorder = 0).
+// Each step is one block-tridiagonal solve (2x2 blocks in a double cable, scalars in a
+// single one).  All storage is allocated when the simulator is built; run() allocates
+// nothing.  docs/fibres.md ("Numerics") says why this scheme.
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "fibre/axon.hpp"
+#include "fibre/models.hpp"
+
+namespace tp::fibre {
+
+// The stimulus in time: after delay_ms at zero, phases of constant level (a multiple of the
+// amplitude: 1 for the main phase of a positive weight), then zero.
+struct Waveform {
+  struct Phase {
+    double duration_ms = 0.0;
+    double level = 0.0;
+  };
+  double delay_ms = 0.1;
+  std::vector<Phase> phases;
+  double end_ms() const;
+  // The mean level over [t0, t1): a step that straddles an edge gets the charge it covers.
+  double mean_level(double t0_ms, double t1_ms) const;
+};
+
+struct SimOptions {
+  double dt_ms = 0.005;
+  double tstop_ms = 3.0;
+  double detect_mV = -20.0;         // an action potential: v above this
+  std::vector<std::size_t> detect;  // node numbers (into Axon::nodes) that must all see one
+  bool stop_when_detected = true;   // end the run once every detect node has fired
+};
+
+struct SimResult {
+  bool fired = false;           // every detect node saw an action potential
+  std::size_t first_node = 0;   // the node that crossed detect_mV first (if any did)
+  double first_time_ms = -1.0;  // when (-1: no node crossed)
+  std::size_t steps = 0;
+};
+
+class CableSimulator {
+ public:
+  CableSimulator(const FibreModel& model, Axon axon);
+  const Axon& axon() const { return axon_; }
+
+  // ve_unit_mV: the extracellular potential at each compartment's centre for amplitude 1.
+  // The potential applied is amplitude * level(t) * ve_unit.
+  SimResult run(const double* ve_unit_mV, double amplitude, const Waveform& waveform,
+                const SimOptions& options);
+
+  // After run(): each node's membrane potential at the end, and its largest value.
+  const std::vector<double>& final_node_mV() const { return final_node_mV_; }
+  const std::vector<double>& peak_node_mV() const { return peak_node_mV_; }
+  // Optional: every `every` steps, append (t, node potentials...) to trace (reserved by
+  // the caller for the whole run, so that run() still allocates nothing).
+  void record(std::vector<double>* trace, std::size_t every) {
+    trace_ = trace;
+    trace_every_ = every;
+  }
+
+ private:
+  void reset();
+  void step(double dt, double ve_old_scale, double ve_new_scale, const double* ve_unit);
+
+  const NodeKinetics& kin_;
+  Axon axon_;
+  double v_init_;
+  std::size_t n_, gates_;
+  std::vector<char> is_node_;
+  std::vector<double> gi_link_, gp_link_;                // conductance between k and k+1
+  std::vector<double> vi_, vp_, gate_;                   // state
+  std::vector<double> inv11_, inv12_, inv22_, y1_, y2_;  // solver workspace
+  std::vector<double> final_node_mV_, peak_node_mV_, cross_ms_;
+  std::vector<double>* trace_ = nullptr;
+  std::size_t trace_every_ = 1;
+};
+
+}  // namespace tp::fibre

@@ -1,0 +1,59 @@
+#pragma once
+// The fibre models behind one interface: a model builds the compartments of an axon of a
+// given diameter and node count, and its node kinetics.  Models: "mrg" (McIntyre,
+// Richardson & Grill 2002, double cable, 37 C) and "senn" (McNeal 1976 / Reilly 1985,
+// Frankenhaeuser-Huxley nodes joined by axoplasm, myelin a perfect insulator).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fibre/axon.hpp"
+#include "fibre/kinetics.hpp"
+
+namespace tp::fibre {
+
+class FibreModel {
+ public:
+  virtual ~FibreModel() = default;
+  virtual const char* name() const = 0;
+  // The diameters (um) the model has a geometry for, inclusive.
+  virtual double min_diameter_um() const = 0;
+  virtual double max_diameter_um() const = 0;
+  // Node-to-node distance of a fibre of this diameter (um).
+  virtual double internode_um(double diameter_um) const = 0;
+  // The axon: `nodes` nodes of Ranvier, the first at 0, with everything between them.
+  // Throws tp::Error (bad input) for a diameter outside the model's range.
+  virtual Axon axon(double diameter_um, std::size_t nodes) const = 0;
+  virtual const NodeKinetics& kinetics() const = 0;
+  // The membrane potential every compartment starts from (mV).
+  virtual double initial_mV() const = 0;
+};
+
+std::unique_ptr<FibreModel> make_fibre_model(const std::string& name);
+
+// SENN's constants (defaults: Reilly's SENN as coded for Reilly 2016's benchmark, ModelDB
+// 239006; sources in docs/fibres.md).  A node of width gap_um and diameter node_ratio * D
+// every internode_ratio * D + gap_um; between nodes, axoplasm of the node's diameter.
+struct SennParams {
+  double node_ratio = 0.7;         // axon (and node) diameter / fibre diameter
+  double internode_ratio = 100.0;  // internode (myelinated) length / fibre diameter
+  double gap_um = 2.5;             // node width
+  double rho_i_ohm_cm = 100.0;     // axoplasm
+  double c_m_uF_cm2 = 2.0;         // nodal membrane
+  double initial_mV = -69.77;      // the resting potential of the FH node with these constants
+  FhParams fh;
+};
+std::unique_ptr<FibreModel> make_senn(const SennParams& params);
+const std::vector<std::string>& fibre_models();  // "mrg", "senn"
+
+// MRG's geometry at one diameter (MRGaxon.hoc's table for 5.7-16 um; between 2 and 16 um,
+// the interpolation fibre-modelling tools use: docs/fibres.md).
+struct MrgGeometry {
+  double fibre_um, axon_um, node_um, mysa_um, flut_um;  // diameters
+  double internode_um, flut_length_um;                  // deltax, paralength2
+  double lamellae;                                      // nl
+};
+MrgGeometry mrg_geometry(double diameter_um);
+
+}  // namespace tp::fibre

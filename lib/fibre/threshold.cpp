@@ -1,0 +1,291 @@
+// Threshold search over fibre placements, on a fixed amplitude lattice (threshold.hpp).
+
+#include "fibre/threshold.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+
+namespace tp::fibre {
+
+Lattice::Lattice(double tolerance)
+    : per_octave(static_cast<long>(std::ceil(std::log(2.0) / std::log1p(tolerance)))) {}
+
+double Lattice::amplitude(long j) const {
+  return std::exp2(static_cast<double>(j) / static_cast<double>(per_octave));
+}
+
+long Lattice::at_or_above(double a) const {
+  long j = static_cast<long>(std::ceil(std::log2(a) * static_cast<double>(per_octave)));
+  while (amplitude(j - 1) >= a) --j;
+  while (amplitude(j) < a) ++j;
+  return j;
+}
+
+Waveform pulse_waveform(double width_us, double interphase_us, double balance_width_us,
+                        bool monophasic, double delay_ms) {
+  Waveform w;
+  w.delay_ms = delay_ms;
+  w.phases.push_back({width_us * 1e-3, 1.0});
+  if (!monophasic) {
+    if (interphase_us > 0) w.phases.push_back({interphase_us * 1e-3, 0.0});
+    w.phases.push_back({balance_width_us * 1e-3, -width_us / balance_width_us});
+  }
+  return w;
+}
+
+namespace {
+
+// One fibre position: the potential along it for amplitude 1, and where its first node is.
+struct Placement {
+  std::vector<double> ve_mV;
+  double x0_mm = 0.0, y0_mm = 0.0;  // the first node
+  bool vertical = false;
+  double offset_mm = 0.0;
+};
+
+// The lexicographic best (lattice point, placement index) so far.
+struct Best {
+  bool found = false;
+  long j = 0;
+  std::size_t index = 0;
+  bool beats(long jj, std::size_t ii) const { return !found || jj < j || (jj == j && ii < index); }
+};
+
+class Search {
+ public:
+  Search(const FibreModel& model, const Axon& axon, const Waveform& w, const SimOptions& o,
+         const ThresholdSettings& s)
+      : model_(model),
+        axon_(axon),
+        w_(w),
+        o_(o),
+        lat_(s.tolerance),
+        jmax_(lat_.at_or_above(s.max_mA)),
+        jmin_(jmax_ - 30 * lat_.per_octave),
+        threads_(s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency())) {}
+
+  // The lexicographic minimum of (threshold lattice point, index) over placements
+  // ps[base..], given `best` over the placements before them.
+  Best minimum(const std::vector<Placement>& ps, std::size_t base, Best best, long guess) {
+    std::atomic<std::size_t> next{base};
+    std::mutex m;
+    auto work = [&] {
+      CableSimulator sim(model_, axon_);
+      for (;;) {
+        const std::size_t i = next.fetch_add(1);
+        if (i >= ps.size()) return;
+        Best snap;
+        long g;
+        {
+          std::lock_guard<std::mutex> lock(m);
+          snap = best;
+          g = best.found ? best.j : guess;
+        }
+        long j;
+        if (!search_one(sim, ps[i], i, snap, g, j)) continue;
+        std::lock_guard<std::mutex> lock(m);
+        if (best.beats(j, i)) best = {true, j, i};
+      }
+    };
+    const unsigned n = static_cast<unsigned>(std::min<std::size_t>(threads_, ps.size() - base));
+    if (n <= 1) {
+      work();
+    } else {
+      std::vector<std::thread> pool;
+      for (unsigned t = 0; t < n; ++t) pool.emplace_back(work);
+      for (auto& t : pool) t.join();
+    }
+    return best;
+  }
+
+  SimResult run(CableSimulator& sim, const Placement& p, long j) {
+    ++simulations_;
+    return sim.run(p.ve_mV.data(), lat_.amplitude(j), w_, o_);
+  }
+  const Lattice& lattice() const { return lat_; }
+  long jmax() const { return jmax_; }
+  std::size_t simulations() const { return simulations_; }
+
+ private:
+  bool fires(CableSimulator& sim, const Placement& p, long j) { return run(sim, p, j).fired; }
+
+  // This placement's threshold j, if it can beat `best`; false when it cannot.
+  bool search_one(CableSimulator& sim, const Placement& p, std::size_t i, const Best& best,
+                  long guess, long& out) {
+    // The largest lattice point at which firing would still beat the best.
+    const long limit = !best.found ? jmax_ : (i < best.index ? best.j : best.j - 1);
+    long lo, hi;  // lo does not fire, hi fires
+    long g = std::min(std::max(guess, jmin_), limit);
+    if (best.found) g = limit;  // one simulation tells whether this placement can beat it
+    if (fires(sim, p, g)) {
+      hi = g;
+      lo = g - lat_.per_octave;
+      while (lo > jmin_ && fires(sim, p, lo)) {
+        hi = lo;
+        lo -= lat_.per_octave;
+      }
+      if (lo <= jmin_) lo = jmin_;
+    } else {
+      if (g == limit) return false;
+      lo = g;
+      hi = std::min(g + lat_.per_octave, limit);
+      while (!fires(sim, p, hi)) {
+        if (hi == limit) return false;
+        lo = hi;
+        hi = std::min(hi + lat_.per_octave, limit);
+      }
+    }
+    while (hi - lo > 1) {
+      const long mid = lo + (hi - lo) / 2;
+      if (fires(sim, p, mid))
+        hi = mid;
+      else
+        lo = mid;
+    }
+    out = hi;
+    return true;
+  }
+
+  const FibreModel& model_;
+  const Axon& axon_;
+  const Waveform& w_;
+  const SimOptions& o_;
+  Lattice lat_;
+  long jmax_, jmin_;
+  unsigned threads_;
+  std::atomic<std::size_t> simulations_{0};
+};
+
+std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>& weights,
+                                  const Axon& axon, double x0, double y0, bool vertical) {
+  std::vector<double> psi(weights.size()), ve(axon.centre_um.size());
+  for (std::size_t k = 0; k < ve.size(); ++k) {
+    const double s = axon.centre_um[k] * 1e-3;
+    c.unit_potentials(vertical ? x0 : x0 + s, vertical ? y0 + s : y0, psi.data());
+    double v = 0.0;
+    for (std::size_t i = 0; i < weights.size(); ++i) v += weights[i] * psi[i];
+    ve[k] = 1e3 * v;  // V -> mV
+  }
+  return ve;
+}
+
+}  // namespace
+
+ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
+                                     const Conductor& conductor, const std::vector<double>& weights,
+                                     const Receptor& r, const Waveform& waveform,
+                                     const ThresholdSettings& s) {
+  const double d = r.fibre.diameter_um;
+  if (!r.fibre.myelinated)
+    bad_input("receptor " + r.name + ": the fibre models are myelinated (myelinated: false)");
+  if (d < model.min_diameter_um() || d > model.max_diameter_um())
+    bad_input("receptor " + r.name + ": diameter " + number_text(d) + " um outside " +
+              model.name() + "'s range [" + number_text(model.min_diameter_um()) + ", " +
+              number_text(model.max_diameter_um()) + "] um");
+  const double L_mm = model.internode_um(d) * 1e-3;
+  const bool vertical = r.fibre.orientation == Orientation::vertical;
+  const Region reg = fibre_region(setup, r);
+
+  std::size_t nodes;
+  if (vertical) {
+    nodes = static_cast<std::size_t>(std::ceil((r.depth_max_mm - r.depth_min_mm) / L_mm - 1e-9)) +
+            s.extra_internodes + 1;
+  } else {
+    nodes = static_cast<std::size_t>(std::ceil((reg.x1_mm - reg.x0_mm) / L_mm - 1e-9)) + 12;
+  }
+  if (nodes < 12) nodes = 12;
+  const Axon axon = model.axon(d, nodes);
+  const double length_mm = axon.length_um() * 1e-3;
+
+  SimOptions o;
+  o.dt_ms = s.dt_ms;
+  const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
+  o.tstop_ms = waveform.end_ms() + after;
+  o.detect =
+      vertical ? std::vector<std::size_t>{nodes - 6} : std::vector<std::size_t>{5, nodes - 6};
+
+  ReceptorThreshold out;
+  out.receptor = r.name;
+  Search search(model, axon, waveform, o, s);
+  Best best;
+  std::vector<Placement> all;
+  auto evaluate = [&](std::vector<Placement> ps, long guess) {
+    // A round of placements, indexed after all earlier ones (which win ties).
+    const std::size_t base = all.size();
+    for (auto& p : ps) all.push_back(std::move(p));
+    best = search.minimum(all, base, best, guess);
+  };
+  const long guess = search.lattice().at_or_above(1.0);
+
+  if (!vertical) {
+    const std::size_t depths = r.depth_max_mm > r.depth_min_mm ? 5 : 1;
+    std::vector<Placement> ps;
+    for (std::size_t k = 0; k < depths; ++k) {
+      const double y = depths == 1 ? r.depth_min_mm
+                                   : r.depth_min_mm + (r.depth_max_mm - r.depth_min_mm) *
+                                                          static_cast<double>(k) /
+                                                          static_cast<double>(depths - 1);
+      for (std::size_t q = 0; q < s.offsets; ++q) {
+        Placement p;
+        p.offset_mm = L_mm * static_cast<double>(q) / static_cast<double>(s.offsets);
+        // A node at offset + m L; the first at or before x0 - 5 internodes.
+        const double left = reg.x0_mm - 5.0 * L_mm;
+        p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
+        p.y0_mm = y;
+        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, y, false);
+        ps.push_back(std::move(p));
+      }
+    }
+    evaluate(std::move(ps), guess);
+  } else {
+    const double pitch = setup.array.size() > 1
+                             ? (setup.array.x_max_mm() - setup.array.x_min_mm()) /
+                                   static_cast<double>(setup.array.size() - 1)
+                             : 1.0;
+    auto round = [&](double from, double to, double step) {
+      std::vector<Placement> ps;
+      const auto count = static_cast<std::size_t>(std::llround((to - from) / step));
+      for (std::size_t k = 0; k <= count; ++k) {
+        Placement p;
+        p.vertical = true;
+        p.x0_mm = from + step * static_cast<double>(k);
+        p.y0_mm = r.depth_min_mm;
+        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true);
+        ps.push_back(std::move(p));
+      }
+      evaluate(std::move(ps), best.found ? best.j : guess);
+    };
+    double step = pitch / 4;
+    round(setup.array.x_min_mm() - pitch, setup.array.x_max_mm() + pitch, step);
+    for (int refine = 0; refine < 2 && best.found; ++refine) {
+      const double c = all[best.index].x0_mm;
+      round(c - step, c + step, step / 4);
+      step /= 4;
+    }
+  }
+  out.placements = all.size();
+  if (!best.found) {
+    out.simulations = search.simulations();
+    out.reason = "does not fire below " + number_text(s.max_mA) + " mA";
+    return out;
+  }
+  const Placement& p = all[best.index];
+  CableSimulator sim(model, axon);
+  const SimResult res = search.run(sim, p, best.j);
+  out.threshold_mA = search.lattice().amplitude(best.j);
+  out.offset_mm = p.offset_mm;
+  out.node = res.first_node;
+  const double s_mm = axon.centre_um[axon.nodes[res.first_node]] * 1e-3;
+  out.x_mm = vertical ? p.x0_mm : p.x0_mm + s_mm;
+  out.depth_mm = vertical ? p.y0_mm + s_mm : p.y0_mm;
+  out.simulations = search.simulations();
+  return out;
+}
+
+}  // namespace tp::fibre

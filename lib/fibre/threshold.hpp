@@ -1,0 +1,74 @@
+#pragma once
+// Thresholds in mA: the smallest amplitude at which a receptor's fibre fires, for a
+// weighted electrode array, a conductor model and a stimulus waveform.
+//
+// A threshold is searched on a fixed lattice of amplitudes, 2^(j/K) mA with K the smallest
+// integer for which one step is at most the tolerance, so the answer is the lattice point
+// and does not depend on how the search was bracketed or on which thread found it: the same
+// input gives the same bytes.  Doubling every weight halves the threshold exactly.
+//
+// Where a fibre lies (docs/fibres.md, "Fibre placement"):
+//  - horizontal fibres run along x at the receptor's depth (every depth of a range: five
+//    depths from its top to its bottom), over the array +- the lateral margin plus five
+//    internodes each side; the threshold is the minimum over `offsets` node alignments
+//    spread evenly over one internode;
+//  - vertical fibres start in a sealed terminal node at the receptor's top depth and run
+//    straight down through its depth range and `extra_internodes` internodes beyond; the
+//    threshold is the minimum over x, sampled every quarter pitch across the array +- one
+//    pitch and refined twice around the best sample (to a 64th of a pitch).
+// An action potential counts when it reaches the sixth node from each end of a horizontal
+// fibre, or the sixth node from the deep end of a vertical one (above -20 mV).
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fibre/cable.hpp"
+#include "fibre/models.hpp"
+#include "model/field.hpp"
+
+namespace tp::fibre {
+
+struct ThresholdSettings {
+  double tolerance = 1e-3;            // relative lattice step, 1e-4 to 0.1
+  double max_mA = 100.0;              // no threshold below this: the fibre "does not fire"
+  double dt_ms = 0.005;               // time step, at most 5 us
+  std::size_t offsets = 8;            // horizontal fibres: node alignments per internode, 1 to 64
+  std::size_t extra_internodes = 10;  // vertical fibres: below the receptor's range
+  double delay_ms = 0.1;              // rest before the pulse
+  double after_ms = 0;                // simulated after the pulse (0: enough to propagate)
+  unsigned threads = 0;               // 0: every core
+};
+
+// Where and whether a receptor fired at its threshold.
+struct ReceptorThreshold {
+  std::string receptor;
+  std::optional<double> threshold_mA;  // empty: no threshold below max_mA
+  std::string reason;                  // why there is none
+  double x_mm = 0.0, depth_mm = 0.0;   // the node where the action potential started
+  std::size_t node = 0;                // its number along the fibre (0: the first node)
+  double offset_mm = 0.0;              // horizontal: the alignment that gave the minimum
+  std::size_t placements = 0;          // fibre positions tried
+  std::size_t simulations = 0;
+};
+
+// The lattice: amplitude of point j, and the number of points per octave.
+struct Lattice {
+  explicit Lattice(double tolerance);
+  double amplitude(long j) const;
+  long at_or_above(double amplitude_mA) const;  // the smallest j with amplitude(j) >= a
+  long per_octave;
+};
+
+// The stimulus waveform of a pulse (lib/pulse's shape): main phase at +1, the gap, the
+// balancing phase at -width/balance_width; monophasic: the main phase only.
+Waveform pulse_waveform(double width_us, double interphase_us, double balance_width_us,
+                        bool monophasic, double delay_ms = 0.1);
+
+ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
+                                     const Conductor& conductor, const std::vector<double>& weights,
+                                     const Receptor& receptor, const Waveform& waveform,
+                                     const ThresholdSettings& settings);
+
+}  // namespace tp::fibre
