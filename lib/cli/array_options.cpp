@@ -25,7 +25,7 @@ Document load_document(const ArrayOptions& o, int min_electrodes) {
 }
 
 void add_model_options(CLI::App& app, ModelOptions& o) {
-  app.add_option("--model", o.model,
+  app.add_option(o.flag, o.model,
                  "Conductor model: line2d (the paper's), strip2d, point3d or rect3d (3-D, "
                  "half-space), layered (3-D, layered skin) [the document's, or line2d]")
       ->type_name("NAME");
@@ -48,7 +48,7 @@ void apply_model_options(Document& doc, const ModelOptions& o) {
   if (!o.skin.empty()) doc.setup.conductor.skin = load_skin(o.skin, "--skin");
   if (!o.skin.empty() && doc.setup.conductor.model != "layered")
     bad_input("--skin: applies to the layered model only (this is " + doc.setup.conductor.model +
-              "; add --model layered)");
+              "; add " + o.flag + " layered)");
   validate_setup(doc.setup);
 }
 

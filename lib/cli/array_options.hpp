@@ -25,6 +25,7 @@ Document load_document(const ArrayOptions& o, int min_electrodes);
 // (the 3-D models' fibre plane).  Given, they override the document's.
 struct ModelOptions {
   std::string model, plane_z, skin;
+  std::string flag = "--model";  // the conductor flag's name (fiber-threshold: --conductor)
 };
 void add_model_options(CLI::App& app, ModelOptions& o);
 // Applies the flags to doc and checks the model against the receptors (bad input, exit 2).

@@ -163,14 +163,27 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
     peak_node_mV_[j] = v_init_;
     cross_ms_[j] = -1.0;
   }
-  const auto steps = static_cast<std::size_t>(std::ceil(o.tstop_ms / o.dt_ms - 1e-9));
+  // Steps of fine_dt_ms up to fine_until_ms, then of dt_ms; each step's end is computed
+  // from integer counts, so no time accumulates rounding.
+  const bool fine = o.fine_dt_ms > 0.0 && o.fine_dt_ms < o.dt_ms && o.fine_until_ms > 0.0;
+  const auto fine_steps =
+      fine ? static_cast<std::size_t>(std::ceil(o.fine_until_ms / o.fine_dt_ms - 1e-9)) : 0;
+  const double t_fine = static_cast<double>(fine_steps) * (fine ? o.fine_dt_ms : 0.0);
+  const auto coarse_steps =
+      static_cast<std::size_t>(std::max(0.0, std::ceil((o.tstop_ms - t_fine) / o.dt_ms - 1e-9)));
+  const std::size_t steps = fine_steps + coarse_steps;
   SimResult r;
   double s_old = 0.0;
   std::size_t detected = 0;
   for (std::size_t n = 0; n < steps; ++n) {
-    const double t0 = static_cast<double>(n) * o.dt_ms, t1 = t0 + o.dt_ms;
+    auto time_at = [&](std::size_t m) {
+      return m <= fine_steps ? static_cast<double>(m) * o.fine_dt_ms
+                             : t_fine + static_cast<double>(m - fine_steps) * o.dt_ms;
+    };
+    const double t0 = fine ? time_at(n) : static_cast<double>(n) * o.dt_ms;
+    const double t1 = fine ? time_at(n + 1) : static_cast<double>(n + 1) * o.dt_ms;
     const double s_new = amplitude * w.mean_level(t0, t1);
-    step(o.dt_ms, s_old, s_new, ve);
+    step(t1 - t0, s_old, s_new, ve);
     s_old = s_new;
     r.steps = n + 1;
     for (std::size_t j = 0; j < nn; ++j) {

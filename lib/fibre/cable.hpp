@@ -31,6 +31,8 @@ struct Waveform {
 
 struct SimOptions {
   double dt_ms = 0.005;
+  double fine_dt_ms = 0.0;  // a smaller step until fine_until_ms (0: none): short pulses
+  double fine_until_ms = 0.0;
   double tstop_ms = 3.0;
   double detect_mV = -20.0;         // an action potential: v above this
   std::vector<std::size_t> detect;  // node numbers (into Axon::nodes) that must all see one

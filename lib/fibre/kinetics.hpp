@@ -33,10 +33,12 @@ class NodeKinetics {
 // MRG's node at celsius (the published model runs at 37 C; the Q10s are AXNODE's).
 std::unique_ptr<NodeKinetics> make_mrg_node(double celsius = 37.0);
 // Frankenhaeuser-Huxley (1964) as in McNeal (1976) and Reilly's SENN: GHK currents of Na,
-// K and the non-specific P current, and a leak; rates at 20 C scaled by 3^((celsius-20)/10)
+// K and the non-specific P current, and a leak; rates at 20 C scaled by
+// 3^((rate_celsius-20)/10)
 // (fh.mod of ModelDB 239006).  Potentials absolute (mV); the rate functions take v + 70.
 struct FhParams {
-  double celsius = 20.0;  // rates and the GHK factor F/RT
+  double celsius = 20.0;       // the GHK factor F/RT
+  double rate_celsius = 20.0;  // the rates' Q10 scaling (20: FH's own rates)
   double p_na_cm_s = 8e-3, p_k_cm_s = 1.2e-3, p_p_cm_s = 0.54e-3;
   double g_l_S_cm2 = 30.3e-3, e_l_mV = -69.74;
   double na_i_mM = 13.74, na_o_mM = 114.5, k_i_mM = 120.0, k_o_mM = 2.5;

@@ -28,7 +28,7 @@ class FhNode final : public NodeKinetics {
  public:
   explicit FhNode(const FhParams& p)
       : p_(p),
-        q10_(std::pow(3.0, (p.celsius - 20.0) / 10.0)),
+        q10_(std::pow(3.0, (p.rate_celsius - 20.0) / 10.0)),
         f_rt_(1e-3 * kFaraday / (kGas * (p.celsius + 273.15))) {}
 
   const char* name() const override { return "fh-node"; }

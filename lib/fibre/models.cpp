@@ -196,6 +196,12 @@ MrgGeometry mrg_geometry(double d) {
   return g;
 }
 
+bool mrg_tabulated(double d) {
+  for (const MrgGeometry& g : kMrgTable)
+    if (g.fibre_um == d) return true;
+  return false;
+}
+
 std::unique_ptr<FibreModel> make_fibre_model(const std::string& name) {
   if (name == "mrg") return std::make_unique<Mrg>();
   if (name == "senn") return std::make_unique<Senn>(SennParams{});

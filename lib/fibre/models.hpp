@@ -32,17 +32,33 @@ class FibreModel {
 
 std::unique_ptr<FibreModel> make_fibre_model(const std::string& name);
 
-// SENN's constants (defaults: Reilly's SENN as coded for Reilly 2016's benchmark, ModelDB
-// 239006; sources in docs/fibres.md).  A node of width gap_um and diameter node_ratio * D
-// every internode_ratio * D + gap_um; between nodes, axoplasm of the node's diameter.
+// SENN's constants (defaults: McNeal 1976 Table I as used by Reilly, Freeman & Larkin 1985;
+// sources in docs/fibres.md).  A node of width gap_um and diameter node_ratio * D every
+// internode_ratio * D + gap_um; between nodes, axoplasm of the node's diameter.
 struct SennParams {
   double node_ratio = 0.7;         // axon (and node) diameter / fibre diameter
   double internode_ratio = 100.0;  // internode (myelinated) length / fibre diameter
   double gap_um = 2.5;             // node width
-  double rho_i_ohm_cm = 100.0;     // axoplasm
+  double rho_i_ohm_cm = 110.0;     // axoplasm
   double c_m_uF_cm2 = 2.0;         // nodal membrane
-  double initial_mV = -69.77;      // the resting potential of the FH node with these constants
-  FhParams fh;
+  double initial_mV = -70.0;       // the resting potential
+  FhParams fh = mcneal_fh();
+  static FhParams mcneal_fh() {
+    FhParams f;
+    f.celsius = 295.18 - 273.15;  // GHK at McNeal's 295.18 K; FH's rates unscaled
+    f.rate_celsius = 20.0;
+    f.e_l_mV = -70.0 + 0.026;  // V_L = 0.026 mV above rest
+    f.na_i_mM = 13.7;
+    return f;
+  }
+  // The constants of Reilly 2016's NEURON benchmark (ModelDB 239006, axon10.hoc, fh.mod).
+  static SennParams reilly2016() {
+    SennParams p;
+    p.rho_i_ohm_cm = 100.0;
+    p.initial_mV = -69.77;
+    p.fh = FhParams{};
+    return p;
+  }
 };
 std::unique_ptr<FibreModel> make_senn(const SennParams& params);
 const std::vector<std::string>& fibre_models();  // "mrg", "senn"
@@ -55,5 +71,7 @@ struct MrgGeometry {
   double lamellae;                                      // nl
 };
 MrgGeometry mrg_geometry(double diameter_um);
+// True where the published table has the diameter (else the interpolation is used).
+bool mrg_tabulated(double diameter_um);
 
 }  // namespace tp::fibre

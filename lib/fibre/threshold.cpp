@@ -205,6 +205,8 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
 
   SimOptions o;
   o.dt_ms = s.dt_ms;
+  o.fine_dt_ms = s.fine_dt_ms;
+  o.fine_until_ms = waveform.end_ms() + 0.1;
   const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
   o.tstop_ms = waveform.end_ms() + after;
   o.detect =

@@ -1,0 +1,214 @@
+// Thresholds of every receptor, their ratios and their JSON.
+
+#include "fibre/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+
+namespace tp::fibre {
+
+bool PulseSpec::operator==(const PulseSpec& o) const {
+  auto same = [](double a, double b) {
+    return std::fabs(a - b) <= 1e-9 * std::max(1.0, std::fabs(a));
+  };
+  if (monophasic != o.monophasic || !same(width_us, o.width_us)) return false;
+  return monophasic ||
+         (same(interphase_us, o.interphase_us) && same(balance_width_us, o.balance_width_us));
+}
+
+std::string PulseSpec::describe() const {
+  std::string s = number_text(width_us) + " us ";
+  if (monophasic) return s + "monophasic";
+  s += "biphasic";
+  if (interphase_us > 0) s += ", " + number_text(interphase_us) + " us gap";
+  if (balance_width_us != width_us) s += ", " + number_text(balance_width_us) + " us balance";
+  return s;
+}
+
+void check_pulse(const PulseSpec& p) {
+  auto in = [](double v, double lo, double hi, const char* what) {
+    if (!(v >= lo && v <= hi))
+      bad_input(std::string(what) + ": " + number_text(v) + " us outside [" + number_text(lo) +
+                ", " + number_text(hi) + "] us");
+  };
+  in(p.width_us, 1.0, 10000.0, "--width");
+  if (p.monophasic) return;
+  in(p.interphase_us, 0.0, 10000.0, "--interphase");
+  in(p.balance_width_us, 1.0, 10000.0, "--balance-width");
+}
+
+double time_step_ms(const PulseSpec& p) {
+  double shortest = p.width_us;
+  if (!p.monophasic) {
+    shortest = std::min(shortest, p.balance_width_us);
+    if (p.interphase_us > 0) shortest = std::min(shortest, p.interphase_us);
+  }
+  return std::min(0.005, shortest * 1e-3 / 10.0);
+}
+
+ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
+                                   const FibreModel& model, const PulseSpec& pulse,
+                                   ThresholdSettings settings) {
+  check_pulse(pulse);
+  ThresholdReport r;
+  r.model = model.name();
+  r.pulse = pulse;
+  settings.dt_ms = 0.005;
+  const double fine = time_step_ms(pulse);
+  settings.fine_dt_ms = fine < settings.dt_ms ? fine : 0.0;
+  r.settings = settings;
+  r.dt_ms = fine;
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const Waveform w = pulse.waveform(settings.delay_ms);
+  // Every receptor's fibre and diameter first: a bad one is refused before any work.
+  for (const Receptor& rec : setup.receptors) {
+    if (!rec.fibre.myelinated)
+      bad_input("receptor " + rec.name + ": the fibre models are of myelinated fibres");
+    if (rec.fibre.diameter_um < model.min_diameter_um() ||
+        rec.fibre.diameter_um > model.max_diameter_um())
+      bad_input("receptor " + rec.name + ": diameter " + number_text(rec.fibre.diameter_um) +
+                " um outside " + model.name() + "'s range [" +
+                number_text(model.min_diameter_um()) + ", " + number_text(model.max_diameter_um()) +
+                "] um");
+  }
+  for (const Receptor& rec : setup.receptors)
+    r.receptors.push_back(receptor_threshold(model, setup, *conductor, weights, rec, w, settings));
+  for (std::size_t m = 0; m < r.receptors.size(); ++m) {
+    std::optional<double> other;
+    for (std::size_t k = 0; k < r.receptors.size(); ++k)
+      if (k != m && r.receptors[k].threshold_mA)
+        other =
+            other ? std::min(*other, *r.receptors[k].threshold_mA) : *r.receptors[k].threshold_mA;
+    if (r.receptors[m].threshold_mA && other)
+      r.ratios.push_back(*r.receptors[m].threshold_mA / *other);
+    else
+      r.ratios.emplace_back();
+  }
+  return r;
+}
+
+namespace {
+Json pulse_to_json(const PulseSpec& p) {
+  Json j = Json::object();
+  j["width_us"] = p.width_us;
+  if (p.monophasic) {
+    j["monophasic"] = true;
+  } else {
+    j["interphase_us"] = p.interphase_us;
+    j["balance_width_us"] = p.balance_width_us;
+  }
+  return j;
+}
+}  // namespace
+
+Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
+  Json j = Json::object();
+  j["fibre_model"] = r.model;
+  j["pulse"] = pulse_to_json(r.pulse);
+  Json s = Json::object();
+  s["offsets"] = r.settings.offsets;
+  s["tolerance"] = r.settings.tolerance;
+  s["max_mA"] = r.settings.max_mA;
+  s["dt_us"] = r.dt_ms * 1e3;
+  j["settings"] = s;
+  Json recs = Json::object();
+  for (std::size_t k = 0; k < r.receptors.size(); ++k) {
+    const ReceptorThreshold& t = r.receptors[k];
+    const Receptor& rec = setup.receptors[k];
+    Json e = Json::object();
+    if (t.threshold_mA) {
+      e["threshold_mA"] = *t.threshold_mA;
+      e["x_mm"] = t.x_mm;
+      e["depth_mm"] = t.depth_mm;
+      e["node"] = t.node;
+      if (rec.fibre.orientation == Orientation::horizontal) e["offset_mm"] = t.offset_mm;
+    } else {
+      e["threshold_mA"] = nullptr;
+      e["reason"] = t.reason;
+    }
+    e["orientation"] = to_string(rec.fibre.orientation);
+    e["diameter_um"] = rec.fibre.diameter_um;
+    if (r.model == "mrg")
+      e["geometry"] = mrg_tabulated(rec.fibre.diameter_um) ? "table" : "interpolated";
+    e["placements"] = t.placements;
+    recs[t.receptor] = e;
+  }
+  j["receptors"] = recs;
+  return j;
+}
+
+Json ratios_to_json(const Setup& setup, const ThresholdReport& r) {
+  Json j = Json::object();
+  for (std::size_t k = 0; k < r.ratios.size(); ++k) {
+    if (r.ratios[k])
+      j[setup.receptors[k].name] = *r.ratios[k];
+    else
+      j[setup.receptors[k].name] = nullptr;
+  }
+  return j;
+}
+
+std::optional<CarriedThresholds> carried_thresholds(const Json& doc) {
+  if (!doc.is_object() || !doc.contains("thresholds")) return std::nullopt;
+  const Json& t = doc["thresholds"];
+  auto bad = [](const std::string& what) { bad_input("thresholds: " + what); };
+  if (!t.is_object()) bad("not an object");
+  CarriedThresholds c;
+  if (!t.contains("fibre_model") || !t["fibre_model"].is_string()) bad("no fibre_model");
+  c.model = t["fibre_model"].get<std::string>();
+  if (!t.contains("pulse") || !t["pulse"].is_object()) bad("no pulse");
+  const Json& p = t["pulse"];
+  auto num = [&](const Json& o, const char* key) {
+    if (!o.contains(key) || !o[key].is_number()) bad(std::string("pulse.") + key + " missing");
+    const double v = o[key].get<double>();
+    if (!std::isfinite(v)) bad(std::string("pulse.") + key + " not finite");
+    return v;
+  };
+  c.pulse.width_us = num(p, "width_us");
+  c.pulse.monophasic =
+      p.contains("monophasic") && p["monophasic"].is_boolean() && p["monophasic"].get<bool>();
+  if (!c.pulse.monophasic) {
+    c.pulse.interphase_us = num(p, "interphase_us");
+    c.pulse.balance_width_us = num(p, "balance_width_us");
+  }
+  if (!t.contains("receptors") || !t["receptors"].is_object()) bad("no receptors");
+  for (const auto& [name, e] : t["receptors"].items()) {
+    if (!e.is_object() || !e.contains("threshold_mA")) bad(name + ": no threshold_mA");
+    const Json& v = e["threshold_mA"];
+    if (v.is_null()) {
+      c.threshold_mA.emplace_back(name, std::nullopt);
+    } else if (v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() > 0) {
+      c.threshold_mA.emplace_back(name, v.get<double>());
+    } else {
+      bad(name + ": threshold_mA must be a positive number or null");
+    }
+  }
+  return c;
+}
+
+std::string threshold_multiples(const CarriedThresholds& t, double amplitude_mA) {
+  std::vector<std::pair<double, std::string>> fired;
+  std::string none;
+  for (const auto& [name, th] : t.threshold_mA) {
+    if (th)
+      fired.emplace_back(*th, name);
+    else
+      none += (none.empty() ? "" : ", ") + name;
+  }
+  std::sort(fired.begin(), fired.end());
+  std::string s = number_text(amplitude_mA) + " mA =";
+  char buf[64];
+  for (std::size_t k = 0; k < fired.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "%s %.3g x %s%s", k ? "," : "", amplitude_mA / fired[k].first,
+                  fired[k].second.c_str(), k ? "" : " threshold");
+    s += buf;
+  }
+  if (!none.empty()) s += (fired.empty() ? " no threshold for " : "; no threshold for ") + none;
+  return s;
+}
+
+}  // namespace tp::fibre

@@ -1,0 +1,67 @@
+#pragma once
+// Thresholds of every receptor for one weight pattern, their selectivity ratios, and the
+// JSON they are reported in (docs/document-format.md, "Thresholds").
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fibre/threshold.hpp"
+#include "io/json.hpp"
+#include "model/field.hpp"
+
+namespace tp::fibre {
+
+// The pulse a threshold is for (lib/pulse's shape, or monophasic).
+struct PulseSpec {
+  double width_us = 200.0;
+  double interphase_us = 0.0;
+  double balance_width_us = 200.0;
+  bool monophasic = false;
+  Waveform waveform(double delay_ms = 0.1) const {
+    return pulse_waveform(width_us, interphase_us, balance_width_us, monophasic, delay_ms);
+  }
+  bool operator==(const PulseSpec& o) const;
+  std::string describe() const;  // "200 us biphasic (200 us balance)"
+};
+// Checks the pulse's ranges (bad input names the flag): widths 1 to 10000 us, gap 0 to
+// 10000 us.
+void check_pulse(const PulseSpec& p);
+
+struct ThresholdReport {
+  std::string model;  // fibre model
+  PulseSpec pulse;
+  ThresholdSettings settings;
+  double dt_ms = 0.0;
+  std::vector<ReceptorThreshold> receptors;
+  // threshold(M) / min over the other receptors' thresholds; empty where M has no
+  // threshold or no other receptor has one.
+  std::vector<std::optional<double>> ratios;
+};
+
+// The time step during a pulse: 5 us, or a tenth of the shortest phase if that is smaller
+// (then used during the pulse and for 0.1 ms after it, 5 us otherwise).
+double time_step_ms(const PulseSpec& p);
+
+// Every receptor of the setup, for weights (|w| = 1 carries the amplitude).
+ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
+                                   const FibreModel& model, const PulseSpec& pulse,
+                                   ThresholdSettings settings);
+
+// {"fibre_model", "pulse", "settings", "receptors": {NAME: {...}}} and the ratios.
+Json thresholds_to_json(const Setup& setup, const ThresholdReport& r);
+Json ratios_to_json(const Setup& setup, const ThresholdReport& r);
+
+// Reads back the pulse and the per-receptor thresholds a document carries ("thresholds");
+// empty when it carries none.  Bad input when they are malformed.
+struct CarriedThresholds {
+  PulseSpec pulse;
+  std::string model;
+  std::vector<std::pair<std::string, std::optional<double>>> threshold_mA;
+};
+std::optional<CarriedThresholds> carried_thresholds(const Json& document);
+// "1.5 mA = 2.13 x SAI threshold, 0.71 x RA, 0.49 x PC": the amplitude over each threshold,
+// smallest threshold first.
+std::string threshold_multiples(const CarriedThresholds& t, double amplitude_mA);
+
+}  // namespace tp::fibre

@@ -1,0 +1,259 @@
+// The fibre models against published benchmarks and physics: Reilly 2016's NEURON
+// benchmark suite (ModelDB 239006) for SENN, Reilly 1985's SENN threshold, the MRG peer's
+// published example, exact amplitude scaling, strength-duration, biphasic against
+// monophasic, rest after a sub-threshold pulse, and determinism across threads.
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "fibre/cable.hpp"
+#include "fibre/report.hpp"
+#include "fibre/threshold.hpp"
+#include "model/field.hpp"
+
+using namespace tp;
+using namespace tp::fibre;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Bisection to a relative 1e-4 (thresh4.hoc's), from 1 mA by doubling or halving.
+double bisect(CableSimulator& sim, const std::vector<double>& ve, const Waveform& w,
+              const SimOptions& o) {
+  double lo = 0.0, hi = 1.0;
+  if (sim.run(ve.data(), hi, w, o).fired) {
+    lo = 0.5;
+    while (sim.run(ve.data(), lo, w, o).fired) {
+      hi = lo;
+      lo /= 2;
+    }
+  } else {
+    while (!sim.run(ve.data(), hi, w, o).fired) {
+      lo = hi;
+      hi *= 2;
+      REQUIRE(hi < 1e4);
+    }
+  }
+  while (hi - lo > 1e-4 * hi) {
+    const double mid = 0.5 * (lo + hi);
+    (sim.run(ve.data(), mid, w, o).fired ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+// Reilly 2016 case A: a 101-node 10 um SENN fibre (the benchmark's constants), point
+// electrodes on the surface of a 300 ohm cm half-space at (x, y) cm from the central node;
+// currents +1 (cathode, the first) and -1 (anode).  Waveform: `phases` after 1 ms.
+double reilly_case_a(double tp_ms, bool biphasic, double xc_cm, double yc_cm, double xa_cm,
+                     double ya_cm) {
+  auto model = make_senn(SennParams::reilly2016());
+  CableSimulator sim(*model, model->axon(10.0, 101));
+  const Axon& a = sim.axon();
+  std::vector<double> ve(a.compartments.size());
+  for (std::size_t k = 0; k < ve.size(); ++k) {
+    const double x = (a.centre_um[k] - a.centre_um[50]) * 1e-4;
+    // rho / (2 pi r) ohm per mA = mV; cathodic current: negative potential.
+    ve[k] = -300.0 / (2 * kPi * std::hypot(x - xc_cm, yc_cm)) +
+            300.0 / (2 * kPi * std::hypot(x - xa_cm, ya_cm));
+  }
+  Waveform w;
+  w.delay_ms = 1.0;
+  w.phases = {{tp_ms, 1.0}};
+  if (biphasic) w.phases.push_back({tp_ms, -1.0});
+  SimOptions o;
+  o.detect = {0};  // APCount at node[0]
+  o.tstop_ms = 8.0;
+  o.fine_dt_ms = std::min(0.005, tp_ms / 10);
+  o.fine_until_ms = w.end_ms() + 0.1;
+  return bisect(sim, ve, w, o);
+}
+
+// Reilly 2016 case B: a uniform field along the fibre (V/m), spike counted at node[50].
+double reilly_case_b(double tp_ms, bool biphasic, double d_um) {
+  auto model = make_senn(SennParams::reilly2016());
+  CableSimulator sim(*model, model->axon(d_um, 101));
+  const Axon& a = sim.axon();
+  std::vector<double> ve(a.compartments.size());
+  for (std::size_t k = 0; k < ve.size(); ++k) ve[k] = a.centre_um[k] * 1e-3;  // 1 V/m, mV
+  Waveform w;
+  w.delay_ms = 1.0;
+  w.phases = {{tp_ms, 1.0}};
+  if (biphasic) w.phases.push_back({tp_ms, -1.0});
+  SimOptions o;
+  o.detect = {50};
+  o.tstop_ms = 12.0;
+  o.fine_dt_ms = std::min(0.005, tp_ms / 10);
+  o.fine_until_ms = w.end_ms() + 0.1;
+  return bisect(sim, ve, w, o);
+}
+
+}  // namespace
+
+// Values: ModelDB 239006 readme.html and initA.hoc/initB10.hoc/initB5.hoc (Reilly 2016,
+// "NTC-NEUR"); table in docs/fibres.md.  Tolerance 5 % (the issue's); we are within 1 %.
+TEST_CASE("SENN matches Reilly 2016's point-electrode benchmarks", "[fibre][reilly]") {
+  struct Case {
+    int id;
+    double tp_ms;
+    bool biphasic;
+    double xc, yc, xa, ya, expected_mA;
+  } cases[] = {
+      {1, 0.005, false, 0, 0.25, 50, 0.25, 11.08643}, {2, 2.0, false, 0, 0.25, 50, 0.25, 0.47032},
+      {3, 0.005, false, 0, 1.0, 50, 0.25, 409.95312}, {4, 2.0, false, 0, 1.0, 50, 0.25, 12.83545},
+      {5, 2.0, false, 50, 0.25, 0, 0.25, 2.10657},    {6, 2.0, false, 1, 1, 0, 1, 11.00342},
+      {7, 0.005, true, 0, 0.25, 50, 0.25, 32.57227},  {8, 2.0, true, 0, 0.25, 50, 0.25, 0.47038},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.id);
+    const double th = reilly_case_a(c.tp_ms, c.biphasic, c.xc, c.yc, c.xa, c.ya);
+    CHECK(th == Approx(c.expected_mA).epsilon(0.05));
+  }
+}
+
+TEST_CASE("SENN matches Reilly 2016's uniform-field benchmarks", "[fibre][reilly]") {
+  struct Case {
+    int id;
+    double tp_ms;
+    bool biphasic;
+    double d_um, expected_V_per_m;
+  } cases[] = {
+      {13, 0.005, false, 10, 281.54688}, {14, 2.0, false, 10, 11.36865},
+      {15, 2.0, false, 5, 22.71191},     {16, 0.005, true, 10, 802.59375},
+      {17, 2.0, true, 10, 11.05225},     {18, 2.0, true, 5, 22.08301},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.id);
+    CHECK(reilly_case_b(c.tp_ms, c.biphasic, c.d_um) == Approx(c.expected_V_per_m).epsilon(0.05));
+  }
+}
+
+// Reilly, Freeman & Larkin 1985: a 20 um SENN fibre, a point electrode 2 mm from a node in
+// an infinite 300 ohm cm medium, a 100 us cathodic pulse: 0.68 mA.
+TEST_CASE("SENN reproduces Reilly 1985's 0.68 mA", "[fibre][reilly]") {
+  auto model = make_fibre_model("senn");
+  CableSimulator sim(*model, model->axon(20.0, 51));
+  const Axon& a = sim.axon();
+  std::vector<double> ve(a.compartments.size());
+  for (std::size_t k = 0; k < ve.size(); ++k) {
+    const double x_cm = (a.centre_um[k] - a.centre_um[25]) * 1e-4;
+    ve[k] = -300.0 / (4 * kPi * std::hypot(x_cm, 0.2));
+  }
+  Waveform w;
+  w.phases = {{0.1, 1.0}};
+  SimOptions o;
+  o.detect = {5, 45};
+  o.tstop_ms = 3.0;
+  o.dt_ms = 0.001;
+  CHECK(bisect(sim, ve, w, o) == Approx(0.68).epsilon(0.05));
+}
+
+// The peer's README example: 10 um MRG, 41 nodes, line2d single cathode, 0.9 mm deep,
+// 200 us monophasic: NEURON gives 0.35566 mA.  Same scheme and dt: same bisection result.
+TEST_CASE("MRG reproduces the NEURON peer's example", "[fibre][mrg]") {
+  auto model = make_fibre_model("mrg");
+  CableSimulator sim(*model, model->axon(10.0, 41));
+  const Axon& a = sim.axon();
+  std::vector<double> ve(a.compartments.size());
+  const double mid = a.centre_um[a.nodes[20]];
+  for (std::size_t k = 0; k < ve.size(); ++k)
+    ve[k] = 1e3 * 3.0 / 10.0 * std::log(std::hypot((a.centre_um[k] - mid) * 1e-3, 0.9)) / (2 * kPi);
+  Waveform w;
+  w.phases = {{0.2, 1.0}};
+  SimOptions o;
+  o.detect = {5, 35};
+  double lo = 0.0, hi = 0.05;
+  while (!sim.run(ve.data(), hi, w, o).fired) {
+    lo = hi;
+    hi *= 2;
+  }
+  while (hi - lo > 1e-3 * hi) {
+    const double m = 0.5 * (lo + hi);
+    (sim.run(ve.data(), m, w, o).fired ? hi : lo) = m;
+  }
+  CHECK(hi == Approx(0.35566406).epsilon(1e-6));
+}
+
+namespace {
+struct PaperCase {
+  Setup setup;
+  std::vector<double> w{0, 0, -0.5, 1, -0.5, 0, 0, 0};
+  std::unique_ptr<Conductor> conductor = make_conductor(setup.conductor, setup.array);
+  std::unique_ptr<FibreModel> model = make_fibre_model("mrg");
+  const Receptor& sai() const { return setup.receptors[1]; }
+};
+double sai_threshold(const PaperCase& p, const std::vector<double>& w, const Waveform& wf,
+                     unsigned threads = 1, std::size_t offsets = 4) {
+  ThresholdSettings s;
+  s.threads = threads;
+  s.offsets = offsets;
+  auto r = receptor_threshold(*p.model, p.setup, *p.conductor, w, p.sai(), wf, s);
+  REQUIRE(r.threshold_mA);
+  return *r.threshold_mA;
+}
+}  // namespace
+
+TEST_CASE("Doubling every weight halves the threshold exactly", "[fibre][mrg]") {
+  PaperCase p;
+  std::vector<double> w2;
+  for (double x : p.w) w2.push_back(2 * x);
+  const Waveform wf = pulse_waveform(200, 0, 200, false);
+  CHECK(sai_threshold(p, w2, wf) == sai_threshold(p, p.w, wf) / 2);
+}
+
+TEST_CASE("The threshold does not depend on the number of threads", "[fibre][mrg]") {
+  PaperCase p;
+  const Waveform wf = pulse_waveform(200, 0, 200, false);
+  CHECK(sai_threshold(p, p.w, wf, 1, 8) == sai_threshold(p, p.w, wf, 2, 8));
+}
+
+TEST_CASE("Strength-duration is monotone; charge-balanced pulses need more", "[fibre][mrg]") {
+  PaperCase p;
+  double last = 1e9;
+  for (double width : {20.0, 50.0, 100.0, 200.0, 500.0, 1000.0}) {
+    CAPTURE(width);
+    const double mono = sai_threshold(p, p.w, pulse_waveform(width, 0, width, true));
+    const double bi = sai_threshold(p, p.w, pulse_waveform(width, 0, width, false));
+    CHECK(mono < last);
+    CHECK(bi >= mono);
+    last = mono;
+  }
+}
+
+TEST_CASE("A sub-threshold pulse leaves the fibre at rest", "[fibre][mrg]") {
+  auto model = make_fibre_model("mrg");
+  CableSimulator sim(*model, model->axon(10.0, 21));
+  const Axon& a = sim.axon();
+  std::vector<double> ve(a.compartments.size());
+  const double mid = a.centre_um[a.nodes[10]];
+  for (std::size_t k = 0; k < ve.size(); ++k)
+    ve[k] = -300.0 / (4 * kPi * std::hypot((a.centre_um[k] - mid) * 1e-4, 0.1));
+  const Waveform w = pulse_waveform(200, 0, 200, false);
+  SimOptions o;
+  o.detect = {3, 17};
+  o.tstop_ms = 6.0;
+  o.stop_when_detected = false;
+  sim.run(ve.data(), 0.0, w, o);
+  const std::vector<double> quiet = sim.final_node_mV();
+  const double th = bisect(sim, ve, w, o);
+  const SimResult r = sim.run(ve.data(), 0.95 * th, w, o);
+  CHECK_FALSE(r.fired);
+  for (std::size_t j = 0; j < quiet.size(); ++j) {
+    CAPTURE(j);
+    CHECK(sim.peak_node_mV()[j] < -20.0);
+    CHECK(sim.final_node_mV()[j] == Approx(quiet[j]).margin(0.5));
+  }
+}
+
+TEST_CASE("The amplitude lattice", "[fibre]") {
+  const Lattice l(1e-3);
+  CHECK(l.amplitude(l.per_octave) == 2.0);
+  CHECK(l.amplitude(1) / l.amplitude(0) <= 1.001);
+  for (double a : {1e-4, 0.3, 1.0, 1.7, 99.9, 100.0}) {
+    const long j = l.at_or_above(a);
+    CHECK(l.amplitude(j) >= a);
+    CHECK(l.amplitude(j - 1) < a);
+  }
+}

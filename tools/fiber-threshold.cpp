@@ -1,0 +1,196 @@
+// fiber-threshold: the current at which each receptor's fibre fires, from a nonlinear
+// myelinated-fibre model (MRG or SENN) in the conductor's field, and the threshold
+// selectivity of the weight pattern.
+//
+//   optimize-weights --mode SAI | fiber-threshold > sai-thresholds.json
+//   optimize-weights --mode SAI | fiber-threshold --strength-duration > sd.csv
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli/array_options.hpp"
+#include "cli/entry.hpp"
+#include "cli/fibre_options.hpp"
+#include "core/error.hpp"
+#include "io/document.hpp"
+#include "io/number.hpp"
+#include "model/ranges.hpp"
+
+namespace {
+
+std::string num(double v) {
+  return tp::number_text(v);
+}
+
+// Weiss's law, charge = rheobase x (width + chronaxie), fitted by least squares.
+bool weiss_fit(const std::vector<double>& t_us, const std::vector<double>& i_mA, double& rheo,
+               double& chron) {
+  const std::size_t n = t_us.size();
+  if (n < 2) return false;
+  double st = 0, sq = 0, stt = 0, stq = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double q = i_mA[k] * t_us[k];
+    st += t_us[k];
+    sq += q;
+    stt += t_us[k] * t_us[k];
+    stq += t_us[k] * q;
+  }
+  const double dn = static_cast<double>(n);
+  const double den = dn * stt - st * st;
+  if (!(den > 0)) return false;
+  rheo = (dn * stq - st * sq) / den;
+  const double icpt = (sq - rheo * st) / dn;
+  if (!(rheo > 0)) return false;
+  chron = icpt / rheo;
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Thresholds in mA: the current on an electrode of |weight| = 1 at which each receptor's "
+      "fibre fires, from a compartmental myelinated-fibre model (MRG or SENN) driven by the "
+      "conductor's potential, for the whole pulse waveform.\nPrints the weights document with "
+      "\"thresholds\" (per receptor: threshold_mA, where the action potential started) and "
+      "\"threshold_ratio\" (threshold over the lowest other receptor's: below 1, that receptor "
+      "fires first); or, with --strength-duration, a CSV table.",
+      "fiber-threshold"};
+  tp::cli::ArrayOptions array;
+  tp::cli::ModelOptions conductor;
+  conductor.flag = "--conductor";
+  tp::cli::FibreOptions fibre;
+  std::string weights, widths;
+  bool sd = false;
+  auto* o_config = tp::cli::add_array_options(
+      app, array, "Weights document (optimize-weights' JSON; - for stdin) [stdin]");
+  auto* o_w = app.add_option("--weights", weights,
+                             "Comma-separated weights, one per electrode (positive = cathodic), "
+                             "instead of a document")
+                  ->type_name("W1,W2,...");
+  o_config->excludes(o_w);
+  tp::cli::add_model_options(app, conductor);
+  tp::cli::add_fibre_options(app, fibre, "--model");
+  app.add_flag("--strength-duration", sd,
+               "Print a strength-duration table (CSV: receptor,width_us,threshold_mA,charge_nC,"
+               "rheobase_mA,chronaxie_us; rheobase and chronaxie from Weiss's law)");
+  app.add_option("--widths", widths,
+                 "--strength-duration: main phase widths, us, 1 to 10000 "
+                 "[20,50,100,200,500,1000,2000]")
+      ->type_name("US1,US2,...");
+
+  return tp::cli::run(app, argc, argv, [&] {
+    tp::cli::ArrayOptions source = array;
+    if (source.config.empty() && weights.empty()) source.config = "-";
+    tp::Document doc = tp::cli::load_document(source, 1);
+    if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
+    tp::cli::apply_model_options(doc, conductor);
+    if (!doc.weights)
+      tp::bad_input("weights: the document has none (optimize-weights writes them; or --weights)");
+    if (doc.weights->size() != doc.setup.array.size())
+      tp::bad_input("weights: expected " + std::to_string(doc.setup.array.size()) +
+                    " values (one per electrode), got " + std::to_string(doc.weights->size()));
+    double wmax = 0.0;
+    for (std::size_t i = 0; i < doc.weights->size(); ++i) {
+      tp::ranges::check((*doc.weights)[i], tp::ranges::weight,
+                        "weights item " + std::to_string(i + 1));
+      wmax = std::max(wmax, std::fabs((*doc.weights)[i]));
+    }
+    if (!(wmax > 0.0)) tp::bad_input("weights: every weight is zero");
+    if (!widths.empty() && !sd) tp::bad_input("--widths: applies to --strength-duration only");
+    tp::cli::FibreSetup f = tp::cli::apply_fibre_options(fibre, *doc.weights);
+
+    if (sd) {
+      std::vector<double> ws = widths.empty()
+                                   ? std::vector<double>{20, 50, 100, 200, 500, 1000, 2000}
+                                   : tp::parse_list(widths, "--widths");
+      for (double w : ws)
+        if (!(w >= 1.0 && w <= 10000.0))
+          tp::bad_input("--widths: " + num(w) + " us outside [1, 10000] us");
+      if (ws.size() > 64) tp::bad_input("--widths: at most 64 widths");
+      std::sort(ws.begin(), ws.end());
+      ws.erase(std::unique(ws.begin(), ws.end()), ws.end());
+      const std::size_t nr = doc.setup.receptors.size();
+      std::vector<std::vector<std::optional<double>>> th(nr);
+      for (double w : ws) {
+        tp::fibre::PulseSpec p = f.pulse;
+        p.balance_width_us = f.pulse.balance_width_us / f.pulse.width_us * w;
+        p.width_us = w;
+        const auto rep =
+            tp::fibre::compute_thresholds(doc.setup, *doc.weights, *f.model, p, f.settings);
+        for (std::size_t k = 0; k < nr; ++k) th[k].push_back(rep.receptors[k].threshold_mA);
+      }
+      std::string out = "receptor,width_us,threshold_mA,charge_nC,rheobase_mA,chronaxie_us\n";
+      std::string talk;
+      for (std::size_t k = 0; k < nr; ++k) {
+        std::vector<double> t, i;
+        for (std::size_t q = 0; q < ws.size(); ++q)
+          if (th[k][q]) {
+            t.push_back(ws[q]);
+            i.push_back(*th[k][q]);
+          }
+        double rheo = 0, chron = 0;
+        const bool fit = weiss_fit(t, i, rheo, chron);
+        for (std::size_t q = 0; q < ws.size(); ++q) {
+          out += doc.setup.receptors[k].name + "," + num(ws[q]) + ",";
+          if (th[k][q])
+            out += num(*th[k][q]) + "," + num(*th[k][q] * ws[q]);
+          else
+            out += ",";
+          out += fit ? "," + num(rheo) + "," + num(chron) : ",,";
+          out += "\n";
+        }
+        char line[200];
+        if (fit)
+          std::snprintf(line, sizeof line, " %s rheobase %.4g mA chronaxie %.4g us;",
+                        doc.setup.receptors[k].name.c_str(), rheo, chron);
+        else
+          std::snprintf(line, sizeof line, " %s no fit;", doc.setup.receptors[k].name.c_str());
+        talk += line;
+      }
+      std::fprintf(stderr, "fiber-threshold: %s, %s%s\n", f.model->name(),
+                   f.pulse.monophasic ? "monophasic" : "biphasic", talk.c_str());
+      tp::cli::write_stdout(out);
+      return;
+    }
+
+    const auto rep =
+        tp::fibre::compute_thresholds(doc.setup, *doc.weights, *f.model, f.pulse, f.settings);
+    doc.extra.erase("thresholds");
+    doc.extra.erase("threshold_ratio");
+    doc.extra.erase("threshold_multiples");
+    doc.extra["thresholds"] = tp::fibre::thresholds_to_json(doc.setup, rep);
+    doc.extra["threshold_ratio"] = tp::fibre::ratios_to_json(doc.setup, rep);
+    std::string talk =
+        "fiber-threshold: " + std::string(f.model->name()) + ", " + f.pulse.describe() + ":";
+    for (std::size_t k = 0; k < rep.receptors.size(); ++k) {
+      const auto& t = rep.receptors[k];
+      talk += " " + t.receptor + " " + (t.threshold_mA ? num(*t.threshold_mA) + " mA" : "none");
+      if (rep.ratios[k]) {
+        char b[48];
+        std::snprintf(b, sizeof b, " (ratio %.3g)", *rep.ratios[k]);
+        talk += b;
+      }
+      talk += k + 1 < rep.receptors.size() ? "," : "";
+    }
+    if (f.stimulus) {
+      double amp = 0.0;
+      for (double c : f.stimulus->currents_mA) amp = std::max(amp, std::fabs(c));
+      tp::Json mult = tp::Json::object();
+      for (const auto& t : rep.receptors) {
+        if (t.threshold_mA)
+          mult[t.receptor] = amp / *t.threshold_mA;
+        else
+          mult[t.receptor] = nullptr;
+      }
+      doc.extra["threshold_multiples"] = mult;
+      const auto carried = tp::fibre::carried_thresholds(doc.extra);
+      talk += "\nfiber-threshold: stimulus " + tp::fibre::threshold_multiples(*carried, amp);
+    }
+    std::fprintf(stderr, "%s\n", talk.c_str());
+    tp::cli::write_stdout(tp::dump_json(tp::document_to_json(doc)));
+  });
+}
