@@ -168,9 +168,10 @@ int main(int argc, char** argv) {
         "fiber-threshold: " + std::string(f.model->name()) + ", " + f.pulse.describe() + ":";
     for (std::size_t k = 0; k < rep.receptors.size(); ++k) {
       const auto& t = rep.receptors[k];
-      talk += " " + t.receptor + " " + (t.threshold_mA ? num(*t.threshold_mA) + " mA" : "none");
+      char b[64];
+      std::snprintf(b, sizeof b, "%.4g mA", t.threshold_mA ? *t.threshold_mA : 0.0);
+      talk += " " + t.receptor + " " + (t.threshold_mA ? std::string(b) : "none");
       if (rep.ratios[k]) {
-        char b[48];
         std::snprintf(b, sizeof b, " (ratio %.3g)", *rep.ratios[k]);
         talk += b;
       }

@@ -1,0 +1,38 @@
+tp_cli_smoke(fiber-threshold)
+set(IN ${CMAKE_CURRENT_SOURCE_DIR}/inputs)
+
+# Bad input: one line on stderr, exit 2, nothing on stdout.
+tp_cli_test(fiber-threshold refuses-unknown-model refuses 2 --stdin ${IN}/sai-weights.json -- fiber-threshold --model hh)
+tp_cli_test(fiber-threshold refuses-too-thin refuses 2 -- fiber-threshold --config ${IN}/fibre-too-thin.json)
+tp_cli_test(fiber-threshold refuses-unmyelinated refuses 2 -- fiber-threshold --config ${IN}/fibre-unmyelinated.json)
+tp_cli_test(fiber-threshold refuses-no-weights refuses 2 -- fiber-threshold --config ${IN}/no-weights.json)
+tp_cli_test(fiber-threshold refuses-zero-weights refuses 2 -- fiber-threshold --electrodes 2 --weights 0,0)
+tp_cli_test(fiber-threshold refuses-weight-count refuses 2 -- fiber-threshold --weights 1,-1)
+tp_cli_test(fiber-threshold refuses-empty-stdin refuses 2 -- fiber-threshold)
+tp_cli_test(fiber-threshold refuses-stimulus-over-limit refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --stimulus ${IN}/stimulus-over-limit.json)
+tp_cli_test(fiber-threshold refuses-stimulus-unbalanced refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --stimulus ${IN}/stimulus-unbalanced.json)
+tp_cli_test(fiber-threshold refuses-stimulus-other-weights refuses 2 -- fiber-threshold --config ${IN}/sai-optimum.json --stimulus ${IN}/sai-stimulus.json)
+tp_cli_test(fiber-threshold refuses-stimulus-and-width refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --stimulus ${IN}/sai-stimulus.json --width 100)
+tp_cli_test(fiber-threshold refuses-zero-width refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --width 0)
+tp_cli_test(fiber-threshold refuses-huge-width refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --width 1e6)
+tp_cli_test(fiber-threshold refuses-nan-gap refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --interphase nan)
+tp_cli_test(fiber-threshold refuses-tolerance refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --tolerance 0.5)
+tp_cli_test(fiber-threshold refuses-offsets refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --offsets 0)
+tp_cli_test(fiber-threshold refuses-threads refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --threads 0)
+tp_cli_test(fiber-threshold refuses-widths-alone refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --widths 100)
+tp_cli_test(fiber-threshold refuses-bad-widths refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --strength-duration --widths 100,0)
+tp_cli_test(fiber-threshold refuses-layered-too-deep refuses 2 -- fiber-threshold --config ${IN}/layered-receptor-too-deep.json)
+tp_cli_test(fiber-threshold refuses-skin-without-layered refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --skin fingertip)
+
+# Golden output: the paper's SAI optimum under MRG and SENN, and a strength-duration table.
+tp_cli_test(fiber-threshold golden-sai-mrg golden fiber-threshold/sai-mrg.json --rtol 1e-9 --
+  fiber-threshold --config ${IN}/sai-optimum.json)
+tp_cli_test(fiber-threshold golden-sai-senn golden fiber-threshold/sai-senn.json --rtol 1e-9 --
+  fiber-threshold --config ${IN}/sai-optimum.json --model senn --offsets 4)
+tp_cli_test(fiber-threshold golden-sd golden fiber-threshold/sd.csv --rtol 1e-9 --
+  fiber-threshold --config ${IN}/sai-weights.json --strength-duration --widths 50,200,1000 --monophasic --offsets 2)
+
+# Scripted checks: determinism, threads, no threshold below 100 mA, the stimulus multiples.
+foreach(script deterministic no-threshold stimulus)
+  tp_cli_test(fiber-threshold ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/${script}.sh)
+endforeach()

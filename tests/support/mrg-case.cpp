@@ -1,0 +1,114 @@
+// mrg-case: the project's MRG threshold for one case of the NEURON peer's JSON format
+// (../shared/peers/mrg-neuron/mrg_threshold.py): the same fibre (a middle node at offset_mm,
+// `nodes` nodes), the same field (line2d weights or a table, linearly interpolated), the
+// same pulse after 0.1 ms, the same detection (-20 mV at the sixth node from each end) and
+// the same bisection (from 0.05 mA, doubling, to a relative tolerance).  Used by the
+// `neuron` tests and scripts/bench, side by side with the peer.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fibre/cable.hpp"
+
+using namespace tp::fibre;
+using json = nlohmann::json;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<double> field(const json& c, const std::vector<double>& x) {
+  const double y = c.at("depth_mm").get<double>();
+  const json& f = c.at("field");
+  std::vector<double> out;
+  if (f.contains("line2d")) {
+    const json& p = f["line2d"];
+    const auto w = p.at("weights").get<std::vector<double>>();
+    const double pitch = p.at("pitch_mm").get<double>();
+    const double rho = p.value("resistivity_ohm_m", 3.0), len = p.value("length_mm", 10.0);
+    const double n = static_cast<double>(w.size());
+    for (double xx : x) {
+      double v = 0.0;
+      for (std::size_t i = 0; i < w.size(); ++i) {
+        const double r = std::hypot(xx - (static_cast<double>(i) - (n - 1) / 2) * pitch, y);
+        v += w[i] * rho / len * std::log(r) / (2 * kPi);
+      }
+      out.push_back(1000.0 * v);
+    }
+    return out;
+  }
+  const auto xs = f.at("table").at("x_mm").get<std::vector<double>>();
+  const auto ps = f.at("table").at("psi_mV_per_mA").get<std::vector<double>>();
+  for (double xx : x) {
+    if (xx <= xs.front()) {
+      out.push_back(ps.front());
+      continue;
+    }
+    if (xx >= xs.back()) {
+      out.push_back(ps.back());
+      continue;
+    }
+    std::size_t lo = 0, hi = xs.size() - 1;
+    while (hi - lo > 1) {
+      const std::size_t m = (lo + hi) / 2;
+      (xs[m] <= xx ? lo : hi) = m;
+    }
+    const double a = (xx - xs[lo]) / (xs[hi] - xs[lo]);
+    out.push_back(ps[lo] * (1 - a) + ps[hi] * a);
+  }
+  return out;
+}
+}  // namespace
+
+int main() {
+  try {
+    const json c = json::parse(std::string(std::istreambuf_iterator<char>(std::cin), {}));
+    const auto t0 = std::chrono::steady_clock::now();
+    auto model = make_fibre_model("mrg");
+    const auto nodes = c.value("nodes", 41);
+    CableSimulator sim(*model, model->axon(c.value("diameter_um", 10.0), nodes));
+    const Axon& a = sim.axon();
+    const double mid = a.centre_um[a.nodes[static_cast<std::size_t>(nodes / 2)]];
+    std::vector<double> x;
+    for (double s : a.centre_um) x.push_back((s - mid) / 1000.0 + c.value("offset_mm", 0.0));
+    const std::vector<double> ve = field(c, x);
+    Waveform w;
+    w.delay_ms = 0.1;
+    for (const auto& p : c.value("pulse", json::array({json::array({0.2, 1.0})})))
+      w.phases.push_back({p[0].get<double>(), p[1].get<double>()});
+    SimOptions o;
+    o.dt_ms = c.value("dt_ms", 0.005);
+    o.tstop_ms = c.value("tstop_ms", 3.0);
+    o.detect = {5, static_cast<std::size_t>(nodes - 6)};
+    const double tol = c.value("tolerance", 1e-3);
+    double lo = 0.0, hi = 0.05;
+    bool none = false;
+    while (!sim.run(ve.data(), hi, w, o).fired) {
+      lo = hi;
+      hi *= 2;
+      if (hi > 1e4) {
+        none = true;
+        break;
+      }
+    }
+    while (!none && hi - lo > tol * hi) {
+      const double m = 0.5 * (lo + hi);
+      (sim.run(ve.data(), m, w, o).fired ? hi : lo) = m;
+    }
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    json out;
+    out["threshold_mA"] = none ? json(nullptr) : json(hi);
+    out["time_s"] = std::round(s * 1e4) / 1e4;
+    std::cout << out.dump() << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "mrg-case: " << e.what() << "\n";
+    return 2;
+  }
+}
