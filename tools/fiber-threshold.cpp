@@ -180,6 +180,7 @@ int main(int argc, char** argv) {
     if (f.stimulus) {
       double amp = 0.0;
       for (double c : f.stimulus->currents_mA) amp = std::max(amp, std::fabs(c));
+      amp /= wmax;  // the current of an electrode of |w| = 1
       tp::Json mult = tp::Json::object();
       for (const auto& t : rep.receptors) {
         if (t.threshold_mA)

@@ -4,11 +4,15 @@
 //   --port emu optimize-weights --mode SAI | make-pulse --amplitude 1 --format csv |
 //   scripts/plot-pulse -o pulse.png
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
+#include "fibre/report.hpp"
 #include "io/csv.hpp"
 #include "io/document.hpp"
 #include "io/number.hpp"
@@ -80,7 +84,17 @@ int main(int argc, char** argv) {
     s.electrode_area_mm2 = doc.setup.array.width_mm * doc.setup.array.length_mm;
     if (!(s.electrode_area_mm2 > 0.0)) tp::bad_input("array: electrode area must be > 0");
     if (doc.extra.contains("mode")) s.carried["mode"] = doc.extra["mode"];
+    for (const char* key : {"thresholds", "threshold_ratio"})
+      if (doc.extra.contains(key)) s.carried[key] = doc.extra[key];
     tp::check_stimulus(s, tp::StimulusLimits{});
+    // The amplitude against the thresholds the document carries (fiber-threshold's).
+    tp::fibre::PulseSpec spec;
+    spec.width_us = s.shape.width_us;
+    spec.interphase_us = s.shape.interphase_us;
+    spec.balance_width_us = s.shape.balance_width_us;
+    double peak = 0.0;
+    for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
+    const auto against = tp::fibre::stimulus_against_thresholds(doc.extra, spec, peak);
     // Every option is checked before anything is printed, on stderr or stdout.
     long pulses = 0;
     if (format == "csv") {
@@ -99,6 +113,7 @@ int main(int argc, char** argv) {
                  tp::number_text(f.max_charge_density_uC_per_cm2).c_str(),
                  tp::number_text(f.max_rms_current_mA).c_str(),
                  tp::number_text(f.max_net_charge_nC).c_str());
+    if (against) std::fprintf(stderr, "make-pulse: %s\n", against->c_str());
     if (format == "csv") {
       std::vector<std::string> header{"t_us"};
       for (std::size_t i = 0; i < s.currents_mA.size(); ++i)

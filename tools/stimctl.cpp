@@ -4,12 +4,16 @@
 //   --duration 1 stimctl --port /dev/ttyACM0 < stimulus.json producer | stimctl --port /dev/ttyACM0
 //   --live --stimulus stimulus.json   # weight frames as JSON lines
 
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
+#include "fibre/report.hpp"
 #include "host/session.hpp"
 #include "host/signals.hpp"
 #include "io/number.hpp"
@@ -69,6 +73,18 @@ int main(int argc, char** argv) {
       tp::bad_input("--record: only with --port emu (stim-emu has its own)");
     const tp::Stimulus s = tp::stimulus_from_json(tp::read_json(stimulus_path, "stimulus"));
     tp::check_stimulus(s, tp::StimulusLimits{});
+    // The amplitude against the thresholds the document carries (fiber-threshold's, through
+    // make-pulse): said before anything is sent.
+    std::optional<std::string> against;
+    {
+      tp::fibre::PulseSpec spec;
+      spec.width_us = s.shape.width_us;
+      spec.interphase_us = s.shape.interphase_us;
+      spec.balance_width_us = s.shape.balance_width_us;
+      double peak = 0.0;
+      for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
+      against = tp::fibre::stimulus_against_thresholds(s.carried, spec, peak);
+    }
     tp::host::SessionOptions opt;
     opt.live = live;
     opt.latency_log = latency_log;
@@ -92,6 +108,7 @@ int main(int argc, char** argv) {
     emu.record_path = record;
     const auto transport = tp::host::open_transport(port, baud, emu, backend);
     tp::host::arm_emergency_stop(transport->native_handle());
+    if (against) std::fprintf(stderr, "stimctl: %s\n", against->c_str());
     const tp::host::SessionReport r = tp::host::run_session(*transport, s, opt, signal_flag);
     tp::host::arm_emergency_stop(-1);
     if (r.preempted)

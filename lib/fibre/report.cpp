@@ -56,6 +56,8 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
   check_pulse(pulse);
   ThresholdReport r;
   r.model = model.name();
+  r.peak_weight = 0.0;
+  for (double x : weights) r.peak_weight = std::max(r.peak_weight, std::fabs(x));
   r.pulse = pulse;
   settings.dt_ms = 0.005;
   const double fine = time_step_ms(pulse);
@@ -109,6 +111,7 @@ Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
   Json j = Json::object();
   j["fibre_model"] = r.model;
   j["pulse"] = pulse_to_json(r.pulse);
+  j["peak_weight"] = r.peak_weight;
   Json s = Json::object();
   s["offsets"] = r.settings.offsets;
   s["tolerance"] = r.settings.tolerance;
@@ -175,6 +178,12 @@ std::optional<CarriedThresholds> carried_thresholds(const Json& doc) {
     c.pulse.interphase_us = num(p, "interphase_us");
     c.pulse.balance_width_us = num(p, "balance_width_us");
   }
+  if (t.contains("peak_weight")) {
+    if (!t["peak_weight"].is_number() || !(t["peak_weight"].get<double>() > 0) ||
+        !std::isfinite(t["peak_weight"].get<double>()))
+      bad("peak_weight must be a positive number");
+    c.peak_weight = t["peak_weight"].get<double>();
+  }
   if (!t.contains("receptors") || !t["receptors"].is_object()) bad("no receptors");
   for (const auto& [name, e] : t["receptors"].items()) {
     if (!e.is_object() || !e.contains("threshold_mA")) bad(name + ": no threshold_mA");
@@ -209,6 +218,17 @@ std::string threshold_multiples(const CarriedThresholds& t, double amplitude_mA)
   }
   if (!none.empty()) s += (fired.empty() ? " no threshold for " : "; no threshold for ") + none;
   return s;
+}
+
+std::optional<std::string> stimulus_against_thresholds(const Json& doc, const PulseSpec& pulse,
+                                                       double peak_current_mA) {
+  const auto t = carried_thresholds(doc);
+  if (!t) return std::nullopt;
+  if (!(t->pulse == pulse))
+    return "the thresholds carried are for a " + t->pulse.describe() + " pulse, not this " +
+           pulse.describe() + " one: no multiples (fiber-threshold --stimulus gives them)";
+  return threshold_multiples(*t, peak_current_mA / t->peak_weight) + " (" + t->model + ", " +
+         pulse.describe() + ")";
 }
 
 }  // namespace tp::fibre

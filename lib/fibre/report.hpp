@@ -29,7 +29,8 @@ struct PulseSpec {
 void check_pulse(const PulseSpec& p);
 
 struct ThresholdReport {
-  std::string model;  // fibre model
+  std::string model;         // fibre model
+  double peak_weight = 1.0;  // max |w|: the stimulus's peak current is peak_weight x amplitude
   PulseSpec pulse;
   ThresholdSettings settings;
   double dt_ms = 0.0;
@@ -56,6 +57,7 @@ Json ratios_to_json(const Setup& setup, const ThresholdReport& r);
 // empty when it carries none.  Bad input when they are malformed.
 struct CarriedThresholds {
   PulseSpec pulse;
+  double peak_weight = 1.0;
   std::string model;
   std::vector<std::pair<std::string, std::optional<double>>> threshold_mA;
 };
@@ -63,5 +65,11 @@ std::optional<CarriedThresholds> carried_thresholds(const Json& document);
 // "1.5 mA = 2.13 x SAI threshold, 0.71 x RA, 0.49 x PC": the amplitude over each threshold,
 // smallest threshold first.
 std::string threshold_multiples(const CarriedThresholds& t, double amplitude_mA);
+// What make-pulse and stimctl print for a stimulus whose document carries thresholds: the
+// multiples for the stimulus's peak current (peak_weight x the amplitude), or why there are
+// none (thresholds for another pulse).  Empty when the document carries none; bad input when
+// they are malformed.
+std::optional<std::string> stimulus_against_thresholds(const Json& document, const PulseSpec& pulse,
+                                                       double peak_current_mA);
 
 }  // namespace tp::fibre

@@ -13,3 +13,24 @@ grep -q "stimulus 1.5 mA = " err.txt || fail "no multiples on stderr: $(cat err.
 fiber-threshold --config "$in" > d.json
 cmp <(jq .thresholds t.json) <(jq .thresholds d.json) || fail "--stimulus changed the pulse"
 echo "ok: multiples"
+
+# make-pulse carries the thresholds and says the multiples for the same pulse only; so does
+# stimctl before it sends anything.
+make-pulse --amplitude 1.5 --count 20 < t.json > s.json 2> mp.txt
+grep -q "make-pulse: 1.5 mA = .* x .* threshold" mp.txt || fail "make-pulse: no multiples: $(cat mp.txt)"
+jq -e '.thresholds.receptors.SAI.threshold_mA > 0' s.json >/dev/null || fail "thresholds not carried"
+make-pulse --amplitude 1.5 --count 2 --width 100 < t.json > /dev/null 2> mp2.txt
+grep -q "not this 100 us biphasic one" mp2.txt || fail "make-pulse: other pulse not noticed: $(cat mp2.txt)"
+stimctl --port emu --stimulus s.json 2> sc.txt
+grep -q "^stimctl: 1.5 mA = " sc.txt || fail "stimctl: no multiples: $(cat sc.txt)"
+# Half the weights: the same currents come from twice the amplitude; the multiples hold.
+jq '.weights |= map(. / 2)' "$in" > half.json
+fiber-threshold --config half.json > th.json 2>/dev/null
+make-pulse --amplitude 2 --count 2 < th.json 2> mp3.txt > s3.json
+stimctl --port emu --stimulus s3.json 2> sc3.txt
+grep -q "^stimctl: 2 mA = " sc3.txt || fail "stimctl: amplitude per unit weight not used: $(cat sc3.txt)"
+# Malformed thresholds are bad input, before anything is sent.
+jq '.thresholds.receptors.SAI.threshold_mA = -1' s.json > bad.json
+rc=0; stimctl --port emu --stimulus bad.json > out.txt 2> err.txt || rc=$?
+[[ $rc -eq 2 && ! -s out.txt ]] || fail "stimctl accepted a negative threshold (exit $rc)"
+echo "ok: make-pulse and stimctl multiples"
