@@ -11,7 +11,9 @@
 
 #include "cli/array_options.hpp"
 #include "cli/entry.hpp"
+#include "cli/fibre_options.hpp"
 #include "core/error.hpp"
+#include "fibre/optimize.hpp"
 #include "io/document.hpp"
 #include "io/reports.hpp"
 #include "model/ranges.hpp"
@@ -29,6 +31,9 @@ int main(int argc, char** argv) {
   std::string mode, max_current, min_af, format = "json";
   int random_starts = 0, pattern_starts = 2;
   bool timing = false, certify = false, no_header = false;
+  std::string objective = "af";
+  tp::cli::FibreOptions fibre;
+  int max_evaluations = 120;
   app.add_option("--mode", mode,
                  "Target receptor: RA, SAI or PC (any name in the receptor table); several, "
                  "comma-separated, with --format csv: one row each")
@@ -58,6 +63,19 @@ int main(int argc, char** argv) {
   app.add_flag("--no-header", no_header, "CSV without its header row (for sweeps)");
   app.add_flag("--timing", timing,
                "Add solver.time_s to the JSON (output is then not reproducible)");
+  app.add_option("--objective", objective,
+                 "af: the paper's problem, the activating function (default); threshold: then "
+                 "minimise the threshold ratio from a fibre model (see --fibre-model), starting "
+                 "from the AF optimum, never worse than it (JSON, one mode)")
+      ->check(CLI::IsMember({"af", "threshold"}));
+  auto* fibre_group = app.add_option_group("threshold objective");
+  tp::cli::add_fibre_options(*fibre_group, fibre, "--fibre-model");
+  fibre_group
+      ->add_option("--max-evaluations", max_evaluations,
+                   "Threshold evaluations of the search, 10 to 10000 [120: about 40 s "
+                   "on 2 cores for the paper's array]")
+      ->check(CLI::Range(10, 10000))
+      ->type_name("N");
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");
@@ -92,9 +110,67 @@ int main(int argc, char** argv) {
     for (const std::string& m : modes) tp::receptor_index(doc.setup, m);  // all before any work
     if (modes.size() > 1 && format != "csv")
       tp::bad_input("--mode: several modes need --format csv (one row each)");
+    const bool by_threshold = objective == "threshold";
+    for (const char* flag :
+         {"--fibre-model", "--stimulus", "--width", "--interphase", "--balance-width",
+          "--monophasic", "--offsets", "--tolerance", "--threads", "--max-evaluations"})
+      if (!by_threshold && app.count(flag) > 0)
+        tp::bad_input(std::string(flag) + ": applies to --objective threshold only");
+    if (by_threshold && (format != "json" || modes.size() > 1))
+      tp::bad_input("--objective threshold: one mode, JSON output");
+    if (by_threshold && certify)
+      tp::bad_input("--certify: certifies the AF problem, not --objective threshold");
+    if (by_threshold && opt.min_target_af > 0)
+      tp::bad_input("--min-target-af: applies to the AF objective only");
     if (certify && format != "json")
       tp::bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
 
+    if (by_threshold) {
+      const tp::OptimizeResult r = tp::optimize_mode(doc.setup, modes[0], opt);
+      const tp::cli::FibreSetup f = tp::cli::apply_fibre_options(fibre, r.weights);
+      tp::fibre::ThresholdSearchOptions so;
+      so.max_evaluations = static_cast<std::size_t>(max_evaluations);
+      const std::size_t target = tp::receptor_index(doc.setup, modes[0]);
+      const tp::fibre::ThresholdOptimum t = tp::fibre::optimize_threshold(
+          doc.setup, target, r.weights, *f.model, f.pulse, f.settings, so);
+      tp::Document out = doc;
+      out.weights = t.weights;
+      std::vector<double> currents;
+      for (double w : t.weights) currents.push_back(w * opt.max_current_mA);
+      const tp::Summary s = tp::summarize(doc.setup, currents);
+      out.extra.erase("thresholds");
+      out.extra.erase("threshold_ratio");
+      out.extra["mode"] = modes[0];
+      out.extra["objective"] = "threshold";
+      const auto af_ratio = tp::mode_ratio(s.peaks, modes[0]);
+      out.extra["ratio"] = af_ratio ? tp::Json(*af_ratio) : tp::Json(nullptr);
+      out.extra["currents_mA"] = currents;
+      out.extra["thresholds"] = tp::fibre::thresholds_to_json(doc.setup, t.report);
+      out.extra["threshold_ratio"] = tp::fibre::ratios_to_json(doc.setup, t.report);
+      tp::Json start = tp::Json::object();
+      start["weights"] = r.weights;
+      start["ratio"] = r.ratio;
+      const double f0 = tp::fibre::threshold_objective(t.start, target, f.settings.max_mA);
+      start["threshold_ratio"] = std::isfinite(f0) ? tp::Json(f0) : tp::Json(nullptr);
+      start["threshold_mA"] = t.start.receptors[target].threshold_mA
+                                  ? tp::Json(*t.start.receptors[target].threshold_mA)
+                                  : tp::Json(nullptr);
+      out.extra["af_optimum"] = start;
+      const double f1 = tp::fibre::threshold_objective(t.report, target, f.settings.max_mA);
+      tp::Json search = tp::Json::object();
+      search["method"] = "Nelder-Mead over the zero-sum weights from the AF optimum";
+      search["evaluations"] = t.evaluations;
+      search["improved"] = t.improved;
+      out.extra["threshold_search"] = search;
+      const std::string text = tp::dump_json(tp::document_to_json(out));
+      std::fprintf(stderr,
+                   "optimize-weights: %s threshold ratio %.4g (AF optimum: %.4g), AF ratio %.4g, "
+                   "%zu evaluations, %s, %s\n",
+                   modes[0].c_str(), f1, f0, af_ratio ? *af_ratio : 0.0, t.evaluations,
+                   f.model->name(), f.pulse.describe().c_str());
+      tp::cli::write_stdout(text);
+      return;
+    }
     std::string out = format == "csv" && !no_header ? tp::optimize_csv_header(doc.setup) : "";
     std::string talk;
     for (const std::string& m : modes) {

@@ -26,7 +26,7 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
                            "[= --width: symmetric]")
                 ->type_name("US");
   auto* m = app.add_flag("--monophasic", o.monophasic,
-                         "Main phase only (analysis: never delivered uncharged-balanced)");
+                         "Main phase only (for analysis: not charge-balanced, so never delivered)");
   st->excludes(w)->excludes(g)->excludes(b)->excludes(m);
   m->excludes(g)->excludes(b);
   app.add_option("--offsets", o.offsets,

@@ -52,7 +52,7 @@ double time_step_ms(const PulseSpec& p) {
 
 ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
                                    const FibreModel& model, const PulseSpec& pulse,
-                                   ThresholdSettings settings) {
+                                   ThresholdSettings settings, PotentialCache* cache) {
   check_pulse(pulse);
   ThresholdReport r;
   r.model = model.name();
@@ -78,7 +78,8 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
                 "] um");
   }
   for (const Receptor& rec : setup.receptors)
-    r.receptors.push_back(receptor_threshold(model, setup, *conductor, weights, rec, w, settings));
+    r.receptors.push_back(
+        receptor_threshold(model, setup, *conductor, weights, rec, w, settings, cache));
   for (std::size_t m = 0; m < r.receptors.size(); ++m) {
     std::optional<double> other;
     for (std::size_t k = 0; k < r.receptors.size(); ++k)

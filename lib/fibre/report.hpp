@@ -45,9 +45,10 @@ struct ThresholdReport {
 double time_step_ms(const PulseSpec& p);
 
 // Every receptor of the setup, for weights (|w| = 1 carries the amplitude).
+// cache (optional) keeps the unit potentials between calls with the same setup.
 ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
                                    const FibreModel& model, const PulseSpec& pulse,
-                                   ThresholdSettings settings);
+                                   ThresholdSettings settings, PotentialCache* cache = nullptr);
 
 // {"fibre_model", "pulse", "settings", "receptors": {NAME: {...}}} and the ratios.
 Json thresholds_to_json(const Setup& setup, const ThresholdReport& r);

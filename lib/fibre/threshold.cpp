@@ -7,6 +7,7 @@
 #include <cmath>
 #include <mutex>
 #include <thread>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "io/number.hpp"
@@ -163,13 +164,14 @@ class Search {
 };
 
 std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>& weights,
-                                  const Axon& axon, double x0, double y0, bool vertical) {
-  std::vector<double> psi(weights.size()), ve(axon.centre_um.size());
+                                  const Axon& axon, double x0, double y0, bool vertical,
+                                  PotentialCache& cache) {
+  const std::vector<double>& psi = cache.unit(c, axon, x0, y0, vertical);
+  const std::size_t n = weights.size();
+  std::vector<double> ve(axon.centre_um.size());
   for (std::size_t k = 0; k < ve.size(); ++k) {
-    const double s = axon.centre_um[k] * 1e-3;
-    c.unit_potentials(vertical ? x0 : x0 + s, vertical ? y0 + s : y0, psi.data());
     double v = 0.0;
-    for (std::size_t i = 0; i < weights.size(); ++i) v += weights[i] * psi[i];
+    for (std::size_t i = 0; i < n; ++i) v += weights[i] * psi[k * n + i];
     ve[k] = 1e3 * v;  // V -> mV
   }
   return ve;
@@ -177,10 +179,32 @@ std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>&
 
 }  // namespace
 
+bool PotentialCache::Key::operator<(const Key& o) const {
+  return std::tie(model, diameter_um, x0_mm, y0_mm, compartments, vertical) <
+         std::tie(o.model, o.diameter_um, o.x0_mm, o.y0_mm, o.compartments, o.vertical);
+}
+
+const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& axon, double x0,
+                                                double y0, bool vertical) {
+  Key key{axon.model, axon.diameter_um, x0, y0, axon.centre_um.size(), vertical};
+  auto it = std::lower_bound(entries_.begin(), entries_.end(), key,
+                             [](const auto& e, const Key& k) { return e.first < k; });
+  if (it != entries_.end() && !(key < it->first)) return it->second;
+  const std::size_t n = c.size();
+  std::vector<double> psi(axon.centre_um.size() * n);
+  for (std::size_t k = 0; k < axon.centre_um.size(); ++k) {
+    const double s = axon.centre_um[k] * 1e-3;
+    c.unit_potentials(vertical ? x0 : x0 + s, vertical ? y0 + s : y0, &psi[k * n]);
+  }
+  return entries_.insert(it, {std::move(key), std::move(psi)})->second;
+}
+
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
                                      const Conductor& conductor, const std::vector<double>& weights,
                                      const Receptor& r, const Waveform& waveform,
-                                     const ThresholdSettings& s) {
+                                     const ThresholdSettings& s, PotentialCache* shared_cache) {
+  PotentialCache local_cache;
+  PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
   const double d = r.fibre.diameter_um;
   if (!r.fibre.myelinated)
     bad_input("receptor " + r.name + ": the fibre models are myelinated (myelinated: false)");
@@ -240,7 +264,7 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
         const double left = reg.x0_mm - 5.0 * L_mm;
         p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
         p.y0_mm = y;
-        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, y, false);
+        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, y, false, cache);
         ps.push_back(std::move(p));
       }
     }
@@ -258,7 +282,7 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
         p.vertical = true;
         p.x0_mm = from + step * static_cast<double>(k);
         p.y0_mm = r.depth_min_mm;
-        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true);
+        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, cache);
         ps.push_back(std::move(p));
       }
       evaluate(std::move(ps), best.found ? best.j : guess);

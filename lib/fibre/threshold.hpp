@@ -67,9 +67,29 @@ struct Lattice {
 Waveform pulse_waveform(double width_us, double interphase_us, double balance_width_us,
                         bool monophasic, double delay_ms = 0.1);
 
+// The unit potentials (one per electrode) at the compartments of fibre placements, kept
+// between calls for the same conductor: an optimiser changes the weights, not the fibres.
+class PotentialCache {
+ public:
+  // psi[k * electrodes + i]: electrode i's potential (V per mA) at compartment k.
+  const std::vector<double>& unit(const Conductor& c, const Axon& axon, double x0_mm, double y0_mm,
+                                  bool vertical);
+
+ private:
+  struct Key {
+    std::string model;
+    double diameter_um, x0_mm, y0_mm;
+    std::size_t compartments;
+    bool vertical;
+    bool operator<(const Key& o) const;
+  };
+  std::vector<std::pair<Key, std::vector<double>>> entries_;  // kept sorted by key
+};
+
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
                                      const Conductor& conductor, const std::vector<double>& weights,
                                      const Receptor& receptor, const Waveform& waveform,
-                                     const ThresholdSettings& settings);
+                                     const ThresholdSettings& settings,
+                                     PotentialCache* cache = nullptr);
 
 }  // namespace tp::fibre

@@ -41,3 +41,14 @@ tp_cli_test(optimize-weights compare-models script ${CMAKE_CURRENT_SOURCE_DIR}/o
 tp_cli_test(optimize-weights sweep script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/sweep.sh)
 tp_cli_test(optimize-weights large-array script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/large-array.sh)
 set_tests_properties(optimize-weights.large-array PROPERTIES TIMEOUT 300)
+
+# --objective threshold (fibre thresholds; docs/fibres.md).
+tp_cli_test(optimize-weights threshold-objective script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/threshold.sh)
+tp_cli_test(optimize-weights refuses-fibre-flag-without-threshold refuses 2 -- optimize-weights --mode SAI --fibre-model senn)
+tp_cli_test(optimize-weights refuses-width-without-threshold refuses 2 -- optimize-weights --mode SAI --width 100)
+tp_cli_test(optimize-weights refuses-threshold-csv refuses 2 -- optimize-weights --mode SAI --objective threshold --format csv)
+tp_cli_test(optimize-weights refuses-threshold-modes refuses 2 -- optimize-weights --mode SAI,PC --objective threshold)
+tp_cli_test(optimize-weights refuses-threshold-certify refuses 2 -- optimize-weights --mode SAI --objective threshold --certify)
+tp_cli_test(optimize-weights refuses-threshold-evaluations refuses 2 -- optimize-weights --mode SAI --objective threshold --max-evaluations 5)
+tp_cli_test(optimize-weights refuses-unknown-objective refuses 2 -- optimize-weights --mode SAI --objective charge)
+tp_cli_test(optimize-weights refuses-threshold-unknown-fibre refuses 2 -- optimize-weights --mode SAI --objective threshold --fibre-model hh)

@@ -1,0 +1,131 @@
+// Nelder-Mead over the weights' zero-sum subspace (optimize.hpp).
+
+#include "fibre/optimize.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "core/error.hpp"
+
+namespace tp::fibre {
+
+double threshold_objective(const ThresholdReport& r, std::size_t target, double max_mA) {
+  if (!r.receptors[target].threshold_mA) return std::numeric_limits<double>::infinity();
+  double other = max_mA;
+  for (std::size_t k = 0; k < r.receptors.size(); ++k)
+    if (k != target && r.receptors[k].threshold_mA)
+      other = std::min(other, *r.receptors[k].threshold_mA);
+  return *r.receptors[target].threshold_mA / other;
+}
+
+namespace {
+
+// z (n - 1 free weights) -> w: the last weight balances the sum; scaled to max |w| = 1.
+std::vector<double> weights_of(const std::vector<double>& z) {
+  std::vector<double> w(z);
+  w.push_back(-std::accumulate(z.begin(), z.end(), 0.0));
+  double m = 0.0;
+  for (double x : w) m = std::max(m, std::fabs(x));
+  if (!(m > 0.0) || !std::isfinite(m)) return {};
+  for (double& x : w) x /= m;  // the largest becomes exactly +-1
+  return w;
+}
+
+}  // namespace
+
+ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
+                                    const std::vector<double>& af, const FibreModel& model,
+                                    const PulseSpec& pulse, const ThresholdSettings& settings,
+                                    const ThresholdSearchOptions& opt) {
+  const std::size_t n = af.size();
+  if (n < 2) bad_input("array: optimisation needs at least 2 electrodes");
+  PotentialCache cache;
+  ThresholdOptimum out;
+  out.start = compute_thresholds(setup, af, model, pulse, settings, &cache);
+  out.evaluations = 1;
+  const double f0 = threshold_objective(out.start, target, settings.max_mA);
+  std::vector<double> best_w = af;
+  ThresholdReport best_r = out.start;
+  double best_f = f0;
+
+  auto evaluate = [&](const std::vector<double>& z) {
+    const std::vector<double> w = weights_of(z);
+    if (w.empty()) return std::numeric_limits<double>::infinity();
+    ThresholdReport r = compute_thresholds(setup, w, model, pulse, settings, &cache);
+    ++out.evaluations;
+    const double f = threshold_objective(r, target, settings.max_mA);
+    if (f < best_f) {
+      best_f = f;
+      best_w = w;
+      best_r = std::move(r);
+    }
+    return f;
+  };
+
+  // The simplex: the AF optimum and one step along each free weight.
+  const std::size_t d = n - 1;
+  std::vector<std::vector<double>> x(d + 1, std::vector<double>(af.begin(), af.end() - 1));
+  std::vector<double> f(d + 1, f0);
+  for (std::size_t k = 0; k < d && out.evaluations < opt.max_evaluations; ++k) {
+    x[k + 1][k] += x[k + 1][k] > 0 ? -opt.initial_step : opt.initial_step;
+    f[k + 1] = evaluate(x[k + 1]);
+  }
+  std::vector<std::size_t> order(d + 1);
+  auto point = [&](const std::vector<double>& c, const std::vector<double>& p, double t) {
+    std::vector<double> r(d);
+    for (std::size_t i = 0; i < d; ++i) r[i] = c[i] + t * (p[i] - c[i]);
+    return r;
+  };
+  while (out.evaluations + 2 <= opt.max_evaluations) {
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return f[a] < f[b]; });
+    const std::size_t lo = order.front(), hi = order.back(), next = order[d - 1];
+    double size = 0.0;
+    for (std::size_t k = 0; k <= d; ++k)
+      for (std::size_t i = 0; i < d; ++i) size = std::max(size, std::fabs(x[k][i] - x[lo][i]));
+    if (size < 1e-3) break;
+    std::vector<double> c(d, 0.0);
+    for (std::size_t k = 0; k <= d; ++k)
+      if (k != hi)
+        for (std::size_t i = 0; i < d; ++i) c[i] += x[k][i] / static_cast<double>(d);
+    const std::vector<double> xr = point(c, x[hi], -1.0);
+    const double fr = evaluate(xr);
+    if (fr < f[lo]) {
+      const std::vector<double> xe = point(c, x[hi], -2.0);
+      const double fe = evaluate(xe);
+      if (fe < fr) {
+        x[hi] = xe;
+        f[hi] = fe;
+      } else {
+        x[hi] = xr;
+        f[hi] = fr;
+      }
+    } else if (fr < f[next]) {
+      x[hi] = xr;
+      f[hi] = fr;
+    } else {
+      const bool outside = fr < f[hi];
+      const std::vector<double> xc = point(c, outside ? xr : x[hi], 0.5);
+      const double fc = evaluate(xc);
+      if (fc < std::min(fr, f[hi])) {
+        x[hi] = xc;
+        f[hi] = fc;
+      } else {  // shrink towards the best
+        for (std::size_t k = 0; k <= d && out.evaluations < opt.max_evaluations; ++k) {
+          if (k == lo) continue;
+          x[k] = point(x[lo], x[k], 0.5);
+          f[k] = evaluate(x[k]);
+        }
+      }
+    }
+  }
+  out.improved = best_f < f0;
+  out.weights = out.improved ? best_w : af;
+  out.report = out.improved ? std::move(best_r) : out.start;
+  return out;
+}
+
+}  // namespace tp::fibre

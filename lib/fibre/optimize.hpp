@@ -1,0 +1,41 @@
+#pragma once
+// Weights chosen by threshold: minimise threshold_ratio of a mode (its receptor's threshold
+// over the lowest other receptor's) from the AF optimum, by a Nelder-Mead search over the
+// weights with Sum w = 0 (docs/fibres.md, "Weights by threshold").  The thresholds are
+// points of an amplitude lattice and minima over node alignments, so the objective is
+// piecewise constant: no gradient to follow, hence a derivative-free search.  The search is
+// bounded by a number of evaluations (not by time, so the result is the same on any
+// machine) and never returns weights worse than the AF optimum it starts from.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "fibre/report.hpp"
+
+namespace tp::fibre {
+
+struct ThresholdSearchOptions {
+  std::size_t max_evaluations = 120;  // threshold evaluations (each: every receptor)
+  double initial_step = 0.25;         // the first simplex's size, in weight units
+};
+
+struct ThresholdOptimum {
+  std::vector<double> weights;  // Sum = 0 (to rounding), max |w| = 1
+  ThresholdReport report;       // at the weights
+  ThresholdReport start;        // at the AF optimum
+  std::size_t evaluations = 0;
+  bool improved = false;  // false: the AF optimum is returned
+};
+
+// target: the receptor index of the mode; af_weights: the AF optimum (Sum = 0, max |w| = 1).
+ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
+                                    const std::vector<double>& af_weights, const FibreModel& model,
+                                    const PulseSpec& pulse, const ThresholdSettings& settings,
+                                    const ThresholdSearchOptions& options);
+
+// The objective: threshold(target) / lowest other threshold; a receptor without threshold
+// counts as firing at settings.max_mA (the target: +infinity).
+double threshold_objective(const ThresholdReport& r, std::size_t target, double max_mA);
+
+}  // namespace tp::fibre
