@@ -42,6 +42,9 @@ Waveform pulse_waveform(double width_us, double interphase_us, double balance_wi
 
 namespace {
 
+constexpr std::size_t kMaxNodes = 2000;  // a 2 um MRG fibre 400 mm long
+constexpr double kMaxPotentials = 3e7;   // 240 MB of unit potentials
+
 // One fibre position: the potential along it for amplitude 1, and where its first node is.
 struct Placement {
   std::vector<double> ve_mV;
@@ -192,6 +195,13 @@ const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& 
   if (it != entries_.end() && !(key < it->first)) return it->second;
   const std::size_t n = c.size();
   std::vector<double> psi(axon.centre_um.size() * n);
+  // Bounded: past kMaxCached values the cache starts again (callers hold no references).
+  stored_ += psi.size();
+  if (stored_ > kMaxCached) {
+    entries_.clear();
+    stored_ = psi.size();
+    it = entries_.end();
+  }
   for (std::size_t k = 0; k < axon.centre_um.size(); ++k) {
     const double s = axon.centre_um[k] * 1e-3;
     c.unit_potentials(vertical ? x0 : x0 + s, vertical ? y0 + s : y0, &psi[k * n]);
@@ -224,7 +234,27 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
     nodes = static_cast<std::size_t>(std::ceil((reg.x1_mm - reg.x0_mm) / L_mm - 1e-9)) + 12;
   }
   if (nodes < 12) nodes = 12;
+  // Bounded work and memory: a fibre of at most kMaxNodes nodes, and the unit potentials of
+  // all its placements (compartments x electrodes x placements) at most kMaxPotentials.
+  if (nodes > kMaxNodes)
+    bad_input("receptor " + r.name + ": its fibre would need " + std::to_string(nodes) +
+              " nodes (at most " + std::to_string(kMaxNodes) + "): the array and margins span " +
+              number_text(vertical ? r.depth_max_mm - r.depth_min_mm : reg.x1_mm - reg.x0_mm) +
+              " mm at " + number_text(L_mm) + " mm per internode");
   const Axon axon = model.axon(d, nodes);
+  {
+    const double per_placement =
+        static_cast<double>(axon.compartments.size()) * static_cast<double>(conductor.size());
+    // Vertical: every quarter pitch across the array +- one pitch, then 2 x 9 refinements.
+    const double placements =
+        vertical
+            ? 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) - 1) + 27.0
+            : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
+    if (per_placement * placements > kMaxPotentials)
+      bad_input("receptor " + r.name + ": " + number_text(per_placement * placements) +
+                " unit potentials to keep (at most " + number_text(kMaxPotentials) +
+                "): fewer electrodes, a shorter array or fewer --offsets");
+  }
   const double length_mm = axon.length_um() * 1e-3;
 
   SimOptions o;

@@ -84,6 +84,8 @@ class PotentialCache {
     bool operator<(const Key& o) const;
   };
   std::vector<std::pair<Key, std::vector<double>>> entries_;  // kept sorted by key
+  std::size_t stored_ = 0;                                    // values in entries_
+  static constexpr std::size_t kMaxCached = 40'000'000;       // 320 MB
 };
 
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
