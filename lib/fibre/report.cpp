@@ -66,17 +66,8 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
   r.dt_ms = fine;
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const Waveform w = pulse.waveform(settings.delay_ms);
-  // Every receptor's fibre and diameter first: a bad one is refused before any work.
-  for (const Receptor& rec : setup.receptors) {
-    if (!rec.fibre.myelinated)
-      bad_input("receptor " + rec.name + ": the fibre models are of myelinated fibres");
-    if (rec.fibre.diameter_um < model.min_diameter_um() ||
-        rec.fibre.diameter_um > model.max_diameter_um())
-      bad_input("receptor " + rec.name + ": diameter " + number_text(rec.fibre.diameter_um) +
-                " um outside " + model.name() + "'s range [" +
-                number_text(model.min_diameter_um()) + ", " + number_text(model.max_diameter_um()) +
-                "] um");
-  }
+  // Every receptor's fibre first: a bad one is refused before any work.
+  for (const Receptor& rec : setup.receptors) fibre_nodes(model, setup, *conductor, rec, settings);
   for (const Receptor& rec : setup.receptors)
     r.receptors.push_back(
         receptor_threshold(model, setup, *conductor, weights, rec, w, settings, cache));

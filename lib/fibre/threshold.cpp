@@ -209,12 +209,8 @@ const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& 
   return entries_.insert(it, {std::move(key), std::move(psi)})->second;
 }
 
-ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
-                                     const Conductor& conductor, const std::vector<double>& weights,
-                                     const Receptor& r, const Waveform& waveform,
-                                     const ThresholdSettings& s, PotentialCache* shared_cache) {
-  PotentialCache local_cache;
-  PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
+std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
+                        const Receptor& r, const ThresholdSettings& s) {
   const double d = r.fibre.diameter_um;
   if (!r.fibre.myelinated)
     bad_input("receptor " + r.name + ": the fibre models are myelinated (myelinated: false)");
@@ -241,10 +237,10 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
               " nodes (at most " + std::to_string(kMaxNodes) + "): the array and margins span " +
               number_text(vertical ? r.depth_max_mm - r.depth_min_mm : reg.x1_mm - reg.x0_mm) +
               " mm at " + number_text(L_mm) + " mm per internode");
-  const Axon axon = model.axon(d, nodes);
   {
-    const double per_placement =
-        static_cast<double>(axon.compartments.size()) * static_cast<double>(conductor.size());
+    const double compartments =
+        static_cast<double>(nodes) * static_cast<double>(model.axon(d, 2).compartments.size() - 1);
+    const double per_placement = compartments * static_cast<double>(conductor.size());
     // Vertical: every quarter pitch across the array +- one pitch, then 2 x 9 refinements.
     const double placements =
         vertical
@@ -255,6 +251,21 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
                 " unit potentials to keep (at most " + number_text(kMaxPotentials) +
                 "): fewer electrodes, a shorter array or fewer --offsets");
   }
+  return nodes;
+}
+
+ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
+                                     const Conductor& conductor, const std::vector<double>& weights,
+                                     const Receptor& r, const Waveform& waveform,
+                                     const ThresholdSettings& s, PotentialCache* shared_cache) {
+  PotentialCache local_cache;
+  PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
+  const double d = r.fibre.diameter_um;
+  const std::size_t nodes = fibre_nodes(model, setup, conductor, r, s);
+  const double L_mm = model.internode_um(d) * 1e-3;
+  const bool vertical = r.fibre.orientation == Orientation::vertical;
+  const Region reg = fibre_region(setup, r);
+  const Axon axon = model.axon(d, nodes);
   const double length_mm = axon.length_um() * 1e-3;
 
   SimOptions o;

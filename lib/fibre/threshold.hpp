@@ -88,6 +88,12 @@ class PotentialCache {
   static constexpr std::size_t kMaxCached = 40'000'000;       // 320 MB
 };
 
+// The number of nodes of a receptor's fibre; bad input when the model cannot represent it
+// (unmyelinated, diameter out of range) or when its work would be unbounded (at most 2000
+// nodes, and 3e7 unit potentials over its placements).
+std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
+                        const Receptor& receptor, const ThresholdSettings& settings);
+
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
                                      const Conductor& conductor, const std::vector<double>& weights,
                                      const Receptor& receptor, const Waveform& waveform,

@@ -23,6 +23,7 @@ tp_cli_test(fiber-threshold refuses-widths-alone refuses 2 -- fiber-threshold --
 tp_cli_test(fiber-threshold refuses-bad-widths refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --strength-duration --widths 100,0)
 tp_cli_test(fiber-threshold refuses-layered-too-deep refuses 2 -- fiber-threshold --config ${IN}/layered-receptor-too-deep.json)
 tp_cli_test(fiber-threshold refuses-skin-without-layered refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --skin fingertip)
+tp_cli_test(fiber-threshold refuses-fibre-too-long refuses 2 -- fiber-threshold --config ${IN}/fibre-too-long.json)
 
 # Golden output: the paper's SAI optimum under MRG and SENN, and a strength-duration table.
 tp_cli_test(fiber-threshold golden-sai-mrg golden fiber-threshold/sai-mrg.json --rtol 1e-9 --
