@@ -85,6 +85,9 @@ int main(int argc, char** argv) {
   return tp::cli::run(app, argc, argv, [&] {
     tp::cli::ArrayOptions source = array;
     if (source.config.empty() && weights.empty()) source.config = "-";
+    if (source.config == "-" && fibre.stimulus == "-")
+      tp::bad_input(
+          "--stimulus -: stdin already carries the weights document (give --config FILE)");
     tp::Document doc = tp::cli::load_document(source, 1);
     if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     tp::cli::apply_model_options(doc, conductor);
@@ -113,14 +116,24 @@ int main(int argc, char** argv) {
       if (ws.size() > 64) tp::bad_input("--widths: at most 64 widths");
       std::sort(ws.begin(), ws.end());
       ws.erase(std::unique(ws.begin(), ws.end()), ws.end());
-      const std::size_t nr = doc.setup.receptors.size();
-      std::vector<std::vector<std::optional<double>>> th(nr);
-      for (double w : ws) {
+      auto pulse_at = [&](double w) {  // the balancing phase keeps its ratio to the width
         tp::fibre::PulseSpec p = f.pulse;
         p.balance_width_us = f.pulse.balance_width_us / f.pulse.width_us * w;
         p.width_us = w;
-        const auto rep =
-            tp::fibre::compute_thresholds(doc.setup, *doc.weights, *f.model, p, f.settings);
+        return p;
+      };
+      for (double w : ws) {  // every pulse checked before any work
+        const tp::fibre::PulseSpec p = pulse_at(w);
+        if (!p.monophasic && !(p.balance_width_us >= 1.0 && p.balance_width_us <= 10000.0))
+          tp::bad_input("--widths: " + num(w) + " us gives a balancing phase of " +
+                        num(p.balance_width_us) + " us, outside [1, 10000] us");
+      }
+      const std::size_t nr = doc.setup.receptors.size();
+      std::vector<std::vector<std::optional<double>>> th(nr);
+      tp::fibre::PotentialCache cache;  // the same fibres for every width
+      for (double w : ws) {
+        const auto rep = tp::fibre::compute_thresholds(doc.setup, *doc.weights, *f.model,
+                                                       pulse_at(w), f.settings, &cache);
         for (std::size_t k = 0; k < nr; ++k) th[k].push_back(rep.receptors[k].threshold_mA);
       }
       std::string out = "receptor,width_us,threshold_mA,charge_nC,rheobase_mA,chronaxie_us\n";

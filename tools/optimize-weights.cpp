@@ -151,7 +151,8 @@ int main(int argc, char** argv) {
       start["weights"] = r.weights;
       start["ratio"] = r.ratio;
       const double f0 = tp::fibre::threshold_objective(t.start, target, f.settings.max_mA);
-      start["threshold_ratio"] = std::isfinite(f0) ? tp::Json(f0) : tp::Json(nullptr);
+      start["threshold_ratio"] =
+          t.start.ratios[target] ? tp::Json(*t.start.ratios[target]) : tp::Json(nullptr);
       start["threshold_mA"] = t.start.receptors[target].threshold_mA
                                   ? tp::Json(*t.start.receptors[target].threshold_mA)
                                   : tp::Json(nullptr);

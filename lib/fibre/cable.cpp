@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/error.hpp"
 
@@ -163,25 +164,44 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
     peak_node_mV_[j] = v_init_;
     cross_ms_[j] = -1.0;
   }
-  // Steps of fine_dt_ms up to fine_until_ms, then of dt_ms; each step's end is computed
-  // from integer counts, so no time accumulates rounding.
-  const bool fine = o.fine_dt_ms > 0.0 && o.fine_dt_ms < o.dt_ms && o.fine_until_ms > 0.0;
-  const auto fine_steps =
-      fine ? static_cast<std::size_t>(std::ceil(o.fine_until_ms / o.fine_dt_ms - 1e-9)) : 0;
-  const double t_fine = static_cast<double>(fine_steps) * (fine ? o.fine_dt_ms : 0.0);
-  const auto coarse_steps =
-      static_cast<std::size_t>(std::max(0.0, std::ceil((o.tstop_ms - t_fine) / o.dt_ms - 1e-9)));
-  const std::size_t steps = fine_steps + coarse_steps;
+  // The step schedule: dt_ms, finer in the windows of short phases.
+  windows_.clear();
+  {
+    double t = w.delay_ms;
+    for (const Waveform::Phase& ph : w.phases) {
+      if (ph.duration_ms < o.short_phase_ms && ph.level != 0.0 && ph.duration_ms > 0.0)
+        windows_.push_back({t, t + ph.duration_ms + 0.1,
+                            std::max(o.min_dt_ms, std::min(o.dt_ms, ph.duration_ms / 10.0))});
+      t += ph.duration_ms;
+    }
+  }
+  const bool uniform = windows_.empty();
+  const auto uniform_steps =
+      static_cast<std::size_t>(std::ceil(o.tstop_ms / o.dt_ms - 1e-9));  // as NEURON counts
   SimResult r;
   double s_old = 0.0;
   std::size_t detected = 0;
-  for (std::size_t n = 0; n < steps; ++n) {
-    auto time_at = [&](std::size_t m) {
-      return m <= fine_steps ? static_cast<double>(m) * o.fine_dt_ms
-                             : t_fine + static_cast<double>(m - fine_steps) * o.dt_ms;
-    };
-    const double t0 = fine ? time_at(n) : static_cast<double>(n) * o.dt_ms;
-    const double t1 = fine ? time_at(n + 1) : static_cast<double>(n + 1) * o.dt_ms;
+  double t1 = 0.0;
+  for (std::size_t n = 0;; ++n) {
+    double t0;
+    if (uniform) {  // t from the step count: no rounding accumulates
+      if (n >= uniform_steps) break;
+      t0 = static_cast<double>(n) * o.dt_ms;
+      t1 = static_cast<double>(n + 1) * o.dt_ms;
+    } else {
+      if (t1 >= o.tstop_ms - 1e-12) break;
+      t0 = t1;
+      double dt = o.dt_ms, edge = o.tstop_ms;
+      for (const Window& win : windows_) {
+        if (t0 >= win.from_ms - 1e-12 && t0 < win.until_ms - 1e-12) {
+          dt = std::min(dt, win.dt_ms);
+          edge = std::min(edge, win.until_ms);
+        } else if (win.from_ms > t0 + 1e-12) {
+          edge = std::min(edge, win.from_ms);
+        }
+      }
+      t1 = std::min(t0 + dt, edge);
+    }
     const double s_new = amplitude * w.mean_level(t0, t1);
     step(t1 - t0, s_old, s_new, ve);
     s_old = s_new;
@@ -189,6 +209,9 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
     for (std::size_t j = 0; j < nn; ++j) {
       const std::size_t k = axon_.nodes[j];
       const double vm = vi_[k] - vp_[k];
+      if (!std::isfinite(vm))
+        failure("fibre: the simulation diverged (membrane potential not finite at node " +
+                std::to_string(j) + ", amplitude " + std::to_string(amplitude) + " mA)");
       if (vm > peak_node_mV_[j]) peak_node_mV_[j] = vm;
       if (cross_ms_[j] < 0 && vm > o.detect_mV) {
         cross_ms_[j] = t1;

@@ -31,8 +31,10 @@ struct Waveform {
 
 struct SimOptions {
   double dt_ms = 0.005;
-  double fine_dt_ms = 0.0;  // a smaller step until fine_until_ms (0: none): short pulses
-  double fine_until_ms = 0.0;
+  // A phase shorter than short_phase_ms (and not a gap at zero) gets steps of a tenth of its
+  // length, at least min_dt_ms, from its start to 0.1 ms after its end.
+  double short_phase_ms = 0.05;
+  double min_dt_ms = 1e-4;
   double tstop_ms = 3.0;
   double detect_mV = -20.0;         // an action potential: v above this
   std::vector<std::size_t> detect;  // node numbers (into Axon::nodes) that must all see one
@@ -79,6 +81,10 @@ class CableSimulator {
   std::vector<double> vi_, vp_, gate_;                   // state
   std::vector<double> inv11_, inv12_, inv22_, y1_, y2_;  // solver workspace
   std::vector<double> final_node_mV_, peak_node_mV_, cross_ms_;
+  struct Window {
+    double from_ms, until_ms, dt_ms;
+  };
+  std::vector<Window> windows_;  // reused: no allocation once its capacity is reached
   std::vector<double>* trace_ = nullptr;
   std::size_t trace_every_ = 1;
 };

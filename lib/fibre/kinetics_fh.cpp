@@ -38,7 +38,7 @@ class FhNode final : public NodeKinetics {
   void steady_state(double v, double* g) const override {
     for (int k = 0; k < 4; ++k) {
       const double a = alpha(v, k), b = beta(v, k);
-      g[k] = a / (a + b);
+      g[k] = a + b > 0.0 && std::isfinite(a + b) ? a / (a + b) : 0.0;
     }
   }
 
@@ -51,6 +51,7 @@ class FhNode final : public NodeKinetics {
   void advance(double v, double dt, double* g) const override {
     for (int k = 0; k < 4; ++k) {
       const double a = alpha(v, k), b = beta(v, k);
+      if (!(a + b > 0.0) || !std::isfinite(a + b)) continue;  // rates out of range: hold
       const double tau = 1.0 / (a + b), inf = a / (a + b);
       g[k] += (1.0 - std::exp(-dt / tau)) * (inf - g[k]);
     }

@@ -3,6 +3,7 @@
 // Richardson & Grill 2002, Appendix).  Constants and their sources: docs/fibres.md.
 
 #include <cmath>
+#include <limits>
 
 #include "fibre/kinetics.hpp"
 
@@ -62,6 +63,11 @@ class MrgNode final : public NodeKinetics {
   Rates rates(double v) const {
     Rates r{};
     auto set = [&](int k, double a, double b) {
+      if (!(a + b > 0.0) || !std::isfinite(a + b)) {         // both rates under- or overflowed
+        r.tau[k] = std::numeric_limits<double>::infinity();  // the gate holds still
+        r.inf[k] = 0.0;
+        return;
+      }
       r.tau[k] = 1.0 / (a + b);
       r.inf[k] = a / (a + b);
     };

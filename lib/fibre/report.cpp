@@ -43,11 +43,8 @@ void check_pulse(const PulseSpec& p) {
 
 double time_step_ms(const PulseSpec& p) {
   double shortest = p.width_us;
-  if (!p.monophasic) {
-    shortest = std::min(shortest, p.balance_width_us);
-    if (p.interphase_us > 0) shortest = std::min(shortest, p.interphase_us);
-  }
-  return std::min(0.005, shortest * 1e-3 / 10.0);
+  if (!p.monophasic) shortest = std::min(shortest, p.balance_width_us);  // gaps carry nothing
+  return std::max(1e-4, std::min(0.005, shortest * 1e-3 / 10.0));
 }
 
 ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
@@ -60,10 +57,8 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
   for (double x : weights) r.peak_weight = std::max(r.peak_weight, std::fabs(x));
   r.pulse = pulse;
   settings.dt_ms = 0.005;
-  const double fine = time_step_ms(pulse);
-  settings.fine_dt_ms = fine < settings.dt_ms ? fine : 0.0;
   r.settings = settings;
-  r.dt_ms = fine;
+  r.dt_ms = time_step_ms(pulse);
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const Waveform w = pulse.waveform(settings.delay_ms);
   // Every receptor's fibre first: a bad one is refused before any work.
@@ -164,28 +159,34 @@ std::optional<CarriedThresholds> carried_thresholds(const Json& doc) {
     return v;
   };
   c.pulse.width_us = num(p, "width_us");
-  c.pulse.monophasic =
-      p.contains("monophasic") && p["monophasic"].is_boolean() && p["monophasic"].get<bool>();
+  if (p.contains("monophasic") && !p["monophasic"].is_boolean())
+    bad("pulse.monophasic must be true or false");
+  c.pulse.monophasic = p.contains("monophasic") && p["monophasic"].get<bool>();
   if (!c.pulse.monophasic) {
     c.pulse.interphase_us = num(p, "interphase_us");
     c.pulse.balance_width_us = num(p, "balance_width_us");
   }
   if (t.contains("peak_weight")) {
-    if (!t["peak_weight"].is_number() || !(t["peak_weight"].get<double>() > 0) ||
-        !std::isfinite(t["peak_weight"].get<double>()))
-      bad("peak_weight must be a positive number");
+    if (!t["peak_weight"].is_number() || !(t["peak_weight"].get<double>() >= 1e-12) ||
+        !(t["peak_weight"].get<double>() <= 1000.0))
+      bad("peak_weight must be a number from 1e-12 to 1000 (the largest |weight|)");
     c.peak_weight = t["peak_weight"].get<double>();
   }
   if (!t.contains("receptors") || !t["receptors"].is_object()) bad("no receptors");
+  if (t["receptors"].empty()) bad("receptors is empty");
   for (const auto& [name, e] : t["receptors"].items()) {
+    // Names are printed: printable ASCII, 1 to 32 characters.
+    bool printable = !name.empty() && name.size() <= 32;
+    for (unsigned char ch : name) printable = printable && ch >= 0x20 && ch < 0x7f;
+    if (!printable) bad("a receptor name must be 1 to 32 printable ASCII characters");
     if (!e.is_object() || !e.contains("threshold_mA")) bad(name + ": no threshold_mA");
     const Json& v = e["threshold_mA"];
     if (v.is_null()) {
       c.threshold_mA.emplace_back(name, std::nullopt);
-    } else if (v.is_number() && std::isfinite(v.get<double>()) && v.get<double>() > 0) {
+    } else if (v.is_number() && v.get<double>() >= 1e-15 && v.get<double>() <= 100.0) {
       c.threshold_mA.emplace_back(name, v.get<double>());
     } else {
-      bad(name + ": threshold_mA must be a positive number or null");
+      bad(name + ": threshold_mA must be a number from 1e-15 to 100 mA, or null");
     }
   }
   return c;
@@ -202,7 +203,7 @@ std::string threshold_multiples(const CarriedThresholds& t, double amplitude_mA)
   }
   std::sort(fired.begin(), fired.end());
   std::string s = number_text(amplitude_mA) + " mA =";
-  char buf[64];
+  char buf[128];
   for (std::size_t k = 0; k < fired.size(); ++k) {
     std::snprintf(buf, sizeof buf, "%s %.3g x %s%s", k ? "," : "", amplitude_mA / fired[k].first,
                   fired[k].second.c_str(), k ? "" : " threshold");

@@ -40,8 +40,8 @@ struct ThresholdReport {
   std::vector<std::optional<double>> ratios;
 };
 
-// The time step during a pulse: 5 us, or a tenth of the shortest phase if that is smaller
-// (then used during the pulse and for 0.1 ms after it, 5 us otherwise).
+// The smallest time step a pulse gets: 5 us, or a tenth of its shortest phase (at least
+// 0.1 us), used from that phase's start to 0.1 ms after its end (cable.hpp); gaps do not count.
 double time_step_ms(const PulseSpec& p);
 
 // Every receptor of the setup, for weights (|w| = 1 carries the amplitude).

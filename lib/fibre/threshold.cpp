@@ -18,7 +18,15 @@ Lattice::Lattice(double tolerance)
     : per_octave(static_cast<long>(std::ceil(std::log(2.0) / std::log1p(tolerance)))) {}
 
 double Lattice::amplitude(long j) const {
-  return std::exp2(static_cast<double>(j) / static_cast<double>(per_octave));
+  // j = q K + r with 0 <= r < K: 2^q exactly times 2^(r/K), so amplitude(j + K) is exactly
+  // twice amplitude(j).
+  long q = j / per_octave, r = j % per_octave;
+  if (r < 0) {
+    r += per_octave;
+    --q;
+  }
+  return std::ldexp(std::exp2(static_cast<double>(r) / static_cast<double>(per_octave)),
+                    static_cast<int>(q));
 }
 
 long Lattice::at_or_above(double a) const {
@@ -71,7 +79,7 @@ class Search {
         o_(o),
         lat_(s.tolerance),
         jmax_(lat_.at_or_above(s.max_mA)),
-        jmin_(jmax_ - 30 * lat_.per_octave),
+        jmin_(jmax_ - 50 * lat_.per_octave),
         threads_(s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency())) {}
 
   // The lexicographic minimum of (threshold lattice point, index) over placements
@@ -114,45 +122,95 @@ class Search {
   }
   const Lattice& lattice() const { return lat_; }
   long jmax() const { return jmax_; }
+  long jmin() const { return jmin_; }
   std::size_t simulations() const { return simulations_; }
 
  private:
-  bool fires(CableSimulator& sim, const Placement& p, long j) { return run(sim, p, j).fired; }
+  struct Probe {
+    bool fired, excited;
+  };
+  Probe probe(CableSimulator& sim, const Placement& p, long j) {
+    const SimResult r = run(sim, p, j);
+    return {r.fired, r.first_time_ms >= 0.0};
+  }
 
   // This placement's threshold j, if it can beat `best`; false when it cannot.
+  //
+  // Firing is not monotone in the amplitude: far above threshold the hyperpolarised
+  // neighbours of an excited node block the action potential.  Excitation (some node above
+  // detect_mV) is: it only grows with the amplitude.  So the search first finds e, the lowest
+  // lattice point that excites the fibre anywhere, by bracketing and bisection on
+  // excitation; the threshold is the first point from e up that fires (nearly always e
+  // itself).  Both depend on this placement alone, not on the bracket the search started
+  // from: the answer is the same whichever thread searched it, and in whatever order.
   bool search_one(CableSimulator& sim, const Placement& p, std::size_t i, const Best& best,
                   long guess, long& out) {
     // The largest lattice point at which firing would still beat the best.
     const long limit = !best.found ? jmax_ : (i < best.index ? best.j : best.j - 1);
-    long lo, hi;  // lo does not fire, hi fires
-    long g = std::min(std::max(guess, jmin_), limit);
-    if (best.found) g = limit;  // one simulation tells whether this placement can beat it
-    if (fires(sim, p, g)) {
+    if (limit < jmin_) return false;
+    long lo, hi;  // lo does not excite, hi excites
+    bool hi_fired;
+    const long g = best.found ? limit : std::min(std::max(guess, jmin_), limit);
+    Probe pg = probe(sim, p, g);
+    if (pg.excited) {
       hi = g;
-      lo = g - lat_.per_octave;
-      while (lo > jmin_ && fires(sim, p, lo)) {
+      hi_fired = pg.fired;
+      for (lo = g - lat_.per_octave;; lo -= lat_.per_octave) {
+        if (lo < jmin_) lo = jmin_;
+        const Probe q = probe(sim, p, lo);
+        if (!q.excited) break;
         hi = lo;
-        lo -= lat_.per_octave;
+        hi_fired = q.fired;
+        if (lo == jmin_) {  // excited at the floor: below the search range
+          out = jmin_ - 1;
+          return true;
+        }
       }
-      if (lo <= jmin_) lo = jmin_;
     } else {
-      if (g == limit) return false;
+      if (g == limit) return false;  // not even excited at the limit
       lo = g;
-      hi = std::min(g + lat_.per_octave, limit);
-      while (!fires(sim, p, hi)) {
+      for (hi = std::min(g + lat_.per_octave, limit);; hi = std::min(hi + lat_.per_octave, limit)) {
+        const Probe q = probe(sim, p, hi);
+        if (q.excited) {
+          hi_fired = q.fired;
+          break;
+        }
         if (hi == limit) return false;
         lo = hi;
-        hi = std::min(hi + lat_.per_octave, limit);
       }
     }
     while (hi - lo > 1) {
       const long mid = lo + (hi - lo) / 2;
-      if (fires(sim, p, mid))
+      const Probe q = probe(sim, p, mid);
+      if (q.excited) {
         hi = mid;
-      else
+        hi_fired = q.fired;
+      } else {
         lo = mid;
+      }
     }
-    out = hi;
+    if (hi_fired) {
+      out = hi;
+      return true;
+    }
+    // Excited at e = hi without an action potential reaching the detection nodes: gallop
+    // up to the first point that fires, then bisect back.
+    long f_lo = hi, f_hi = hi;
+    for (long step = 1;; step *= 2) {
+      f_hi = hi + step;
+      if (f_hi > limit) {
+        if (f_lo == limit) return false;
+        f_hi = limit;
+      }
+      if (probe(sim, p, f_hi).fired) break;
+      if (f_hi == limit) return false;
+      f_lo = f_hi;
+    }
+    while (f_hi - f_lo > 1) {
+      const long mid = f_lo + (f_hi - f_lo) / 2;
+      (probe(sim, p, mid).fired ? f_hi : f_lo) = mid;
+    }
+    out = f_hi;
     return true;
   }
 
@@ -270,8 +328,6 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
 
   SimOptions o;
   o.dt_ms = s.dt_ms;
-  o.fine_dt_ms = s.fine_dt_ms;
-  o.fine_until_ms = waveform.end_ms() + 0.1;
   const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
   o.tstop_ms = waveform.end_ms() + after;
   o.detect =
@@ -340,6 +396,12 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   if (!best.found) {
     out.simulations = search.simulations();
     out.reason = "does not fire below " + number_text(s.max_mA) + " mA";
+    return out;
+  }
+  if (best.j < search.jmin()) {
+    out.simulations = search.simulations();
+    out.reason = "fires even at " + number_text(search.lattice().amplitude(search.jmin())) +
+                 " mA, the bottom of the search range";
     return out;
   }
   const Placement& p = all[best.index];

@@ -34,7 +34,6 @@ struct ThresholdSettings {
   double tolerance = 1e-3;            // relative lattice step, 1e-4 to 0.1
   double max_mA = 100.0;              // no threshold below this: the fibre "does not fire"
   double dt_ms = 0.005;               // time step, at most 5 us
-  double fine_dt_ms = 0.0;            // a smaller step during the pulse and 0.1 ms after (0: none)
   std::size_t offsets = 8;            // horizontal fibres: node alignments per internode, 1 to 64
   std::size_t extra_internodes = 10;  // vertical fibres: below the receptor's range
   double delay_ms = 0.1;              // rest before the pulse

@@ -24,6 +24,8 @@ tp_cli_test(fiber-threshold refuses-bad-widths refuses 2 -- fiber-threshold --co
 tp_cli_test(fiber-threshold refuses-layered-too-deep refuses 2 -- fiber-threshold --config ${IN}/layered-receptor-too-deep.json)
 tp_cli_test(fiber-threshold refuses-skin-without-layered refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --skin fingertip)
 tp_cli_test(fiber-threshold refuses-fibre-too-long refuses 2 -- fiber-threshold --config ${IN}/fibre-too-long.json)
+tp_cli_test(fiber-threshold refuses-derived-balance refuses 2 -- fiber-threshold --config ${IN}/sai-weights.json --strength-duration --width 100 --balance-width 1000)
+tp_cli_test(fiber-threshold refuses-stdin-twice refuses 2 --stdin ${IN}/sai-stimulus.json -- fiber-threshold --stimulus -)
 
 # Golden output: the paper's SAI optimum under MRG and SENN, and a strength-duration table.
 tp_cli_test(fiber-threshold golden-sai-mrg golden fiber-threshold/sai-mrg.json --rtol 1e-9 --

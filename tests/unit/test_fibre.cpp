@@ -66,8 +66,6 @@ double reilly_case_a(double tp_ms, bool biphasic, double xc_cm, double yc_cm, do
   SimOptions o;
   o.detect = {0};  // APCount at node[0]
   o.tstop_ms = 8.0;
-  o.fine_dt_ms = std::min(0.005, tp_ms / 10);
-  o.fine_until_ms = w.end_ms() + 0.1;
   return bisect(sim, ve, w, o);
 }
 
@@ -85,8 +83,6 @@ double reilly_case_b(double tp_ms, bool biphasic, double d_um) {
   SimOptions o;
   o.detect = {50};
   o.tstop_ms = 12.0;
-  o.fine_dt_ms = std::min(0.005, tp_ms / 10);
-  o.fine_until_ms = w.end_ms() + 0.1;
   return bisect(sim, ve, w, o);
 }
 

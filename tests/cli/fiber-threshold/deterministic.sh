@@ -17,3 +17,13 @@ for r in RA SAI PC; do
   jq -e -n "$a == 2 * $e" >/dev/null || fail "$r: $a is not twice $e"
 done
 echo "ok: byte-identical across runs and threads; doubling the weights halves the thresholds"
+# The same for a pattern whose thresholds fall on other lattice points, and far below 1 mA
+# (x 512: the search must not land above the block threshold).
+fiber-threshold --config "$TP_INPUTS/sai-weights.json" > f.json 2>/dev/null
+fiber-threshold --weights 0,0,-256,512,-256,0,0,0 > g.json 2>/dev/null
+for r in RA SAI PC; do
+  f=$(jq ".thresholds.receptors.$r.threshold_mA" f.json)
+  g=$(jq ".thresholds.receptors.$r.threshold_mA" g.json)
+  jq -e -n "$f == 512 * $g" >/dev/null || fail "$r: $f is not 512 x $g"
+done
+echo "ok: x 512 weights give exactly 1/512 of the thresholds"

@@ -34,3 +34,21 @@ jq '.thresholds.receptors.SAI.threshold_mA = -1' s.json > bad.json
 rc=0; stimctl --port emu --stimulus bad.json > out.txt 2> err.txt || rc=$?
 [[ $rc -eq 2 && ! -s out.txt ]] || fail "stimctl accepted a negative threshold (exit $rc)"
 echo "ok: make-pulse and stimctl multiples"
+
+# Malformed carried thresholds: one line, exit 2, nothing on stdout, for make-pulse.
+doc=$TP_GOLDEN/fiber-threshold/sai-mrg.json
+bad() {
+  jq "$1" "$doc" > bad-doc.json
+  local rc=0
+  make-pulse --amplitude 1 --count 2 < bad-doc.json > out.txt 2> err.txt || rc=$?
+  [[ $rc -eq 2 && ! -s out.txt && $(wc -l < err.txt) -eq 1 ]] ||
+    fail "make-pulse accepted thresholds edited by '$1' (exit $rc): $(cat err.txt)"
+}
+bad '.thresholds.receptors = {}'
+bad '.thresholds.receptors["S\nA"] = {"threshold_mA": 1}'
+bad '.thresholds.receptors.SAI.threshold_mA = 1e-320'
+bad '.thresholds.receptors.SAI.threshold_mA = 1000'
+bad '.thresholds.peak_weight = 1e-310'
+bad '.thresholds.pulse.monophasic = "yes"'
+bad '.thresholds.pulse.width_us = "200"'
+echo "ok: malformed carried thresholds refused"
