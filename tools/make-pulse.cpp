@@ -88,13 +88,7 @@ int main(int argc, char** argv) {
       if (doc.extra.contains(key)) s.carried[key] = doc.extra[key];
     tp::check_stimulus(s, tp::StimulusLimits{});
     // The amplitude against the thresholds the document carries (fiber-threshold's).
-    tp::fibre::PulseSpec spec;
-    spec.width_us = s.shape.width_us;
-    spec.interphase_us = s.shape.interphase_us;
-    spec.balance_width_us = s.shape.balance_width_us;
-    double peak = 0.0;
-    for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
-    const auto against = tp::fibre::stimulus_against_thresholds(doc.extra, spec, peak);
+    const auto against = tp::fibre::stimulus_against_thresholds(s);
     // Every option is checked before anything is printed, on stderr or stdout.
     long pulses = 0;
     if (format == "csv") {

@@ -75,16 +75,7 @@ int main(int argc, char** argv) {
     tp::check_stimulus(s, tp::StimulusLimits{});
     // The amplitude against the thresholds the document carries (fiber-threshold's, through
     // make-pulse): said before anything is sent.
-    std::optional<std::string> against;
-    {
-      tp::fibre::PulseSpec spec;
-      spec.width_us = s.shape.width_us;
-      spec.interphase_us = s.shape.interphase_us;
-      spec.balance_width_us = s.shape.balance_width_us;
-      double peak = 0.0;
-      for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
-      against = tp::fibre::stimulus_against_thresholds(s.carried, spec, peak);
-    }
+    const std::optional<std::string> against = tp::fibre::stimulus_against_thresholds(s);
     tp::host::SessionOptions opt;
     opt.live = live;
     opt.latency_log = latency_log;

@@ -59,9 +59,7 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
       if (std::fabs(s.currents_mA[i] / amp - weights[i] / wmax) > 1e-6)
         bad_input("--stimulus: its currents are not the weights times one amplitude (channel " +
                   std::to_string(i + 1) + ")");
-    f.pulse.width_us = s.shape.width_us;
-    f.pulse.interphase_us = s.shape.interphase_us;
-    f.pulse.balance_width_us = s.shape.balance_width_us;
+    f.pulse = fibre::pulse_of(s.shape);
     f.stimulus = std::move(s);
   } else {
     if (!o.width.empty()) f.pulse.width_us = parse_finite(o.width, "--width");

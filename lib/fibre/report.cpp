@@ -29,6 +29,14 @@ std::string PulseSpec::describe() const {
   return s;
 }
 
+PulseSpec pulse_of(const PulseShape& shape) {
+  PulseSpec p;
+  p.width_us = shape.width_us;
+  p.interphase_us = shape.interphase_us;
+  p.balance_width_us = shape.balance_width_us;
+  return p;
+}
+
 void check_pulse(const PulseSpec& p) {
   auto in = [](double v, double lo, double hi, const char* what) {
     if (!(v >= lo && v <= hi))
@@ -222,6 +230,12 @@ std::optional<std::string> stimulus_against_thresholds(const Json& doc, const Pu
            pulse.describe() + " one: no multiples (fiber-threshold --stimulus gives them)";
   return threshold_multiples(*t, peak_current_mA / t->peak_weight) + " (" + t->model + ", " +
          pulse.describe() + ")";
+}
+
+std::optional<std::string> stimulus_against_thresholds(const Stimulus& s) {
+  double peak = 0.0;
+  for (double c : s.currents_mA) peak = std::max(peak, std::fabs(c));
+  return stimulus_against_thresholds(s.carried, pulse_of(s.shape), peak);
 }
 
 }  // namespace tp::fibre

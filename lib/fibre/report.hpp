@@ -9,6 +9,7 @@
 #include "fibre/threshold.hpp"
 #include "io/json.hpp"
 #include "model/field.hpp"
+#include "pulse/stimulus.hpp"
 
 namespace tp::fibre {
 
@@ -24,6 +25,9 @@ struct PulseSpec {
   bool operator==(const PulseSpec& o) const;
   std::string describe() const;  // "200 us biphasic (200 us balance)"
 };
+// The pulse of a stimulus's shape (always biphasic: what is delivered is balanced).
+PulseSpec pulse_of(const PulseShape& shape);
+
 // Checks the pulse's ranges (bad input names the flag): widths 1 to 10000 us, gap 0 to
 // 10000 us.
 void check_pulse(const PulseSpec& p);
@@ -72,5 +76,7 @@ std::string threshold_multiples(const CarriedThresholds& t, double amplitude_mA)
 // they are malformed.
 std::optional<std::string> stimulus_against_thresholds(const Json& document, const PulseSpec& pulse,
                                                        double peak_current_mA);
+// The same for a stimulus and the thresholds it carries.
+std::optional<std::string> stimulus_against_thresholds(const Stimulus& s);
 
 }  // namespace tp::fibre
