@@ -15,6 +15,8 @@ using Json = nlohmann::ordered_json;  // keeps key order, so output is stable an
 inline constexpr std::size_t kMaxDocumentBytes = std::size_t{64} << 20;
 // The deepest nesting of arrays and objects a document may have.
 inline constexpr int kMaxJsonDepth = 64;
+// Keys of one object (no document of the project has more than a few dozen).
+inline constexpr std::size_t kMaxJsonKeys = 1000;
 
 // Reads one JSON document from a file, or from stdin when path is "-".  Unreadable,
 // oversized (kMaxDocumentBytes), malformed input, a directory, and numbers beyond the

@@ -238,7 +238,7 @@ TEST_CASE("the watchdog stops output when the session's keep-alives stop",
   CHECK(send(core, 6, Msg::keepalive, token(), 2000000) == Result::wrong_session);
 }
 
-TEST_CASE("a late frame cannot revive an expired session; late pulses never come in a burst",
+TEST_CASE("a late frame cannot revive an expired session, and late pulses never come in a burst",
           "[device][core][watchdog]") {
   Capabilities caps;
   caps.watchdog_ms = 300;
@@ -443,7 +443,7 @@ TEST_CASE("host quantisation: codes sum to exactly zero and stay within half a s
   }
 }
 
-TEST_CASE("stimulus checks: limits, zero sum, balance; safety figures", "[pulse]") {
+TEST_CASE("stimulus checks (limits, zero sum, balance) and safety figures", "[pulse]") {
   Stimulus s;
   s.currents_mA = {1.0, -0.5, -0.5};
   s.count = 200;

@@ -205,7 +205,7 @@ TEST_CASE("The threshold does not depend on the number of threads", "[fibre][mrg
   CHECK(sai_threshold(p, p.w, wf, 1, 8) == sai_threshold(p, p.w, wf, 2, 8));
 }
 
-TEST_CASE("Strength-duration is monotone; charge-balanced pulses need more", "[fibre][mrg]") {
+TEST_CASE("Strength-duration is monotone and charge-balanced pulses need more", "[fibre][mrg]") {
   PaperCase p;
   double last = 1e9;
   for (double width : {20.0, 50.0, 100.0, 200.0, 500.0, 1000.0}) {

@@ -132,7 +132,8 @@ TEST_CASE("under one electrode the AF falls as 1/y^2", "[model][decay]") {
   CHECK(f.af(kHorizontal, 0.0, 0.5) == Approx(4.0 * f.af(kHorizontal, 0.0, 1.0)));
 }
 
-TEST_CASE("cathodic depolarises horizontal fibres below; anodic flips the sign", "[model][sign]") {
+TEST_CASE("cathodic depolarises horizontal fibres below and anodic flips the sign",
+          "[model][sign]") {
   Setup s;
   s.array = ElectrodeArray::uniform(1, 1.0);
   const Field cath(s, {1.0}), anod(s, {-1.0});

@@ -100,7 +100,8 @@ CATCH_TEST_CASE("the target-point LP meets its constraints and is optimal among 
   }
 }
 
-CATCH_TEST_CASE("weights sum to zero and peak at |w| = 1; the answer is reproducible", "[opt]") {
+CATCH_TEST_CASE("weights sum to zero and peak at |w| = 1, and the answer is reproducible",
+                "[opt]") {
   Setup s;
   OptimizeOptions o;
   for (const std::string mode : {"RA", "SAI", "PC"}) {
