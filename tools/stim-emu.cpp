@@ -50,6 +50,14 @@ int main(int argc, char** argv) {
                  "Answer every request this much later, 0 to 1000 ms (a slow device) [0]")
       ->type_name("MS");
   app.add_option("--seed", o.faults.seed, "Seed of the fault injection [1]");
+  auto* forward = app.add_option("--forward", o.forward_socket,
+                                 "No built-in device: forward the line, with the same fault "
+                                 "injection, to the device on this Unix socket (the firmware "
+                                 "in QEMU: scripts/firmware-emu)")
+                      ->type_name("SOCKET");
+  for (const char* device_option :
+       {"--channels", "--max-current", "--dac-bits", "--watchdog-ms", "--record", "--apply-log"})
+    forward->excludes(app.get_option(device_option));
 
   return tp::cli::run(app, argc, argv, [&] {
     const double imax = tp::parse_finite(max_current, "--max-current");
@@ -79,17 +87,13 @@ int main(int argc, char** argv) {
     o.caps.channels = static_cast<std::uint8_t>(channels);
     // Whole microamperes, rounded down: the limit is never raised by rounding.
     o.caps.max_current_uA = static_cast<std::uint16_t>(std::floor(imax * 1000 + 1e-9));
-    // One code of a signed DAC of dac_bits spanning +-max_current: the nearest whole nA,
-    // or the next one up where the nearest would need more codes than the DAC has
-    // (2^(bits-1) - 1).
-    const double codes = std::ldexp(1.0, dac_bits - 1) - 1;
-    const double na = o.caps.max_current_uA * 1000.0;
-    double step = std::max(1.0, std::round(na / codes));
-    if (std::floor(na / step) > codes) step = std::ceil(na / codes);
-    if (step > 65535)  // the protocol's dac_step_nA is 16 bits
+    // One code of a signed DAC of dac_bits spanning +-max_current (the device core's rule,
+    // which the firmware applies to its own DAC).
+    const std::uint32_t step = tp::device::dac_step_nA(o.caps.max_current_uA, dac_bits);
+    if (step == 0)  // the protocol's dac_step_nA is 16 bits
       tp::bad_input("--dac-bits " + std::to_string(dac_bits) + " at " + max_current +
-                    " mA needs a DAC step of " + tp::number_text(step) +
-                    " nA; the protocol carries at most 65535 nA (use more bits)");
+                    " mA needs a DAC step over 65535 nA, more than the protocol carries "
+                    "(use more bits)");
     o.caps.dac_step_nA = static_cast<std::uint16_t>(step);
     o.caps.watchdog_ms = static_cast<std::uint16_t>(watchdog_ms);
     const int rc = tp::host::run_pty_emulator(o);

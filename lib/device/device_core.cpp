@@ -11,9 +11,13 @@ bool carries_session(Msg m) {
   return m == Msg::configure || m == Msg::set_weights || m == Msg::start || m == Msg::keepalive;
 }
 
+std::uint16_t saturate16(std::uint32_t v) {
+  return static_cast<std::uint16_t>(std::min<std::uint32_t>(v, 0xFFFF));
+}
+
 }  // namespace
 
-bool DeviceCore::of_session(const Frame& f) const {
+bool DeviceCore::of_session(const RxFrame& f) const {
   const auto m = static_cast<Msg>(f.type);
   return session_ != 0 && m != Msg::configure && carries_session(m) && f.payload.size() >= 4 &&
          get_u32(f.payload.data()) == session_;
@@ -27,42 +31,36 @@ void DeviceCore::end_session() {
   weights_set_ = false;
 }
 
-void DeviceCore::receive(const std::uint8_t* data, std::size_t n, std::uint64_t now_us,
-                         std::vector<std::uint8_t>& out) {
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!decoder_.push(data[i])) continue;
-    const Frame& f = decoder_.frame();
-    // A session whose watchdog has run out is over, even if nothing advanced the clock in
-    // between: a late frame must not revive it.
-    expire(now_us);
-    // Only the running session's own frames keep its output alive: a host that did not
-    // start the output (or identify/status queries) can never hold it on.
-    if (status_.state == State::running && of_session(f)) last_fed_us_ = now_us;
-    if (have_last_ && f.seq == last_request_.seq && f.type == last_request_.type &&
-        f.payload == last_request_.payload) {
-      out.insert(out.end(), last_reply_.begin(), last_reply_.end());  // retransmission
-      continue;
-    }
-    last_reply_.clear();
-    encode_frame(Frame{f.seq, static_cast<std::uint8_t>(Msg::ack), handle(f, now_us)}, last_reply_);
-    last_request_ = f;
-    have_last_ = true;
-    out.insert(out.end(), last_reply_.begin(), last_reply_.end());
-  }
-  status_.rx_errors =
-      static_cast<std::uint16_t>(std::min<std::uint32_t>(decoder_.errors(), 0xFFFF));
+bool DeviceCore::receive_byte(std::uint8_t byte, std::uint64_t now_us) {
+  const bool complete = decoder_.push(byte);
+  status_.rx_errors = saturate16(decoder_.errors());
+  if (!complete) return false;
+  const RxFrame& f = decoder_.frame();
+  // A session whose watchdog has run out is over, even if nothing advanced the clock in
+  // between: a late frame must not revive it.
+  expire(now_us);
+  // Only the running session's own frames keep its output alive: a host that did not
+  // start the output (or identify/status queries) can never hold it on.
+  if (status_.state == State::running && of_session(f)) last_fed_us_ = now_us;
+  if (have_last_ && f.same_as(last_request_)) return true;  // a retransmission: same reply
+  FixedBytes<kMaxPayload> body;
+  handle(f, now_us, body);
+  last_reply_.clear();
+  encode_frame_to(f.seq, static_cast<std::uint8_t>(Msg::ack), body.data(), body.size(),
+                  [this](std::uint8_t b) { last_reply_.push_back(b); });
+  last_request_ = f;
+  have_last_ = true;
+  return true;
 }
 
-std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_us) {
-  std::vector<std::uint8_t> body{f.type, static_cast<std::uint8_t>(Result::ok)};
+void DeviceCore::handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxPayload>& body) {
+  body.clear();
+  body.push_back(f.type);
+  body.push_back(static_cast<std::uint8_t>(Result::ok));
   auto result = [&](Result r) {
-    body[1] = static_cast<std::uint8_t>(r);
-    return body;
-  };
-  auto with_status = [&] {
-    const auto s = encode(status_);
-    body.insert(body.end(), s.begin(), s.end());
-    return body;
+    body.clear();
+    body.push_back(f.type);
+    body.push_back(static_cast<std::uint8_t>(r));
   };
   const auto type = static_cast<Msg>(f.type);
   if (type != Msg::configure && carries_session(type)) {
@@ -70,12 +68,10 @@ std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_u
     if (!of_session(f)) return result(Result::wrong_session);
   }
   switch (type) {
-    case Msg::identify: {
+    case Msg::identify:
       if (!f.payload.empty()) return result(Result::bad_length);
-      const auto c = encode(caps_);
-      body.insert(body.end(), c.begin(), c.end());
-      return body;
-    }
+      put_capabilities(body, caps_);
+      return;
     case Msg::configure:
       return result(configure(f.payload));
     case Msg::set_weights:
@@ -89,22 +85,24 @@ std::vector<std::uint8_t> DeviceCore::handle(const Frame& f, std::uint64_t now_u
         status_.pulses = 0;
         start_us_ = next_pulse_us_ = last_fed_us_ = now_us;
       }
-      return body;
+      return;
     case Msg::stop:
       end_session();  // always honoured, whatever the payload; disarms
-      return body;
+      return;
     case Msg::status:
       if (!f.payload.empty()) return result(Result::bad_length);
-      return with_status();
+      put_status(body, status_);
+      return;
     case Msg::keepalive:
       if (f.payload.size() != 4) return result(Result::bad_length);
-      return with_status();
+      put_status(body, status_);
+      return;
     default:
       return result(Result::unknown_type);
   }
 }
 
-Result DeviceCore::configure(const std::vector<std::uint8_t>& payload) {
+Result DeviceCore::configure(const FixedBytes<kMaxPayload>& payload) {
   if (payload.size() != 4 + kConfigSize) return Result::bad_length;
   if (status_.state == State::running) return Result::bad_state;
   const std::uint32_t session = get_u32(payload.data());
@@ -128,52 +126,62 @@ Result DeviceCore::configure(const std::vector<std::uint8_t>& payload) {
   return Result::ok;
 }
 
-Result DeviceCore::set_weights(const std::vector<std::uint8_t>& payload) {
+Result DeviceCore::set_weights(const FixedBytes<kMaxPayload>& payload) {
   if (!configured_) return Result::not_configured;
-  const auto codes = decode_weights(payload.data() + 4, payload.size() - 4);
-  if (!codes) return Result::bad_length;
-  if (codes->size() != config_.channels) return Result::channel_mismatch;
+  Codes codes;
+  if (!decode_codes(payload.data() + 4, payload.size() - 4, codes)) return Result::bad_length;
+  if (codes.count != config_.channels) return Result::channel_mismatch;
   const std::int32_t max = caps_.max_code();
   std::int32_t sum = 0;  // at most 64 codes of 16 bits: no overflow
-  for (std::int16_t c : *codes) {
+  for (std::int16_t c : codes) {
     if (std::abs(std::int32_t{c}) > max) return Result::out_of_range;
     sum += c;
   }
   if (sum != 0) return Result::sum_not_zero;
-  weights_ = *codes;  // applied from the next pulse on
+  weights_ = codes;  // applied from the next pulse on
   weights_set_ = true;
   ++status_.weight_updates;
   return Result::ok;
 }
 
+std::uint64_t DeviceCore::deadline_us() const {
+  return last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
+}
+
 void DeviceCore::expire(std::uint64_t now_us) {
-  if (status_.state == State::running &&
-      now_us >= last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u) {
+  if (status_.state == State::running && now_us >= deadline_us()) {
     end_session();
     status_.fault = Fault::watchdog;
   }
 }
 
-void DeviceCore::advance(std::uint64_t now_us,
-                         const std::function<void(const DeliveredPulse&)>& sink) {
-  if (status_.state != State::running) return;
-  const std::uint64_t deadline = last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
+bool DeviceCore::begin_advance(std::uint64_t now_us) {
+  if (status_.state != State::running) return false;
   // Pulses never come in a burst to catch up: slots more than kMaxLateUs in the past are
   // skipped (not delivered, not counted).  A timer-driven firmware is never that late.
   if (now_us > next_pulse_us_ + kMaxLateUs) {
     const std::uint64_t late = now_us - kMaxLateUs - next_pulse_us_;
     next_pulse_us_ += (late / config_.period_us + 1) * config_.period_us;
   }
-  while (status_.state == State::running && next_pulse_us_ <= now_us && next_pulse_us_ < deadline) {
-    sink(DeliveredPulse{next_pulse_us_, start_us_, weights_, config_, caps_});
-    ++status_.pulses;
-    next_pulse_us_ += config_.period_us;
-    if (config_.max_pulses != 0 && status_.pulses >= config_.max_pulses) {
-      end_session();
-      status_.fault = Fault::completed;
-    }
+  return true;
+}
+
+bool DeviceCore::pulse_due(std::uint64_t now_us) const {
+  return status_.state == State::running && next_pulse_us_ <= now_us &&
+         next_pulse_us_ < deadline_us();
+}
+
+void DeviceCore::pulse_delivered() {
+  ++status_.pulses;
+  next_pulse_us_ += config_.period_us;
+  if (config_.max_pulses != 0 && status_.pulses >= config_.max_pulses) {
+    end_session();
+    status_.fault = Fault::completed;
   }
-  if (status_.state == State::running && now_us >= deadline) {
+}
+
+void DeviceCore::end_advance(std::uint64_t now_us) {
+  if (status_.state == State::running && now_us >= deadline_us()) {
     end_session();
     status_.fault = Fault::watchdog;
   }
@@ -187,8 +195,12 @@ void DeviceCore::link_lost() {
 
 std::uint64_t DeviceCore::next_event_us() const {
   if (status_.state != State::running) return std::numeric_limits<std::uint64_t>::max();
-  const std::uint64_t deadline = last_fed_us_ + std::uint64_t{caps_.watchdog_ms} * 1000u;
-  return std::min(next_pulse_us_, deadline);
+  return std::min(next_pulse_us_, deadline_us());
+}
+
+void DeviceCore::set_line_counts(std::uint32_t line_errors, std::uint32_t overruns) {
+  status_.line_errors = saturate16(line_errors);
+  status_.overruns = saturate16(overruns);
 }
 
 }  // namespace tp::device

@@ -19,18 +19,28 @@
 //    but not executed twice.
 
 #include <cstdint>
-#include <functional>
 #include <vector>
 
+#include "device/fixed_bytes.hpp"
 #include "device/frame.hpp"
 #include "device/protocol.hpp"
 
 namespace tp::device {
 
+// A view of channel codes (the firmware has no allocator to copy them into).
+struct CodeSpan {
+  const std::int16_t* first = nullptr;
+  std::size_t count = 0;
+  const std::int16_t* begin() const { return first; }
+  const std::int16_t* end() const { return first + count; }
+  std::size_t size() const { return count; }
+  std::int16_t operator[](std::size_t i) const { return first[i]; }
+};
+
 struct DeliveredPulse {
-  std::uint64_t t_us;                      // device time of the pulse's start
-  std::uint64_t start_us;                  // device time of the start command
-  const std::vector<std::int16_t>& codes;  // main-phase DAC codes, + = cathodic
+  std::uint64_t t_us;      // device time of the pulse's start
+  std::uint64_t start_us;  // device time of the start command
+  CodeSpan codes;          // main-phase DAC codes, + = cathodic
   const PulseConfig& config;
   const Capabilities& caps;
 };
@@ -44,26 +54,55 @@ class DeviceCore {
   // caps is lowered to the compile-time bounds (within_hard_limits).
   explicit DeviceCore(const Capabilities& caps) : caps_(within_hard_limits(caps)) {}
 
-  // Bytes received at now_us; replies are appended to out.
+  // Bytes received at now_us; each reply frame goes to reply(const std::uint8_t*, size).
+  template <class Reply>
+  void receive(const std::uint8_t* data, std::size_t n, std::uint64_t now_us, Reply&& reply) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (receive_byte(data[i], now_us)) reply(last_reply_.data(), last_reply_.size());
+  }
+  // The same, replies appended to out (the host's emulators).
   void receive(const std::uint8_t* data, std::size_t n, std::uint64_t now_us,
-               std::vector<std::uint8_t>& out);
-  // Emits every pulse due by now_us, then applies the watchdog.
-  void advance(std::uint64_t now_us, const std::function<void(const DeliveredPulse&)>& sink);
+               std::vector<std::uint8_t>& out) {
+    receive(data, n, now_us,
+            [&out](const std::uint8_t* p, std::size_t k) { out.insert(out.end(), p, p + k); });
+  }
+
+  // Emits every pulse due by now_us to sink(const DeliveredPulse&), then applies the
+  // watchdog.
+  template <class Sink>
+  void advance(std::uint64_t now_us, Sink&& sink) {
+    if (!begin_advance(now_us)) return;
+    while (pulse_due(now_us)) {
+      sink(DeliveredPulse{next_pulse_us_, start_us_, CodeSpan{weights_.begin(), weights_.size()},
+                          config_, caps_});
+      pulse_delivered();
+    }
+    end_advance(now_us);
+  }
+
   // The link is gone (port closed): stop output and end the session.
   void link_lost();
   // When something next happens (a pulse or the watchdog); UINT64_MAX when idle.
   std::uint64_t next_event_us() const;
+  // The receiver's own counts (a UART's framing errors and overruns), for the status.
+  void set_line_counts(std::uint32_t line_errors, std::uint32_t overruns);
 
   const Status& status() const { return status_; }
   const Capabilities& caps() const { return caps_; }
 
  private:
-  std::vector<std::uint8_t> handle(const Frame& f, std::uint64_t now_us);
-  Result configure(const std::vector<std::uint8_t>& payload);
-  Result set_weights(const std::vector<std::uint8_t>& payload);
-  bool of_session(const Frame& f) const;  // carries the current session's token
-  void expire(std::uint64_t now_us);      // the watchdog, at any call
+  bool receive_byte(std::uint8_t byte, std::uint64_t now_us);  // true: a reply is ready
+  void handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxPayload>& body);
+  Result configure(const FixedBytes<kMaxPayload>& payload);
+  Result set_weights(const FixedBytes<kMaxPayload>& payload);
+  bool of_session(const RxFrame& f) const;  // carries the current session's token
+  void expire(std::uint64_t now_us);        // the watchdog, at any call
   void end_session();
+  bool begin_advance(std::uint64_t now_us);  // false when not running
+  bool pulse_due(std::uint64_t now_us) const;
+  void pulse_delivered();
+  void end_advance(std::uint64_t now_us);
+  std::uint64_t deadline_us() const;
 
   Capabilities caps_;
   FrameDecoder decoder_;
@@ -72,13 +111,13 @@ class DeviceCore {
   std::uint32_t session_ = 0;  // 0: no session
   bool configured_ = false;
   bool weights_set_ = false;
-  std::vector<std::int16_t> weights_;
+  Codes weights_;
   std::uint64_t last_fed_us_ = 0;  // the running session's last frame
   std::uint64_t start_us_ = 0;
   std::uint64_t next_pulse_us_ = 0;
   bool have_last_ = false;
-  Frame last_request_;
-  std::vector<std::uint8_t> last_reply_;
+  RxFrame last_request_;
+  FixedBytes<kMaxEncodedFrame> last_reply_;
 };
 
 }  // namespace tp::device

@@ -12,25 +12,8 @@ std::uint16_t crc16(const std::uint8_t* data, std::size_t n, std::uint16_t crc) 
 }
 
 void encode_frame(const Frame& f, std::vector<std::uint8_t>& out) {
-  std::vector<std::uint8_t> raw;
-  raw.reserve(f.payload.size() + 4);
-  raw.push_back(f.seq);
-  raw.push_back(f.type);
-  raw.push_back(static_cast<std::uint8_t>(f.payload.size()));
-  raw.insert(raw.end(), f.payload.begin(), f.payload.end());
-  const std::uint16_t crc = crc16(raw.data(), raw.size());
-  raw.push_back(static_cast<std::uint8_t>(crc >> 8));
-  raw.push_back(static_cast<std::uint8_t>(crc & 0xFF));
-  out.push_back(kFlag);
-  for (std::uint8_t b : raw) {
-    if (b == kFlag || b == kEscape) {
-      out.push_back(kEscape);
-      out.push_back(static_cast<std::uint8_t>(b ^ 0x20));
-    } else {
-      out.push_back(b);
-    }
-  }
-  out.push_back(kFlag);
+  encode_frame_to(f.seq, f.type, f.payload.data(), f.payload.size(),
+                  [&](std::uint8_t b) { out.push_back(b); });
 }
 
 bool FrameDecoder::push(std::uint8_t byte) {
@@ -43,8 +26,7 @@ bool FrameDecoder::push(std::uint8_t byte) {
       if (crc16(buf_.data(), len_ - 2) == crc) {
         frame_.seq = buf_[0];
         frame_.type = buf_[1];
-        frame_.payload.assign(buf_.begin() + 3,
-                              buf_.begin() + static_cast<std::ptrdiff_t>(len_ - 2));
+        frame_.payload.assign(buf_.data() + 3, buf_.data() + (len_ - 2));
         ok = true;
       }
     }

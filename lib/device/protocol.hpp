@@ -1,7 +1,8 @@
 #pragma once
-// Messages of the stimulator protocol (docs/protocol.md), version 2.  Portable: no OS
-// calls.  All multi-byte fields are little-endian.  Currents travel as signed DAC codes;
-// a positive code is cathodic.
+// Messages of the stimulator protocol (docs/protocol.md), version 3.  Portable: no OS
+// calls and, in what the device core uses, no allocation (the std::vector forms at the end
+// are the host's, in protocol_buffers.cpp, which the firmware does not build).  All multi-byte
+// fields are little-endian.  Currents travel as signed DAC codes; a positive code is cathodic.
 //
 // Sessions: a host opens a session with `configure`, which carries a random, non-zero
 // 32-bit token.  set_weights, start and keepalive carry the same token; the device refuses
@@ -10,6 +11,7 @@
 // configuration, weights and token are forgotten), so a replayed `start` cannot restart an
 // old stimulus.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -20,7 +22,7 @@
 
 namespace tp::device {
 
-inline constexpr std::uint8_t kProtocolVersion = 2;
+inline constexpr std::uint8_t kProtocolVersion = 3;
 
 // The most channels a set_weights frame carries: token (4) + count (1) + 2 bytes a code
 // must fit kMaxPayload; 64 is the supported maximum (the host's arrays have at most 64
@@ -86,7 +88,7 @@ struct Capabilities {
   std::uint16_t max_balance_width_us = 8000;
   std::uint16_t max_rate_hz = 1000;
   std::uint16_t watchdog_ms = 300;  // output stops this long after the session's last frame
-  std::uint8_t fw_major = 0, fw_minor = 2, fw_patch = 0;
+  std::uint8_t fw_major = 0, fw_minor = 3, fw_patch = 0;
   // The largest code: max_current_uA / dac_step_nA, never above a 16-bit DAC's.
   std::int32_t max_code() const;
 };
@@ -108,22 +110,89 @@ struct Status {
   Fault fault = Fault::none;
   std::uint32_t pulses = 0;  // delivered since the last start
   std::uint32_t weight_updates = 0;
-  std::uint16_t rx_errors = 0;  // damaged frames dropped
+  std::uint16_t rx_errors = 0;    // damaged frames dropped
+  std::uint16_t line_errors = 0;  // bytes received with a framing, noise or parity error
+  std::uint16_t overruns = 0;     // bytes lost: receiver overrun or receive buffer full
 };
 
-void put_u16(std::vector<std::uint8_t>& b, std::uint16_t v);
-void put_u32(std::vector<std::uint8_t>& b, std::uint32_t v);
+// Little-endian fields, appended to any byte buffer with push_back (a FixedBytes in the
+// device, a std::vector in the host).
+template <class B>
+void put_u16(B& b, std::uint16_t v) {
+  b.push_back(static_cast<std::uint8_t>(v & 0xFF));
+  b.push_back(static_cast<std::uint8_t>(v >> 8));
+}
+template <class B>
+void put_u32(B& b, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xFF));
+}
 std::uint16_t get_u16(const std::uint8_t* p);
 std::uint32_t get_u32(const std::uint8_t* p);
 
 inline constexpr std::size_t kCapabilitiesSize = 19;
 inline constexpr std::size_t kConfigSize = 15;
-inline constexpr std::size_t kStatusSize = 12;
+inline constexpr std::size_t kStatusSize = 16;
 
+template <class B>
+void put_capabilities(B& b, const Capabilities& c) {
+  b.push_back(c.protocol);
+  b.push_back(c.channels);
+  put_u16(b, c.max_current_uA);
+  put_u16(b, c.dac_step_nA);
+  put_u16(b, c.min_width_us);
+  put_u16(b, c.max_width_us);
+  put_u16(b, c.max_balance_width_us);
+  put_u16(b, c.max_rate_hz);
+  put_u16(b, c.watchdog_ms);
+  b.push_back(c.fw_major);
+  b.push_back(c.fw_minor);
+  b.push_back(c.fw_patch);
+}
+template <class B>
+void put_config(B& b, const PulseConfig& c) {
+  put_u32(b, c.period_us);
+  put_u16(b, c.width_us);
+  put_u16(b, c.interphase_us);
+  put_u16(b, c.balance_width_us);
+  b.push_back(c.channels);
+  put_u32(b, c.max_pulses);
+}
+template <class B>
+void put_status(B& b, const Status& s) {
+  b.push_back(static_cast<std::uint8_t>(s.state));
+  b.push_back(static_cast<std::uint8_t>(s.fault));
+  put_u32(b, s.pulses);
+  put_u32(b, s.weight_updates);
+  put_u16(b, s.rx_errors);
+  put_u16(b, s.line_errors);
+  put_u16(b, s.overruns);
+}
+
+std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
+
+// Channel codes, in fixed storage.
+struct Codes {
+  std::array<std::int16_t, kMaxChannels> code{};
+  std::size_t count = 0;
+  const std::int16_t* begin() const { return code.data(); }
+  const std::int16_t* end() const { return code.data() + count; }
+  std::size_t size() const { return count; }
+  std::int16_t operator[](std::size_t i) const { return code[i]; }
+};
+// The count byte and the codes of a set_weights payload (after the token); false when the
+// length disagrees or count > kMaxChannels.
+bool decode_codes(const std::uint8_t* p, std::size_t n, Codes& out);
+
+// The current of one code of a signed DAC of dac_bits (2 to 16) spanning
+// +-max_current_uA: the nearest whole nA, or the next one up where the nearest would need
+// more codes than the DAC has (2^(bits-1) - 1).  0 when the protocol's 16-bit field cannot
+// carry it.
+std::uint32_t dac_step_nA(std::uint16_t max_current_uA, int dac_bits);
+
+// The host's forms (protocol_buffers.cpp).
 std::vector<std::uint8_t> encode(const Capabilities& c);
 std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode(const PulseConfig& c);
-std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
 std::vector<std::uint8_t> encode(const Status& s);
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode_weights(const std::vector<std::int16_t>& codes);

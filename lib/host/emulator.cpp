@@ -9,11 +9,14 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <termios.h>
 #include <unistd.h>
 
 #include "core/error.hpp"
 #include "core/splitmix.hpp"
+#include "device/pulse_record.hpp"
 #include "host/transport.hpp"
 #include "io/number.hpp"
 
@@ -43,19 +46,19 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
   const double step_mA = p.caps.dac_step_nA * 1e-6;
   for (std::int16_t c : p.codes) peak_mA_ = std::max(peak_mA_, std::fabs(c * step_mA));
   if (!out_) return;
-  std::string line = "{\"t_s\": " + number_text(static_cast<double>(p.t_us - p.start_us) * 1e-6) +
-                     ", \"currents_mA\": [";
-  std::string charge = "], \"net_charge_nC\": [";
-  const double scale = static_cast<double>(p.config.width_us) / p.config.balance_width_us;
-  for (std::size_t i = 0; i < p.codes.size(); ++i) {
-    const double main = p.codes[i] * step_mA;
-    const double balance = -main * scale;  // the balancing phase of the same channel
-    line += (i ? ", " : "") + number_text(main);
-    charge += (i ? ", " : "") +
-              number_text(main * p.config.width_us + balance * p.config.balance_width_us);
-  }
-  line += charge + "]}\n";
-  std::fputs(line.c_str(), out_);
+  // The device's own record (lib/device/pulse_record.hpp), as the firmware's monitor
+  // writes it: the balancing phase in whole DAC codes.
+  device::PulseRecord r;
+  r.t_us = p.t_us - p.start_us;
+  r.channels = static_cast<std::uint8_t>(p.codes.size());
+  std::copy(p.codes.begin(), p.codes.end(), r.main);
+  device::balance_codes(p.codes, p.config.width_us, p.config.balance_width_us, r.balance);
+  r.step_nA = p.caps.dac_step_nA;
+  r.width_us = p.config.width_us;
+  r.interphase_us = p.config.interphase_us;
+  r.balance_width_us = p.config.balance_width_us;
+  char line[device::kMaxRecordLine];
+  std::fwrite(line, 1, device::format_record(r, line), out_);
 }
 
 void PulseRecorder::flush() {
@@ -151,6 +154,45 @@ void inject(std::vector<std::uint8_t>& bytes, const FaultInjection& f, SplitMix6
   bytes.swap(out);
 }
 
+// Connects to the device's Unix socket, waiting up to 10 s for it to appear.
+int connect_device(const std::string& path) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.size() >= sizeof addr.sun_path) bad_input("--forward: socket path too long: " + path);
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) failure(std::string("socket: ") + std::strerror(errno));
+    if (connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0) {
+      fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+      return fd;
+    }
+    const int err = errno;
+    close(fd);
+    if (err != ENOENT && err != ECONNREFUSED)
+      failure("cannot connect to the device at " + path + ": " + std::strerror(err));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  failure("no device at " + path + " after 10 s");
+}
+
+// Writes every byte to a non-blocking descriptor, waiting while it is full.
+bool write_all(int fd, const std::uint8_t* p, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, p, n);
+    if (w > 0) {
+      p += w;
+      n -= static_cast<std::size_t>(w);
+    } else if (w < 0 && (errno == EAGAIN || errno == EINTR)) {
+      pollfd pfd{fd, POLLOUT, 0};
+      poll(&pfd, 1, 100);
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 int run_pty_emulator(const PtyEmulatorOptions& opt) {
@@ -182,6 +224,9 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGHUP, &sa, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+
+  const bool forward = !opt.forward_socket.empty();
+  const int device_fd = forward ? connect_device(opt.forward_socket) : -1;
 
   std::printf("%s\n", path.c_str());
   std::fflush(stdout);
@@ -227,16 +272,42 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     core.advance(now, sink);
     send_due(now);
     // Sleep until the next pulse, watchdog deadline or reply, at most 5 ms.
-    std::uint64_t next = core.next_event_us();
+    std::uint64_t next = forward ? UINT64_MAX : core.next_event_us();
     if (!replies.empty()) next = std::min(next, replies.front().first);
     int timeout_ms = 5;
     if (next != UINT64_MAX)
       timeout_ms =
           next <= now ? 0 : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
-    pollfd pfd{master, static_cast<short>(stalled ? 0 : POLLIN), 0};
-    const int pr = poll(&pfd, 1, timeout_ms);
+    pollfd pfds[2] = {{master, static_cast<short>(stalled ? 0 : POLLIN), 0},
+                      {device_fd, static_cast<short>(stalled ? 0 : POLLIN), 0}};
+    const int pr = poll(pfds, forward ? 2 : 1, timeout_ms);
     if (pr < 0 && errno != EINTR) break;
-    if (pr > 0 && (pfd.revents & POLLIN)) {
+    pollfd& pfd = pfds[0];
+    if (forward && pr > 0 && (pfds[1].revents & (POLLIN | POLLHUP | POLLERR))) {
+      // The device's replies: through the same faults and delay as the built-in device's.
+      const ssize_t n = read(device_fd, in.data(), in.size());
+      if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
+        std::fprintf(stderr, "stim-emu: the device closed its line\n");
+        break;
+      }
+      if (n > 0) {
+        std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
+        inject(bytes, opt.faults, rng);
+        if (!bytes.empty()) replies.emplace_back(monotonic_us() + reply_delay_us, bytes);
+        send_due(monotonic_us());
+      }
+    }
+    if (forward && pr > 0 && (pfd.revents & POLLIN)) {
+      const ssize_t n = read(master, in.data(), in.size());
+      if (n > 0) {
+        std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
+        inject(bytes, opt.faults, rng);
+        if (!write_all(device_fd, bytes.data(), bytes.size())) {
+          std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
+          break;
+        }
+      }
+    } else if (pr > 0 && (pfd.revents & POLLIN)) {
       const ssize_t n = read(master, in.data(), in.size());
       if (n > 0) {
         std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
@@ -261,6 +332,7 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
   core.link_lost();  // output stops before the emulator goes
   recorder.flush();
   if (apply_log) std::fclose(apply_log);
+  if (device_fd >= 0) close(device_fd);
   close(slave);
   close(master);
   return status;

@@ -10,10 +10,12 @@
 
 namespace tp::host {
 
-// Writes one JSON object per delivered pulse:
-//   {"t_s": 0.005, "currents_mA": [...], "net_charge_nC": [...]}
+// Writes one JSON object per delivered pulse (device::format_record, as the firmware's
+// monitor does):
+//   {"t_s": 0.005000, "currents_mA": [...], "net_charge_nC": [...]}
 // t_s from the start command; currents are the main phase as the DAC makes them
-// (code x step), positive = cathodic; net_charge_nC is main minus balancing charge.
+// (code x step), positive = cathodic; net_charge_nC is the main phase's charge plus the
+// balancing phase's, in whole DAC codes.
 class PulseRecorder {
  public:
   explicit PulseRecorder(const std::string& path);  // empty path: record nothing
@@ -41,6 +43,9 @@ struct FaultInjection {
 
 struct PtyEmulatorOptions {
   device::Capabilities caps;
+  // Not empty: no built-in device; the line is forwarded to the device on this Unix socket
+  // (the firmware in QEMU: scripts/firmware-emu), with the same fault injection.
+  std::string forward_socket;
   std::string record_path;
   std::string apply_log_path;  // "n t_ns" per applied weight frame (benchmarks)
   FaultInjection faults;
@@ -48,6 +53,7 @@ struct PtyEmulatorOptions {
 
 // Opens a pseudo-terminal, prints its path on stdout's first line, and runs the device until
 // SIGINT/SIGTERM (returns 0) or a fault-injected disconnect.  Output stops first, always.
+// With forward_socket, relays the line to that device instead until it closes the socket.
 int run_pty_emulator(const PtyEmulatorOptions& opt);
 
 }  // namespace tp::host

@@ -60,7 +60,7 @@ StimulatorClient::Reply StimulatorClient::exchange(device::Msg type,
           t_.read(buf, sizeof buf, static_cast<int>(std::max<std::int64_t>(left_ms, 1)));
       for (std::size_t i = 0; i < n; ++i) {
         if (!decoder_.push(buf[i])) continue;
-        const device::Frame& f = decoder_.frame();
+        const device::RxFrame& f = decoder_.frame();
         // Only the acknowledgement of this request counts; stale ones are ignored.
         if (f.type != static_cast<std::uint8_t>(device::Msg::ack) || f.seq != seq ||
             f.payload.size() < 2 || f.payload[0] != static_cast<std::uint8_t>(type))

@@ -10,8 +10,11 @@
 #include <numeric>
 #include <random>
 
+#include <nlohmann/json.hpp>
 #include "core/error.hpp"
+#include "device/config_block.hpp"
 #include "device/device_core.hpp"
+#include "device/pulse_record.hpp"
 #include "host/session.hpp"
 #include "host/stimulator.hpp"
 #include "pulse/stimulus.hpp"
@@ -86,7 +89,7 @@ TEST_CASE("frames round-trip through stuffing, with flags and escapes in the pay
   REQUIRE(frames == 1);
   CHECK(d.frame().seq == f.seq);
   CHECK(d.frame().type == f.type);
-  CHECK(d.frame().payload == f.payload);
+  CHECK(d.frame().payload.same_as(f.payload));
 }
 
 TEST_CASE("a damaged frame is dropped and the decoder resynchronises", "[device][frame]") {
@@ -139,8 +142,8 @@ TEST_CASE("randomised decoder fuzz: no crash, no damaged frame accepted", "[devi
     bool got = false;
     for (std::uint8_t b : bytes) {
       if (!d.push(b)) continue;
-      const bool same =
-          d.frame().seq == f.seq && d.frame().type == f.type && d.frame().payload == f.payload;
+      const bool same = d.frame().seq == f.seq && d.frame().type == f.type &&
+                        d.frame().payload.same_as(f.payload);
       if (intact) {
         CHECK(same);
         got = true;
@@ -205,7 +208,8 @@ TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing
   CHECK(send(core, 14, Msg::configure, configure(config8()), 0) == Result::bad_state);
   // Pulses carry the last accepted weights only.
   std::vector<std::vector<std::int16_t>> seen;
-  core.advance(20000, [&](const DeliveredPulse& p) { seen.push_back(p.codes); });
+  core.advance(20000,
+               [&](const DeliveredPulse& p) { seen.emplace_back(p.codes.begin(), p.codes.end()); });
   REQUIRE(seen.size() == 5);  // t = 0, 5, 10, 15, 20 ms
   for (const auto& s : seen) CHECK(s == ok);
   CHECK(send(core, 15, Msg::stop, {}, 20000) == Result::ok);
@@ -467,4 +471,173 @@ TEST_CASE("stimulus checks (limits, zero sum, balance) and safety figures", "[pu
   bad.shape.width_us = 900;
   bad.shape.balance_width_us = 4500;  // does not fit a 5 ms period
   CHECK_THROWS_AS(check_stimulus(bad, StimulusLimits{}), Error);
+}
+
+TEST_CASE("the DAC step in integers equals the rounding rule in doubles", "[device][limits]") {
+  // The rule stim-emu applied in doubles before the firmware needed it in integers.
+  for (int bits = 2; bits <= 16; ++bits)
+    for (int ua = 1; ua <= 2000; ++ua) {
+      const double codes = std::ldexp(1.0, bits - 1) - 1;
+      const double na = ua * 1000.0;
+      double step = std::max(1.0, std::round(na / codes));
+      if (std::floor(na / step) > codes) step = std::ceil(na / codes);
+      const std::uint32_t got = dac_step_nA(static_cast<std::uint16_t>(ua), bits);
+      if (step > 65535)
+        REQUIRE(got == 0);
+      else
+        REQUIRE(got == static_cast<std::uint32_t>(step));
+      if (got)
+        REQUIRE(static_cast<std::uint64_t>(ua) * 1000u / got <= static_cast<std::uint64_t>(codes));
+    }
+  CHECK(dac_step_nA(2000, 12) == 977);
+  CHECK(dac_step_nA(2000, 1) == 0);
+  CHECK(dac_step_nA(2000, 17) == 0);
+}
+
+TEST_CASE("fixed buffers refuse what does not fit and remember it", "[device][frame]") {
+  FixedBytes<3> b;
+  const std::uint8_t x[4] = {1, 2, 3, 4};
+  b.append(x, 4);
+  CHECK(b.size() == 3);
+  CHECK(b.overflowed());
+  CHECK(b.same_as(std::vector<std::uint8_t>{1, 2, 3}));
+  b.clear();
+  CHECK_FALSE(b.overflowed());
+  // The longest frame fits the device's reply buffer.
+  std::vector<std::uint8_t> out;
+  encode_frame(Frame{0x7E, 0x7D, std::vector<std::uint8_t>(kMaxPayload, 0x7E)}, out);
+  CHECK(out.size() <= kMaxEncodedFrame);
+}
+
+TEST_CASE("the status carries the line's error counts", "[device][core]") {
+  DeviceCore core(Capabilities{});
+  core.set_line_counts(3, 70000);
+  const auto s = decode_status(encode(core.status()), 0);
+  REQUIRE(s);
+  CHECK(s->line_errors == 3);
+  CHECK(s->overruns == 0xFFFF);  // saturates
+}
+
+TEST_CASE("balancing codes sum to zero and stay within one code of the exact charge",
+          "[device][record]") {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> code(-2047, 2047), width(10, 1000), nch(2, 64);
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int n = nch(rng);
+    std::vector<std::int16_t> main(static_cast<std::size_t>(n));
+    int sum = 0;
+    for (int i = 0; i + 1 < n; ++i) {
+      main[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(code(rng) / n);
+      sum += main[static_cast<std::size_t>(i)];
+    }
+    main.back() = static_cast<std::int16_t>(-sum);
+    const auto w = static_cast<std::uint16_t>(width(rng));
+    const auto bw = static_cast<std::uint16_t>(trial % 3 == 0 ? w : w + width(rng) * 7);
+    std::vector<std::int16_t> bal(main.size());
+    balance_codes(CodeSpan{main.data(), main.size()}, w, bw, bal.data());
+    REQUIRE(std::accumulate(bal.begin(), bal.end(), 0) == 0);
+    for (std::size_t i = 0; i < main.size(); ++i) {
+      const double exact = -double(main[i]) * w / bw;
+      REQUIRE(std::fabs(bal[i] - exact) < 1.0);
+      if (bw == w) REQUIRE(bal[i] == -main[i]);
+    }
+  }
+}
+
+TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
+          "[device][record]") {
+  PulseRecord r;
+  r.t_us = 1234567;
+  r.channels = 3;
+  r.main[0] = 1024;
+  r.main[1] = -512;
+  r.main[2] = -512;
+  balance_codes(CodeSpan{r.main, 3}, 200, 800, r.balance);
+  r.step_nA = 977;
+  r.width_us = 200;
+  r.balance_width_us = 800;
+  char line[kMaxRecordLine];
+  const std::string s(line, format_record(r, line));
+  CHECK(s ==
+        "{\"t_s\": 1.234567, \"currents_mA\": [1.000448, -0.500224, -0.500224], "
+        "\"net_charge_nC\": [0, 0, 0]}\n");
+  r.t_us = 5000;
+  CHECK(std::string(line, format_record(r, line)).rfind("{\"t_s\": 0.005, ", 0) == 0);
+  r.main[0] = 1023;
+  r.main[2] = -511;
+  balance_codes(CodeSpan{r.main, 3}, 200, 800, r.balance);  // 1023/4: a remainder
+  r.measured = true;
+  r.start_us = 1234569;
+  r.measured_width_us = 200;
+  r.measured_balance_us = 801;
+  r.dropped_before = 2;
+  const std::string m(line, format_record(r, line));
+  const auto j = nlohmann::json::parse(m);
+  CHECK(j["currents_mA"][0].get<double>() == Approx(1023 * 977e-6));
+  // 1023 x 200 - 256 x 800 = -200 code-us: -0.1954 nC, as the DAC delivers it
+  CHECK(j["net_charge_nC"][0].get<double>() == Approx(-200 * 977e-6).margin(1e-6));
+  CHECK(j["start_us"] == 1234569);
+  CHECK(j["balance_width_us"] == 801);
+  CHECK(j["dropped_before"] == 2);
+  // The widest record fits.
+  PulseRecord big;
+  big.t_us = UINT64_MAX / 2;
+  big.channels = kMaxChannels;
+  for (auto& c : big.main) c = -32767;
+  for (auto& c : big.balance) c = -32767;
+  big.step_nA = 65535;
+  big.width_us = big.balance_width_us = 65535;
+  big.measured = true;
+  big.start_us = UINT64_MAX;
+  big.measured_width_us = big.measured_interphase_us = big.measured_balance_us = UINT32_MAX;
+  big.dropped_before = UINT32_MAX;
+  CHECK(format_record(big, line) <= kMaxRecordLine);
+}
+
+TEST_CASE("the firmware's configuration block: defaults, a valid block, and refusals",
+          "[device][config]") {
+  constexpr std::uint32_t bits = (1u << 12) | (1u << 14) | (1u << 16);
+  std::uint8_t erased[kConfigBlockSize];
+  std::fill(std::begin(erased), std::end(erased), std::uint8_t{0xFF});
+  const DeviceConfig d = parse_config_block(erased, 8, bits);
+  CHECK(d.source == DeviceConfig::Source::defaults);
+  CHECK(d.channels == 8);
+  CHECK(d.max_current_uA == 2000);
+  // What `scripts/firmware-config --max-current 1` writes (tests/cli: the same bytes).
+  std::uint8_t block[kConfigBlockSize] = {0x54, 0x50, 0x43, 0x46, 0x01, 0x00, 0x10, 0x00,
+                                          0x08, 0x0c, 0xe8, 0x03, 0x2c, 0x01, 0x56, 0x47};
+  const DeviceConfig c = parse_config_block(block, 8, bits);
+  CHECK(c.source == DeviceConfig::Source::block);
+  CHECK(c.channels == 8);
+  CHECK(c.dac_bits == 12);
+  CHECK(c.max_current_uA == 1000);
+  CHECK(c.watchdog_ms == 300);
+  // Every single-bit error is caught, and leaves a device that delivers nothing.
+  for (std::size_t byte = 0; byte < kConfigBlockSize; ++byte)
+    for (int bit = 0; bit < 8; ++bit) {
+      std::uint8_t bad[kConfigBlockSize];
+      std::copy(std::begin(block), std::end(block), bad);
+      bad[byte] = static_cast<std::uint8_t>(bad[byte] ^ (1u << bit));
+      const DeviceConfig b = parse_config_block(bad, 8, bits);
+      REQUIRE(b.source == DeviceConfig::Source::invalid);
+      REQUIRE(b.max_current_uA == 0);
+    }
+  // A valid CRC over values the hardware cannot honour: refused the same way.
+  auto with = [&](std::size_t at, std::uint8_t v) {
+    std::uint8_t b[kConfigBlockSize];
+    std::copy(std::begin(block), std::end(block), b);
+    b[at] = v;
+    const std::uint16_t crc = crc16(b, 14);
+    b[14] = static_cast<std::uint8_t>(crc & 0xFF);
+    b[15] = static_cast<std::uint8_t>(crc >> 8);
+    return parse_config_block(b, 8, bits);
+  };
+  CHECK(with(8, 9).source == DeviceConfig::Source::invalid);   // 9 channels on an 8-channel DAC
+  CHECK(with(8, 0).source == DeviceConfig::Source::invalid);   // none
+  CHECK(with(9, 13).source == DeviceConfig::Source::invalid);  // a 13-bit DAC is not fitted
+  CHECK(with(9, 16).source == DeviceConfig::Source::block);
+  CHECK(with(11, 0x08).source == DeviceConfig::Source::invalid);  // 2.28 mA: over the bound
+  CHECK(with(13, 0x04).source == DeviceConfig::Source::invalid);  // watchdog 1068 ms
+  // A 4-channel board: its defaults have 4 channels.
+  CHECK(parse_config_block(erased, 4, bits).channels == 4);
 }

@@ -29,7 +29,13 @@ stop_emu
 grep -q "3000 weight frames" flood.err || fail "flood: $(cat flood.err)"
 grep -q "end of input" flood.err || fail "flood ended otherwise: $(cat flood.err)"
 secs=$(awk -v a="$t0" -v b="$t1" 'BEGIN { print b - a }')
-awk -v s="$secs" 'BEGIN { exit !(s < 20) }' || fail "flood took $secs s"
+# 20 s: the host reads the flood in linear time (stim-emu answers in microseconds).  The
+# firmware in QEMU takes ~6 ms a frame, acknowledged one at a time while it writes its
+# monitor, whose every byte costs QEMU real time (firmware/README.md): its bound is the
+# emulated device's, not the host's.
+limit=20
+[[ ${TP_DEVICE:-} == firmware ]] && limit=90
+awk -v s="$secs" -v l="$limit" 'BEGIN { exit !(s < l) }' || fail "flood took $secs s (limit $limit s)"
 # 3. The peak is what was delivered (frames up to 1 mA), not the document's 0.5 mA.
 peak=$(sed -n 's/.*peak \([0-9.]*\) mA.*/\1/p' flood.err)
 awk -v p="$peak" 'BEGIN { exit !(p > 0.998 && p < 1.002) }' || fail "summary peak $peak mA, delivered 1 mA: $(cat flood.err)"

@@ -1,0 +1,35 @@
+// STM32F4-Discovery (STM32F407VGT6, 8 MHz clock from its ST-LINK).  Pins are MCU pins;
+// firmware/README.md has the wiring.
+#include "board.hpp"
+
+namespace tp::fw {
+namespace {
+constexpr Board make() {
+  Board b{};
+  b.name = "stm32f4discovery";
+  b.hse_hz = 8000000;  // 8 MHz / 8 * 336 / 2 = 168 MHz; / 7 = 48 MHz
+  b.pll_m = 8;
+  b.pll_n = 336;
+  b.pll_p = 2;
+  b.pll_q = 7;
+  b.host_tx = {1, 6};  // USART1: PB6, PB7 (PB6 is also the audio codec's I2C clock)
+  b.host_rx = {1, 7};
+  b.monitor_tx = {0, 2};  // USART2: PA2, PA3
+  b.monitor_rx = {0, 3};
+  b.host_baud = 115200;
+  b.monitor_baud = 921600;
+  b.spi_sck = {1, 13};  // SPI2: PB13, PB15, PB14
+  b.spi_mosi = {1, 15};
+  b.spi_miso = {1, 14};
+  b.dac_sync = {1, 12};      // PB12
+  b.dac_ldac = {3, 0};       // PD0
+  b.output_enable = {3, 1};  // PD1
+  b.hold_low = {3, 4};       // PD4: the CS43L22 codec's reset, so that it leaves PB6 alone
+  b.min_phase_us = 20;
+  return b;
+}
+}  // namespace
+
+const Board kBoard = make();
+
+}  // namespace tp::fw

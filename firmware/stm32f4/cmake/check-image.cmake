@@ -1,0 +1,33 @@
+# After linking: no allocator and no exception support in the image, then its flash and
+# RAM figures (flash: .isr_vector + .text + .ARM.exidx + .init_array + .data's load copy;
+# RAM: .data + .bss, the stack takes the rest).
+execute_process(COMMAND ${NM} -C ${ELF} OUTPUT_VARIABLE symbols COMMAND_ERROR_IS_FATAL ANY)
+foreach(bad malloc free _sbrk "operator new" "operator delete" __cxa_allocate_exception
+            __cxa_throw __gxx_personality_v0 _Unwind_Resume)
+  string(REGEX MATCH "[ \t][TtWwUu] ${bad}[(\n]" hit "${symbols}")
+  if(hit)
+    message(FATAL_ERROR "firmware: the image refers to '${bad}' (no heap, no exceptions allowed)")
+  endif()
+endforeach()
+execute_process(COMMAND ${SIZE} -A ${ELF} OUTPUT_VARIABLE sections COMMAND_ERROR_IS_FATAL ANY)
+set(flash 0)
+set(ram 0)
+string(REPLACE "\n" ";" lines "${sections}")
+foreach(line IN LISTS lines)
+  if(line MATCHES "^(\\.[a-zA-Z_.]+)[ \t]+([0-9]+)[ \t]+([0-9]+)")
+    set(name ${CMAKE_MATCH_1})
+    set(bytes ${CMAKE_MATCH_2})
+    if(name MATCHES "^\\.(isr_vector|text|ARM\\.exidx|init_array)$")
+      math(EXPR flash "${flash} + ${bytes}")
+    elseif(name STREQUAL ".data")
+      math(EXPR flash "${flash} + ${bytes}")
+      math(EXPR ram "${ram} + ${bytes}")
+    elseif(name STREQUAL ".bss")
+      math(EXPR ram "${ram} + ${bytes}")
+    endif()
+  endif()
+endforeach()
+math(EXPR flash_pct "${flash} * 1000 / (896 * 1024)")
+math(EXPR ram_pct "${ram} * 1000 / (128 * 1024)")
+message(STATUS "firmware (${BOARD}): flash ${flash} bytes (${flash_pct} per mille of 896 KiB), "
+               "RAM ${ram} bytes static (${ram_pct} per mille of 128 KiB; the stack has the rest)")

@@ -1,0 +1,194 @@
+// The stimulator firmware: the portable device core (lib/device) on an STM32F405/407.
+//
+//   USART1  the host link (docs/protocol.md), received by interrupt into a ring
+//   SysTick the alarm that paces every pulse edge (pulse_engine.hpp)
+//   TIM2    the microsecond clock every time comes from
+//   SPI2    the 8-channel DAC (dac_ad56x8.hpp); a GPIO enables the electrode switches
+//   USART2  the monitor: one JSON line per delivered pulse, as stim-emu --record writes
+//   IWDG    resets the MCU if this loop ever stops
+//
+// The main loop feeds received bytes to the core, lets it emit the pulses due within
+// kLeadUs to the engine, follows its state (output-enable high only while it runs, and
+// every way of stopping stops the engine first), and writes the monitor's lines.
+
+#include <cstdint>
+
+#include "board.hpp"
+#include "dac_ad56x8.hpp"
+#include "device/config_block.hpp"
+#include "device/device_core.hpp"
+#include "device/pulse_record.hpp"
+#include "hw.hpp"
+#include "pulse_engine.hpp"
+
+extern "C" const std::uint8_t _config_block[];
+
+namespace tp::fw {
+namespace {
+
+// Pulses are handed to the engine this long before their slot (plus its delay): the loop
+// runs at least every millisecond.  The core's watchdog therefore acts up to this much
+// early, never late.
+constexpr std::uint64_t kLeadUs = 2000;
+
+Clock g_clock;
+Alarm g_alarm;
+Uart g_host, g_monitor;
+DacAd56x8 g_dac;
+PulseEngine g_engine;
+
+// The DAC resolutions this board's parts offer: AD5628, AD5648, AD5668.
+constexpr std::uint32_t kDacBits = (1u << 12) | (1u << 14) | (1u << 16);
+
+device::Capabilities capabilities(const device::DeviceConfig& c, const Board& board,
+                                  bool emulated) {
+  device::Capabilities caps;
+  caps.channels = c.channels;
+  caps.max_current_uA = c.max_current_uA;
+  const std::uint32_t step =
+      device::dac_step_nA(c.max_current_uA > 0 ? c.max_current_uA : 1, c.dac_bits);
+  caps.dac_step_nA = static_cast<std::uint16_t>(step);
+  caps.min_width_us =
+      board.min_phase_us > caps.min_width_us ? board.min_phase_us : caps.min_width_us;
+  // QEMU's core is slower (32 ns an instruction: scripts/firmware-emu): loading the DAC
+  // between two edges takes it about 23 us, so the emulated board's shortest phase is 50.
+  if (emulated && caps.min_width_us < 50) caps.min_width_us = 50;
+  caps.watchdog_ms = c.watchdog_ms;
+  return caps;
+}
+
+// Idle under QEMU.  With -icount, an idle CPU's virtual time jumps ahead by the host's real
+// sleeping time, which overshoots deadlines by the host's wake-up delay: interrupts would
+// come late by that much.  A CPU that never idles has a virtual time that is its
+// instruction count, exactly, and QEMU's -icount align=on keeps that in step with real
+// time (it sleeps while the guest is ahead).  So the emulated board idles in a loop that
+// touches no peripheral (peripheral accesses are slow under -icount); interrupts end it.
+void spin_idle() {
+  std::uint32_t k = 2000;
+  __asm volatile("1: subs %0, %0, #1\n bne 1b" : "+r"(k)::"cc");
+}
+
+}  // namespace
+}  // namespace tp::fw
+
+using namespace tp;
+using namespace tp::fw;
+
+extern "C" void SysTick_Handler() {
+  g_engine.on_alarm();
+}
+extern "C" void USART1_IRQHandler() {
+  g_host.on_interrupt();
+}
+extern "C" void USART2_IRQHandler() {
+  g_monitor.on_interrupt();
+}
+
+// Faults and unexpected interrupts (startup.cpp): the electrode switches open at once,
+// without the SPI (which may be what failed); then the IWDG resets the MCU.
+extern "C" void tp_fault_stop() {
+  gpio_set(kBoard.output_enable, false);
+}
+extern "C" void abort() {
+  reg::disable_irq();
+  tp_fault_stop();
+  for (;;) {
+  }
+}
+extern "C" void __cxa_pure_virtual() {
+  abort();
+}
+
+extern "C" void firmware_main() {
+  // Output-enable is driven low before anything else can happen.
+  const Clocks clocks = clock_init(kBoard);
+  gpio_output(kBoard.output_enable, false);
+  if (kBoard.hold_low.port != 0xFF) gpio_output(kBoard.hold_low, false);
+  iwdg_start();
+
+  const device::DeviceConfig config =
+      device::parse_config_block(_config_block, DacAd56x8::kChannels, kDacBits);
+  static device::DeviceCore core(capabilities(config, kBoard, clocks.emulated));
+  const std::uint32_t step_nA = core.caps().dac_step_nA;
+
+  g_clock.init(clocks.timer_hz);
+  g_dac.init(kBoard, config.dac_bits);
+  gpio_alternate(kBoard.host_tx, 7);
+  gpio_alternate(kBoard.host_rx, 7);
+  gpio_alternate(kBoard.monitor_tx, 7);
+  gpio_alternate(kBoard.monitor_rx, 7);
+  g_host.init(reg::USART1, clocks.apb2_hz, kBoard.host_baud, true);
+  g_monitor.init(reg::USART2, clocks.apb1_hz, kBoard.monitor_baud, false);
+  g_alarm.init(clocks.sysclk_hz);
+  // The alarm wakes the engine early enough to cover its own interrupt latency, then it
+  // waits on the clock: edges fall on their microsecond.  (QEMU's slower virtual core,
+  // 32 ns an instruction, needs more.)
+  g_engine.init(g_dac, g_clock, g_alarm, clocks.emulated ? 50u : 3u, clocks.sysclk_hz);
+  reg::nvic_enable(reg::IRQ_USART1, 2);
+  reg::nvic_enable(reg::IRQ_USART2, 3);
+  reg::enable_irq();
+
+  bool was_running = false;
+  std::uint8_t rx[64];
+  char line[device::kMaxRecordLine];
+  std::uint32_t monitor_lost = 0;
+  for (;;) {
+    iwdg_feed();
+    // 1. The host's bytes; replies go out as they are made.
+    std::size_t n = 0;
+    while (n < sizeof rx && g_host.read(rx[n])) ++n;
+    const std::uint64_t now = g_clock.now_us();
+    core.set_line_counts(g_host.line_errors(), g_host.overruns());
+    if (n > 0)
+      core.receive(rx, n, now, [](const std::uint8_t* p, std::size_t k) {
+        // A reply that does not fit is lost whole, as on a saturated line; the host
+        // retransmits.
+        (void)g_host.write(p, k);
+      });
+    // 2. The pulses due soon, to the engine.
+    core.advance(now + kLeadUs, [&](const device::DeliveredPulse& p) {
+      PulseJob job;
+      job.slot_us = p.t_us;
+      job.start_us = p.start_us;
+      job.channels = static_cast<std::uint8_t>(p.codes.size());
+      for (std::size_t i = 0; i < p.codes.size() && i < 8; ++i) job.main[i] = p.codes[i];
+      device::balance_codes(p.codes, p.config.width_us, p.config.balance_width_us, job.balance);
+      job.width_us = p.config.width_us;
+      job.interphase_us = p.config.interphase_us;
+      job.balance_width_us = p.config.balance_width_us;
+      job.step_nA = step_nA;
+      if (!was_running) {
+        g_engine.start_output();
+        was_running = true;
+      }
+      g_engine.submit(job);
+    });
+    // 3. However the output ended (stop, watchdog, completed), the engine stops first.
+    const bool running = core.status().state == device::State::running;
+    if (running && !was_running) g_engine.start_output();
+    if (!running && was_running) {
+      if (core.status().fault == device::Fault::completed)
+        g_engine.finish_output();  // its last pulses are queued: deliver them
+      else
+        g_engine.stop_output();
+    }
+    was_running = running;
+    // 4. The monitor: whole lines only; lost ones are counted in the next.
+    device::PulseRecord r;
+    while (g_engine.pop_record(r)) {
+      r.dropped_before += monitor_lost;
+      const std::size_t len = device::format_record(r, line);
+      if (g_monitor.write(reinterpret_cast<const std::uint8_t*>(line), len))
+        monitor_lost = 0;
+      else
+        monitor_lost = r.dropped_before + 1;
+    }
+    g_host.kick();
+    g_monitor.kick();
+    if (!g_host.tx_empty() || !g_monitor.tx_empty()) continue;
+    if (clocks.emulated)
+      spin_idle();  // see below
+    else
+      reg::wait_for_interrupt();
+  }
+}

@@ -1,0 +1,200 @@
+#include "pulse_engine.hpp"
+
+#include <algorithm>
+
+namespace tp::fw {
+namespace {
+const std::int16_t kZeros[8] = {};
+}
+
+void PulseEngine::init(OutputStage& stage, Clock& clock, Alarm& alarm, std::uint32_t early_us,
+                       std::uint32_t core_hz) {
+  early_us_ = early_us;
+  spins_per_us_ = core_hz / 3000000u;  // three cycles a turn on a Cortex-M4
+  stage_ = &stage;
+  clock_ = &clock;
+  alarm_ = &alarm;
+  const std::uint64_t now = clock.now_us();
+  alarm.set(now + kHousekeepingUs, now);
+}
+
+bool PulseEngine::submit(const PulseJob& job) {
+  reg::CriticalSection cs;
+  if (job_head_ - job_tail_ == kJobs) {
+    ++lost_;
+    return false;
+  }
+  jobs_[job_head_ % kJobs] = job;
+  job_head_ = job_head_ + 1;
+  // The alarm may be set for later than this pulse (housekeeping): let the engine look now.
+  const std::uint64_t now = clock_->now_us();
+  alarm_->set(now, now);
+  return true;
+}
+
+void PulseEngine::start_output() {
+  reg::CriticalSection cs;
+  stop_requested_ = false;
+  finish_requested_ = false;
+  stage_->enable(true);
+}
+
+void PulseEngine::stop_output() {
+  reg::CriticalSection cs;
+  job_head_ = job_tail_;  // drop the queue (an in-flight pulse is not in it)
+  loaded_ = false;
+  finish_requested_ = false;
+  if (phase_ == Phase::idle) {
+    outputs_off();
+  } else {
+    stop_requested_ = true;  // after this pulse's balancing phase
+  }
+}
+
+void PulseEngine::finish_output() {
+  reg::CriticalSection cs;
+  if (phase_ == Phase::idle && job_head_ == job_tail_)
+    outputs_off();
+  else
+    finish_requested_ = true;
+}
+
+void PulseEngine::outputs_off() {
+  stage_->load(kZeros, 8);
+  stage_->latch();
+  stage_->enable(false);
+  stop_requested_ = false;
+  finish_requested_ = false;
+  loaded_ = false;
+}
+
+bool PulseEngine::pop_record(device::PulseRecord& r) {
+  reg::CriticalSection cs;
+  if (rec_head_ == rec_tail_) return false;
+  r = records_[rec_tail_ % kRecords];
+  rec_tail_ = rec_tail_ + 1;
+  return true;
+}
+
+namespace {
+// n turns of a loop of two instructions that touches no peripheral.
+void spin(std::uint32_t n) {
+  std::uint32_t k = n + 1;
+  __asm volatile("1: subs %0, %0, #1\n bne 1b" : "+r"(k)::"cc");
+}
+}  // namespace
+
+void PulseEngine::edge(std::uint64_t scheduled, int index) {
+  // The alarm came up to early_us before the edge: wait for the edge's microsecond.  Most
+  // of the wait is the plain loop, an eighth of what is left each time at its measured
+  // speed (reading the clock is a peripheral access, slow under QEMU, whose speed per
+  // instruction may also change: -icount shift=auto); the last 16 us only read the clock,
+  // faster than it ticks, so the reading that releases the edge is its microsecond.
+  std::uint64_t now = clock_->now_us();
+  for (std::uint32_t i = 0; now < scheduled && i < 100000u; ++i) {
+    const std::uint64_t left = scheduled - now;
+    if (left >= 16) {
+      const auto n = static_cast<std::uint32_t>(left / 8 * spins_per_us_);
+      const std::uint64_t before = now;
+      spin(n);
+      now = clock_->now_us();
+      const std::uint64_t took = now - before;
+      if (took > 0) {
+        const std::uint64_t rate = n / took;
+        spins_per_us_ = static_cast<std::uint32_t>(rate < 1 ? 1 : rate > 1000 ? 1000 : rate);
+      }
+    } else {
+      now = clock_->now_us();
+    }
+  }
+  // The edge's time is the reading that released it: the LDAC pulse follows that reading
+  // by the same few instructions at every edge.
+  edges_[index] = now;
+  stage_->latch();
+}
+
+void PulseEngine::on_alarm() {
+  std::uint64_t next = clock_->now_us() + kHousekeepingUs;
+  // Every edge that is due, then the alarm for the next one (or for housekeeping).
+  for (int guard = 0; guard < 8; ++guard) {
+    const std::uint64_t now = clock_->now_us();
+    if (phase_ == Phase::idle) {
+      if (job_head_ == job_tail_) break;
+      const PulseJob& job = jobs_[job_tail_ % kJobs];
+      if (!loaded_) {
+        stage_->load(job.main, job.channels);
+        loaded_ = true;
+      }
+      const std::uint64_t due = job.slot_us + kDelayUs;
+      if (now + early_us_ < due) {
+        next = std::min(next, due - early_us_);
+        break;
+      }
+      current_ = job;
+      job_tail_ = job_tail_ + 1;
+      loaded_ = false;
+      exec_us_ = due;
+      edge(due, 0);
+      stage_->output(latched_main_, current_.channels);
+      phase_ = Phase::main;
+      stage_->load(current_.interphase_us ? kZeros : current_.balance, current_.channels);
+      continue;
+    }
+    const PulseJob& job = current_;
+    const std::uint64_t t_gap = exec_us_ + job.width_us;
+    const std::uint64_t t_bal = t_gap + job.interphase_us;
+    const std::uint64_t t_end = t_bal + job.balance_width_us;
+    const std::uint64_t due = phase_ == Phase::main ? t_gap : phase_ == Phase::gap ? t_bal : t_end;
+    if (now + early_us_ < due) {
+      next = std::min(next, due - early_us_);
+      break;
+    }
+    if (phase_ == Phase::main && job.interphase_us) {  // main -> gap
+      edge(due, 1);
+      phase_ = Phase::gap;
+      stage_->load(job.balance, job.channels);
+    } else if (phase_ != Phase::balance) {  // main or gap -> balance
+      edge(due, phase_ == Phase::main ? 1 : 2);
+      if (phase_ == Phase::main) edges_[2] = edges_[1];
+      stage_->output(latched_balance_, job.channels);
+      phase_ = Phase::balance;
+      stage_->load(kZeros, job.channels);
+    } else {  // balance -> idle
+      edge(due, 3);
+      finish_pulse();
+    }
+  }
+  alarm_->set(next, clock_->now_us());
+}
+
+void PulseEngine::finish_pulse() {
+  const PulseJob& job = current_;
+  if (rec_head_ - rec_tail_ < kRecords) {
+    device::PulseRecord& r = records_[rec_head_ % kRecords];
+    r = device::PulseRecord{};
+    r.t_us = job.slot_us - job.start_us;
+    r.channels = job.channels;
+    // The codes as read back from the DAC's registers when each phase was latched: the
+    // monitor shows what the driver sent, not what it was asked for.
+    std::copy(latched_main_, latched_main_ + job.channels, r.main);
+    std::copy(latched_balance_, latched_balance_ + job.channels, r.balance);
+    r.step_nA = job.step_nA;
+    r.width_us = job.width_us;
+    r.interphase_us = job.interphase_us;
+    r.balance_width_us = job.balance_width_us;
+    r.measured = true;
+    r.start_us = edges_[0] - job.start_us;
+    r.measured_width_us = static_cast<std::uint32_t>(edges_[1] - edges_[0]);
+    r.measured_interphase_us = static_cast<std::uint32_t>(edges_[2] - edges_[1]);
+    r.measured_balance_us = static_cast<std::uint32_t>(edges_[3] - edges_[2]);
+    r.dropped_before = records_lost_;
+    records_lost_ = 0;
+    rec_head_ = rec_head_ + 1;
+  } else {
+    records_lost_ = records_lost_ + 1;
+  }
+  phase_ = Phase::idle;
+  if (stop_requested_ || (finish_requested_ && job_head_ == job_tail_)) outputs_off();
+}
+
+}  // namespace tp::fw

@@ -1,0 +1,83 @@
+#pragma once
+// Executes the pulses the device core emits, on time: each pulse's main phase, gap and
+// balancing phase, edge by edge, from the SysTick alarm, with the DAC's next codes loaded
+// during the phase before and latched on the edge.  The device core (main loop) decides
+// which pulses happen; the engine only delivers them, and measures each edge on the
+// microsecond clock for the monitor.
+//
+// Pulses leave kDelayUs after their slot, so that the first pulse after a start is as
+// punctual as the rest.  Stopping drops every queued pulse; a pulse already in its main
+// phase completes its balancing phase (its charge must be returned), then the outputs go
+// to 0 and output-enable low.
+
+#include <cstdint>
+
+#include "device/pulse_record.hpp"
+#include "hw.hpp"
+#include "output_stage.hpp"
+
+namespace tp::fw {
+
+struct PulseJob {
+  std::uint64_t slot_us = 0;   // the core's slot (device time)
+  std::uint64_t start_us = 0;  // the start command's time
+  std::uint8_t channels = 0;
+  std::int16_t main[8] = {};
+  std::int16_t balance[8] = {};
+  std::uint16_t width_us = 0, interphase_us = 0, balance_width_us = 0;
+  std::uint32_t step_nA = 0;
+};
+
+class PulseEngine {
+ public:
+  static constexpr std::uint64_t kDelayUs = 500;
+  static constexpr std::uint64_t kHousekeepingUs = 1000;  // the alarm's longest sleep
+
+  // early_us: how long before an edge the alarm wakes the engine, which then waits on the
+  // clock for the edge's microsecond.  A few microseconds on a real MCU, whose SysTick is
+  // exact; a millisecond under QEMU, where an idle CPU's virtual time advances by the
+  // host's real sleeping time and so can overshoot a deadline by the host's wake-up delay.
+  void init(OutputStage& stage, Clock& clock, Alarm& alarm, std::uint32_t early_us,
+            std::uint32_t core_hz);
+
+  // Main loop.
+  bool submit(const PulseJob& job);  // false: the queue is full (the pulse is not delivered)
+  void start_output();               // output-enable high
+  void stop_output();                // see above
+  void finish_output();              // the queued pulses first (a completed stimulus)
+  bool pop_record(device::PulseRecord& r);
+  std::uint32_t lost_pulses() const { return lost_; }
+
+  // The SysTick interrupt.
+  void on_alarm();
+
+ private:
+  enum class Phase : std::uint8_t { idle, main, gap, balance };
+  static constexpr std::uint32_t kJobs = 8, kRecords = 8;
+  void edge(std::uint64_t scheduled, int index);
+  void finish_pulse();
+
+  OutputStage* stage_ = nullptr;
+  Clock* clock_ = nullptr;
+  Alarm* alarm_ = nullptr;
+  std::uint32_t early_us_ = 2;
+  std::uint32_t spins_per_us_ = 56;  // the wait loop's speed, as last measured
+  PulseJob jobs_[kJobs];
+  volatile std::uint32_t job_head_ = 0, job_tail_ = 0;
+  device::PulseRecord records_[kRecords];
+  volatile std::uint32_t rec_head_ = 0, rec_tail_ = 0;
+  volatile std::uint32_t records_lost_ = 0;
+  std::uint32_t lost_ = 0;
+  // Interrupt state.
+  Phase phase_ = Phase::idle;
+  bool loaded_ = false;          // the head job's main codes are in the DAC's inputs
+  PulseJob current_;             // the pulse in flight (out of the queue)
+  std::uint64_t exec_us_ = 0;    // its first edge, scheduled
+  std::uint64_t edges_[4] = {};  // its edges, measured
+  std::int16_t latched_main_[8] = {}, latched_balance_[8] = {};  // read back from the DAC
+  volatile bool stop_requested_ = false;
+  volatile bool finish_requested_ = false;
+  void outputs_off();
+};
+
+}  // namespace tp::fw

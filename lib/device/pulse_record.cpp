@@ -1,0 +1,108 @@
+#include "device/pulse_record.hpp"
+
+#include <algorithm>
+
+namespace tp::device {
+
+void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_width_us,
+                   std::int16_t* out) {
+  const std::int64_t bw = balance_width_us == 0 ? 1 : balance_width_us;
+  std::int64_t rem[kMaxChannels] = {};
+  std::int64_t sum = 0;
+  const std::size_t n = std::min<std::size_t>(main.size(), kMaxChannels);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t exact = -std::int64_t{main[i]} * width_us;  // in units of 1/bw codes
+    std::int64_t q = exact / bw;
+    if (exact % bw != 0 && exact < 0) --q;  // floor
+    rem[i] = exact - q * bw;                // 0 .. bw-1
+    out[i] = static_cast<std::int16_t>(q);
+    sum += q;
+  }
+  // The exact values sum to zero (the main codes do), so -sum channels go up by one.
+  for (std::int64_t k = -sum; k > 0; --k) {
+    std::size_t best = n;
+    for (std::size_t i = 0; i < n; ++i)
+      if (rem[i] > 0 && (best == n || rem[i] > rem[best])) best = i;
+    if (best == n) break;
+    ++out[best];
+    rem[best] = 0;
+  }
+}
+
+namespace {
+
+class Writer {
+ public:
+  explicit Writer(char* out) : out_(out) {}
+  void text(const char* s) {
+    while (*s) out_[n_++] = *s++;
+  }
+  void uint(std::uint64_t v) {
+    char digits[20];
+    int k = 0;
+    do {
+      digits[k++] = static_cast<char>('0' + v % 10);
+      v /= 10;
+    } while (v != 0);
+    while (k > 0) out_[n_++] = digits[--k];
+  }
+  // v x 1e-6 in decimal, exactly, without trailing zeros: "-1.000448", "0.005", "0"
+  void micro(std::int64_t v) {
+    if (v < 0) out_[n_++] = '-';
+    const std::uint64_t a =
+        v < 0 ? 0 - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v);
+    uint(a / 1000000u);
+    std::uint64_t frac = a % 1000000u;
+    if (frac == 0) return;
+    out_[n_++] = '.';
+    for (std::uint64_t div = 100000; frac != 0; div /= 10) {
+      out_[n_++] = static_cast<char>('0' + frac / div);
+      frac %= div;
+    }
+  }
+  std::size_t size() const { return n_; }
+
+ private:
+  char* out_;
+  std::size_t n_ = 0;
+};
+
+}  // namespace
+
+std::size_t format_record(const PulseRecord& r, char* out) {
+  Writer w(out);
+  const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
+  const auto step = static_cast<std::int64_t>(r.step_nA);
+  w.text("{\"t_s\": ");
+  w.micro(static_cast<std::int64_t>(r.t_us));
+  w.text(", \"currents_mA\": [");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    w.micro(r.main[i] * step);  // nA = 1e-6 mA
+  }
+  w.text("], \"net_charge_nC\": [");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    // nA x us = fC = 1e-6 nC
+    w.micro(r.main[i] * step * r.width_us + r.balance[i] * step * r.balance_width_us);
+  }
+  w.text("]");
+  if (r.measured) {
+    w.text(", \"start_us\": ");
+    w.uint(r.start_us);
+    w.text(", \"width_us\": ");
+    w.uint(r.measured_width_us);
+    w.text(", \"interphase_us\": ");
+    w.uint(r.measured_interphase_us);
+    w.text(", \"balance_width_us\": ");
+    w.uint(r.measured_balance_us);
+  }
+  if (r.dropped_before) {
+    w.text(", \"dropped_before\": ");
+    w.uint(r.dropped_before);
+  }
+  w.text("}\n");
+  return w.size();
+}
+
+}  // namespace tp::device

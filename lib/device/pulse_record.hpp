@@ -1,0 +1,43 @@
+#pragma once
+// What a device delivers in one pulse, and its record: one JSON line, in integers (no
+// floating point, no allocation), in the format of stim-emu --record (docs/protocol.md,
+// "Pulse records"), with the timing a firmware measured.  Portable: the firmware's
+// monitor writes these lines; the host's tests parse them.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "device/device_core.hpp"
+
+namespace tp::device {
+
+// The balancing phase's codes: each channel's -code x width / balance_width, the nearest
+// code below, then one code up on the channels with the largest remainders (lowest
+// channel first on ties) until they sum to zero, as every phase must.  Each is within one
+// code of the exact value; with equal widths, exactly -code.  out holds main.size() codes.
+void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_width_us,
+                   std::int16_t* out);
+
+struct PulseRecord {
+  std::uint64_t t_us = 0;  // the pulse's slot, from the start command
+  std::uint8_t channels = 0;
+  std::int16_t main[kMaxChannels] = {};     // codes of the main phase
+  std::int16_t balance[kMaxChannels] = {};  // codes of the balancing phase
+  std::uint32_t step_nA = 0;
+  std::uint16_t width_us = 0, interphase_us = 0, balance_width_us = 0;  // configured
+  // Measured by the device's clock at each edge (a firmware); absent when measured is false.
+  bool measured = false;
+  std::uint64_t start_us = 0;  // the main phase's first edge, from the start command
+  std::uint32_t measured_width_us = 0, measured_interphase_us = 0, measured_balance_us = 0;
+  std::uint32_t dropped_before = 0;  // records lost before this one (a full monitor line)
+};
+
+// The longest line format_record writes (64 channels, every field at its widest).
+inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 160;
+
+// Writes the record as one JSON line ending in '\n' into out (capacity kMaxRecordLine at
+// least); returns its length.  currents_mA: main codes x step; net_charge_nC: main x
+// width + balance x balance width, per channel, as delivered.
+std::size_t format_record(const PulseRecord& r, char* out);
+
+}  // namespace tp::device
