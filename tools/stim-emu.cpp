@@ -50,11 +50,12 @@ int main(int argc, char** argv) {
                  "Answer every request this much later, 0 to 1000 ms (a slow device) [0]")
       ->type_name("MS");
   app.add_option("--seed", o.faults.seed, "Seed of the fault injection [1]");
-  auto* forward = app.add_option("--forward", o.forward_socket,
-                                 "No built-in device: forward the line, with the same fault "
-                                 "injection, to the device on this Unix socket (the firmware "
-                                 "in QEMU: scripts/firmware-emu)")
-                      ->type_name("SOCKET");
+  auto* forward =
+      app.add_option("--forward", o.forward_socket,
+                     "No built-in device: forward the line, with the same fault "
+                     "injection, to the device on this Unix socket (the firmware "
+                     "in QEMU: scripts/firmware-emu); the path is printed once it answers")
+          ->type_name("SOCKET");
   for (const char* device_option :
        {"--channels", "--max-current", "--dac-bits", "--watchdog-ms", "--record", "--apply-log"})
     forward->excludes(app.get_option(device_option));

@@ -112,15 +112,22 @@ int main(int argc, char** argv) {
                    r.port.c_str(), r.end.c_str());
       throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
     }
+    // What the device's receiver has lost since it started, when it lost anything
+    // (docs/protocol.md, status).
+    std::string line;
+    if (r.rx_errors || r.line_errors || r.overruns)
+      line = " (the device's receiver so far: " + std::to_string(r.rx_errors) +
+             " damaged frames, " + std::to_string(r.line_errors) + " bytes with line errors, " +
+             std::to_string(r.overruns) + " overruns)";
     std::fprintf(stderr,
                  "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s, %d "
-                 "retransmissions; %s; "
+                 "retransmissions%s; %s; "
                  "output stopped\n",
                  r.port.c_str(), r.pulses, s.currents_mA.size(),
                  tp::number_text(s.shape.frequency_hz).c_str(), tp::number_text(r.peak_mA).c_str(),
                  tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
                  live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
-                 r.retransmissions, r.end.c_str());
+                 r.retransmissions, line.c_str(), r.end.c_str());
     if (r.exit_code != 0)
       throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);
   });

@@ -13,7 +13,7 @@ struct Pin {
 
 struct Board {
   const char* name;
-  // Clocks (RM0090 6.3.2): SYSCLK = HSE / pll_m * pll_n / pll_p = 168 MHz; USB/SDIO
+  // Clocks (RM0090 7.3.2): SYSCLK = HSE / pll_m * pll_n / pll_p = 168 MHz; USB/SDIO
   // 48 MHz = HSE / pll_m * pll_n / pll_q.  APB1 = SYSCLK / 4, APB2 = SYSCLK / 2.
   std::uint32_t hse_hz;
   std::uint32_t pll_m, pll_n, pll_p, pll_q;

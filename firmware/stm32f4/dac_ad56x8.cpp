@@ -42,15 +42,15 @@ void DacAd56x8::init(const Board& board, int bits) {
   write_word(word(kClearCode, 0, 1));  // CLR goes to mid-scale: 0 mA
   write_word(word(kLdacReg, 0, 0));    // every channel follows the LDAC pin
   const std::uint32_t mid = value_of(0);
-  write_word(word(kWriteUpdate, kAllChannels, mid << (20 - bits_)));
-  for (std::size_t i = 0; i < kChannels; ++i) input_[i] = dac_[i] = mid;
+  const bool ok = write_word(word(kWriteUpdate, kAllChannels, mid << (20 - bits_)));
+  for (std::size_t i = 0; i < kChannels; ++i) input_[i] = dac_[i] = ok ? mid : kUnknown;
 }
 
 std::uint32_t DacAd56x8::value_of(std::int16_t code) const {
   return static_cast<std::uint32_t>((1 << (bits_ - 1)) + code);
 }
 
-void DacAd56x8::write_word(std::uint32_t w) {
+bool DacAd56x8::write_word(std::uint32_t w) {
   namespace s = reg::spi;
   gpio_set(board_->dac_sync, false);
   bool ok = wait_spi(s::SR_TXE, s::SR_TXE);
@@ -58,20 +58,25 @@ void DacAd56x8::write_word(std::uint32_t w) {
   ok = ok && wait_spi(s::SR_TXE, s::SR_TXE);
   at(reg::SPI2 + s::DR) = w & 0xFFFFu;
   ok = ok && wait_spi(s::SR_TXE, s::SR_TXE) && wait_spi(s::SR_BSY, 0);
-  // Reading DR then SR clears RXNE and a possible overrun (RM0090 28.4.8).
+  // Reading DR then SR clears RXNE and a possible overrun (RM0090 28.3, error flags).
   const std::uint32_t dr = at(reg::SPI2 + s::DR);
   const std::uint32_t sr = at(reg::SPI2 + s::SR);
   static_cast<void>(dr + sr);
   gpio_set(board_->dac_sync, true);
   if (!ok) ++faults_;
+  return ok;
 }
 
 void DacAd56x8::load(const std::int16_t* codes, std::size_t n) {
   for (std::size_t i = 0; i < kChannels; ++i) {
     const std::uint32_t v = value_of(i < n ? codes[i] : 0);
     if (v == input_[i]) continue;  // only what changes: the SPI time bounds the phase
-    write_word(word(kWriteInput, static_cast<std::uint32_t>(i), v << (20 - bits_)));
-    input_[i] = v;
+    // The register is known to hold v only once the word went out; after a fault it is
+    // unknown, and the next load writes it again (the firmware stops on any fault).
+    if (write_word(word(kWriteInput, static_cast<std::uint32_t>(i), v << (20 - bits_))))
+      input_[i] = v;
+    else
+      input_[i] = kUnknown;
   }
 }
 

@@ -27,7 +27,8 @@ class DacAd56x8 final : public OutputStage {
   std::uint32_t faults() const override { return faults_; }
 
  private:
-  void write_word(std::uint32_t word);
+  bool write_word(std::uint32_t word);  // false: the SPI never became ready (counted)
+  static constexpr std::uint32_t kUnknown = 0xFFFFFFFFu;  // a register after a fault
   std::uint32_t value_of(std::int16_t code) const;
 
   const Board* board_ = nullptr;

@@ -23,28 +23,42 @@ void set_field(std::uint32_t address, unsigned shift, std::uint32_t mask, std::u
 
 }  // namespace
 
-Clocks clock_init(const Board& b) {
+void enable_peripheral_clocks() {
   namespace rcc = reg::rcc;
   // GPIOA-D, and the peripherals: TIM2, SPI2, USART2 (APB1), USART1 (APB2).
   at(rcc::AHB1ENR) |= 0xFu;
   at(rcc::APB1ENR) |= rcc::APB1_TIM2 | rcc::APB1_SPI2 | rcc::APB1_USART2;
   at(rcc::APB2ENR) |= rcc::APB2_USART1;
+  __asm volatile("dsb" ::: "memory");  // the clocks are on before the first access
+}
+
+Clocks clock_init(const Board& b) {
+  namespace rcc = reg::rcc;
   if (!(at(rcc::CR) & rcc::CR_HSIRDY)) {
     // QEMU's netduinoplus2: SYSCLK fixed at 168 MHz (hw/arm/netduinoplus2.c) and TIM2-5
-    // at their model's default clock-frequency of 1 GHz (hw/timer/stm32f2xx_timer.c,
-    // QEMU 7.2: the SoC does not set it).  Baud rates are not modelled.
+    // at the clock-frequency of 1 GHz that the SoC gives them (hw/arm/stm32f405_soc.c).
+    // Baud rates are not modelled.
     return Clocks{168000000, 42000000, 84000000, 1000000000, true, true};
   }
+  // The crystal oscillator first; then bypass mode, for a clock signal on OSC_IN (some
+  // STM32F4-Discovery revisions take the ST-LINK's 8 MHz clock output, UM1472).
   at(rcc::CR) |= rcc::CR_HSEON;
   if (!wait_set(rcc::CR, rcc::CR_HSERDY, rcc::CR_HSERDY)) {
     at(rcc::CR) &= ~rcc::CR_HSEON;
-    return Clocks{16000000, 16000000, 16000000, 16000000, false, false};  // HSI, no prescalers
+    wait_set(rcc::CR, rcc::CR_HSERDY, 0);
+    at(rcc::CR) |= rcc::CR_HSEBYP;  // writable only while HSE is off
+    at(rcc::CR) |= rcc::CR_HSEON;
+    if (!wait_set(rcc::CR, rcc::CR_HSERDY, rcc::CR_HSERDY)) {
+      at(rcc::CR) &= ~(rcc::CR_HSEON | rcc::CR_HSEBYP);
+      return Clocks{16000000, 16000000, 16000000, 16000000, false, false};  // HSI, no prescalers
+    }
   }
   // 168 MHz needs 5 wait states at 2.7-3.6 V (RM0090 table 10), with prefetch and caches.
   at(reg::flash::ACR) =
       reg::flash::ACR_5WS | reg::flash::ACR_PRFTEN | reg::flash::ACR_ICEN | reg::flash::ACR_DCEN;
-  at(rcc::PLLCFGR) = b.pll_m | (b.pll_n << 6) | (((b.pll_p / 2) - 1) << 16) | rcc::PLLCFGR_SRC_HSE |
-                     (b.pll_q << 24);
+  // M [5:0], N [14:6], P [17:16] as P/2 - 1, source [22], Q [27:24]; reserved bits kept.
+  at(rcc::PLLCFGR) = (at(rcc::PLLCFGR) & ~0x0F437FFFu) | b.pll_m | (b.pll_n << 6) |
+                     (((b.pll_p / 2) - 1) << 16) | rcc::PLLCFGR_SRC_HSE | (b.pll_q << 24);
   at(rcc::CR) |= rcc::CR_PLLON;
   if (!wait_set(rcc::CR, rcc::CR_PLLRDY, rcc::CR_PLLRDY)) {
     at(rcc::CR) &= ~rcc::CR_PLLON;
@@ -56,7 +70,7 @@ Clocks clock_init(const Board& b) {
     return Clocks{16000000, 16000000, 16000000, 16000000, false, false};
   }
   const std::uint32_t sys = b.hse_hz / b.pll_m * b.pll_n / b.pll_p;
-  // APB1 timers run at twice APB1 when its prescaler is not 1 (RM0090 6.2, figure 21).
+  // APB1 timers run at twice APB1 when its prescaler is not 1 (RM0090 7.2).
   return Clocks{sys, sys / 4, sys / 2, sys / 2, false, true};
 }
 

@@ -18,10 +18,13 @@ struct Clocks {
   bool pll;                // false: the crystal did not start; running on HSI
 };
 
+// Turns on the clocks of the GPIO ports and the peripherals the firmware uses.
+void enable_peripheral_clocks();
+
 // Sets SYSCLK to 168 MHz from the board's crystal, with bounded waits: a crystal that does
 // not start leaves the core on its 16 MHz HSI (every derived clock follows), and an RCC
 // that reads 0 (QEMU's unimplemented-device stub; a real RCC reads HSIRDY = 1 out of
-// reset) selects QEMU's fixed clocks.  Enables the clocks of the peripherals used.
+// reset) selects QEMU's fixed clocks.
 Clocks clock_init(const Board& board);
 
 void gpio_output(Pin p, bool high);
@@ -69,6 +72,7 @@ class ByteRing {
   bool push(std::uint8_t b) {
     const std::uint32_t h = head_;
     if (h - tail_ == N) return false;
+    __asm volatile("" ::: "memory");  // the index is read before the slot is written
     buf_[h % N] = b;
     __asm volatile("dmb" ::: "memory");
     head_ = h + 1;
@@ -77,6 +81,7 @@ class ByteRing {
   bool pop(std::uint8_t& b) {
     const std::uint32_t t = tail_;
     if (head_ == t) return false;
+    __asm volatile("" ::: "memory");  // the index is read before the slot is
     b = buf_[t % N];
     __asm volatile("dmb" ::: "memory");
     tail_ = t + 1;
@@ -113,7 +118,7 @@ class Uart {
 };
 
 // The independent watchdog (IWDG, clocked by the ~32 kHz LSI): a main loop that stops
-// feeding it for ~150 ms (100 to 260 ms over the LSI's spread, DS8626 table 27) resets the
+// feeding it for ~150 ms (about 100 to 285 ms over the LSI's 17 to 47 kHz, DS8626) resets the
 // MCU, and a reset leaves output-enable low.  QEMU does not model it.
 void iwdg_start();
 inline void iwdg_feed() {

@@ -100,11 +100,14 @@ extern "C" void __cxa_pure_virtual() {
 }
 
 extern "C" void firmware_main() {
-  // Output-enable is driven low before anything else can happen.
-  const Clocks clocks = clock_init(kBoard);
+  // Output-enable low and the watchdog running before anything that could take time (the
+  // clock set-up's bounded waits) or fail.
+  enable_peripheral_clocks();
   gpio_output(kBoard.output_enable, false);
   if (kBoard.hold_low.port != 0xFF) gpio_output(kBoard.hold_low, false);
   iwdg_start();
+  const Clocks clocks = clock_init(kBoard);
+  iwdg_feed();
 
   const device::DeviceConfig config =
       device::parse_config_block(_config_block, DacAd56x8::kChannels, kDacBits);
@@ -128,51 +131,70 @@ extern "C" void firmware_main() {
   reg::nvic_enable(reg::IRQ_USART2, 3);
   reg::enable_irq();
 
-  bool was_running = false;
+  // The engine follows the core: it stops whenever an output ends (output_ends() counts
+  // every end, so a stop and a new start within one read are both seen) and starts when
+  // one runs.  Called after every frame, before its reply is queued, and after advance().
+  std::uint32_t ends_seen = core.output_ends();
+  bool engine_on = false;
+  auto follow = [&] {
+    if (core.output_ends() != ends_seen) {
+      ends_seen = core.output_ends();
+      const bool completed = core.status().fault == device::Fault::completed &&
+                             core.status().state == device::State::idle;
+      if (completed)
+        g_engine.finish_output();  // its last pulses are queued: deliver them
+      else
+        g_engine.stop_output();
+      engine_on = false;
+    }
+    if (core.status().state == device::State::running && !engine_on) {
+      g_engine.start_output();
+      engine_on = true;
+    }
+  };
+
   std::uint8_t rx[64];
   char line[device::kMaxRecordLine];
   std::uint32_t monitor_lost = 0;
   for (;;) {
     iwdg_feed();
-    // 1. The host's bytes; replies go out as they are made.
+    // 1. The host's bytes; each reply is queued once the engine has followed its frame.
     std::size_t n = 0;
     while (n < sizeof rx && g_host.read(rx[n])) ++n;
     const std::uint64_t now = g_clock.now_us();
     core.set_line_counts(g_host.line_errors(), g_host.overruns());
     if (n > 0)
-      core.receive(rx, n, now, [](const std::uint8_t* p, std::size_t k) {
+      core.receive(rx, n, now, [&](const std::uint8_t* p, std::size_t k) {
+        follow();
         // A reply that does not fit is lost whole, as on a saturated line; the host
         // retransmits.
         (void)g_host.write(p, k);
       });
     // 2. The pulses due soon, to the engine.
     core.advance(now + kLeadUs, [&](const device::DeliveredPulse& p) {
+      follow();
       PulseJob job;
       job.slot_us = p.t_us;
       job.start_us = p.start_us;
-      job.channels = static_cast<std::uint8_t>(p.codes.size());
-      for (std::size_t i = 0; i < p.codes.size() && i < 8; ++i) job.main[i] = p.codes[i];
-      device::balance_codes(p.codes, p.config.width_us, p.config.balance_width_us, job.balance);
+      const std::size_t channels = p.codes.size() < 8 ? p.codes.size() : 8;  // caps: <= 8
+      job.channels = static_cast<std::uint8_t>(channels);
+      std::int16_t balance[device::kMaxChannels];
+      device::balance_codes(p.codes, p.config.width_us, p.config.balance_width_us, balance);
+      for (std::size_t i = 0; i < channels; ++i) {
+        job.main[i] = p.codes[i];
+        job.balance[i] = balance[i];
+      }
       job.width_us = p.config.width_us;
       job.interphase_us = p.config.interphase_us;
       job.balance_width_us = p.config.balance_width_us;
+      job.period_us = p.config.period_us;
       job.step_nA = step_nA;
-      if (!was_running) {
-        g_engine.start_output();
-        was_running = true;
-      }
       g_engine.submit(job);
     });
-    // 3. However the output ended (stop, watchdog, completed), the engine stops first.
-    const bool running = core.status().state == device::State::running;
-    if (running && !was_running) g_engine.start_output();
-    if (!running && was_running) {
-      if (core.status().fault == device::Fault::completed)
-        g_engine.finish_output();  // its last pulses are queued: deliver them
-      else
-        g_engine.stop_output();
-    }
-    was_running = running;
+    // 3. The DAC failed: no more output until a reset.
+    if (g_dac.faults() != 0 && core.status().fault != device::Fault::output_fault)
+      core.output_fault();
+    follow();
     // 4. The monitor: whole lines only; lost ones are counted in the next.
     device::PulseRecord r;
     while (g_engine.pop_record(r)) {
@@ -187,7 +209,7 @@ extern "C" void firmware_main() {
     g_monitor.kick();
     if (!g_host.tx_empty() || !g_monitor.tx_empty()) continue;
     if (clocks.emulated)
-      spin_idle();  // see below
+      spin_idle();  // see spin_idle()
     else
       reg::wait_for_interrupt();
   }

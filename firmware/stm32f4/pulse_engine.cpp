@@ -34,9 +34,11 @@ bool PulseEngine::submit(const PulseJob& job) {
 
 void PulseEngine::start_output() {
   reg::CriticalSection cs;
-  stop_requested_ = false;
-  finish_requested_ = false;
-  stage_->enable(true);
+  finish_requested_ = false;  // a completed output's last pulses are delivered all the same
+  if (stop_requested_)
+    restart_pending_ = true;  // after the stopped output's last pulse has ended
+  else
+    stage_->enable(true);
 }
 
 void PulseEngine::stop_output() {
@@ -44,6 +46,7 @@ void PulseEngine::stop_output() {
   job_head_ = job_tail_;  // drop the queue (an in-flight pulse is not in it)
   loaded_ = false;
   finish_requested_ = false;
+  restart_pending_ = false;
   if (phase_ == Phase::idle) {
     outputs_off();
   } else {
@@ -66,6 +69,10 @@ void PulseEngine::outputs_off() {
   stop_requested_ = false;
   finish_requested_ = false;
   loaded_ = false;
+  if (restart_pending_) {  // a new output started while the old one's last pulse ended
+    restart_pending_ = false;
+    stage_->enable(true);
+  }
 }
 
 bool PulseEngine::pop_record(device::PulseRecord& r) {
@@ -116,8 +123,10 @@ void PulseEngine::edge(std::uint64_t scheduled, int index) {
 void PulseEngine::on_alarm() {
   std::uint64_t next = clock_->now_us() + kHousekeepingUs;
   // Every edge that is due, then the alarm for the next one (or for housekeeping).
-  for (int guard = 0; guard < 8; ++guard) {
+  bool more = true;
+  for (int guard = 0; guard < 8 && more; ++guard) {
     const std::uint64_t now = clock_->now_us();
+    more = false;
     if (phase_ == Phase::idle) {
       if (job_head_ == job_tail_) break;
       const PulseJob& job = jobs_[job_tail_ % kJobs];
@@ -125,7 +134,11 @@ void PulseEngine::on_alarm() {
         stage_->load(job.main, job.channels);
         loaded_ = true;
       }
-      const std::uint64_t due = job.slot_us + kDelayUs;
+      // Its slot plus the delay, but never sooner than one period after the previous
+      // pulse's start: pulses that queued up behind a late one (a new output waiting for
+      // a stopped one's last balancing phase) never come in a burst.
+      std::uint64_t due = job.slot_us + kDelayUs;
+      if (have_last_start_) due = std::max(due, last_start_us_ + job.period_us);
       if (now + early_us_ < due) {
         next = std::min(next, due - early_us_);
         break;
@@ -133,11 +146,15 @@ void PulseEngine::on_alarm() {
       current_ = job;
       job_tail_ = job_tail_ + 1;
       loaded_ = false;
-      exec_us_ = due;
       edge(due, 0);
+      // The later edges follow the measured first one: a late start never shortens a phase.
+      exec_us_ = edges_[0];
+      last_start_us_ = edges_[0];
+      have_last_start_ = true;
       stage_->output(latched_main_, current_.channels);
       phase_ = Phase::main;
       stage_->load(current_.interphase_us ? kZeros : current_.balance, current_.channels);
+      more = true;
       continue;
     }
     const PulseJob& job = current_;
@@ -163,7 +180,10 @@ void PulseEngine::on_alarm() {
       edge(due, 3);
       finish_pulse();
     }
+    more = true;
   }
+  // Edges still due when the guard ran out: at once, not after housekeeping's sleep.
+  if (more) next = clock_->now_us();
   alarm_->set(next, clock_->now_us());
 }
 
@@ -174,8 +194,8 @@ void PulseEngine::finish_pulse() {
     r = device::PulseRecord{};
     r.t_us = job.slot_us - job.start_us;
     r.channels = job.channels;
-    // The codes as read back from the DAC's registers when each phase was latched: the
-    // monitor shows what the driver sent, not what it was asked for.
+    // The codes the driver wrote and latched for each phase (its copy of the DAC's
+    // registers, decoded from the words it sent): the monitor shows its encoding.
     std::copy(latched_main_, latched_main_ + job.channels, r.main);
     std::copy(latched_balance_, latched_balance_ + job.channels, r.balance);
     r.step_nA = job.step_nA;

@@ -6,9 +6,11 @@
 // microsecond clock for the monitor.
 //
 // Pulses leave kDelayUs after their slot, so that the first pulse after a start is as
-// punctual as the rest.  Stopping drops every queued pulse; a pulse already in its main
-// phase completes its balancing phase (its charge must be returned), then the outputs go
-// to 0 and output-enable low.
+// punctual as the rest, and never sooner than one period after the previous pulse's
+// start; each pulse's later edges follow its measured first edge, so no phase is ever
+// shortened.  Stopping drops every queued pulse; a pulse already in its main phase
+// completes its balancing phase (its charge must be returned), then the outputs go to 0
+// and output-enable low.  An output started meanwhile waits for that.
 
 #include <cstdint>
 
@@ -25,6 +27,7 @@ struct PulseJob {
   std::int16_t main[8] = {};
   std::int16_t balance[8] = {};
   std::uint16_t width_us = 0, interphase_us = 0, balance_width_us = 0;
+  std::uint32_t period_us = 0;
   std::uint32_t step_nA = 0;
 };
 
@@ -77,6 +80,9 @@ class PulseEngine {
   std::int16_t latched_main_[8] = {}, latched_balance_[8] = {};  // read back from the DAC
   volatile bool stop_requested_ = false;
   volatile bool finish_requested_ = false;
+  volatile bool restart_pending_ = false;
+  std::uint64_t last_start_us_ = 0;  // the previous pulse's measured start
+  bool have_last_start_ = false;
   void outputs_off();
 };
 

@@ -3,16 +3,16 @@
 //   RM0090 rev 19 "STM32F405/415, STM32F407/417, ... reference manual" (ST):
 //     2.3 memory map (peripheral base addresses, table 1);
 //     3.9.1 FLASH_ACR (wait states, table 10 for 168 MHz at 2.7-3.6 V: 5);
-//     6.3 RCC registers (CR 6.3.1, PLLCFGR 6.3.2, CFGR 6.3.3, AHB1ENR 6.3.10,
-//         APB1ENR 6.3.13, APB2ENR 6.3.14);
+//     7.3 RCC registers (CR 7.3.1, PLLCFGR 7.3.2, CFGR 7.3.3, AHB1ENR 7.3.10,
+//         APB1ENR 7.3.13, APB2ENR 7.3.14);
 //     8.4 GPIO registers (MODER, OSPEEDR, PUPDR, BSRR, AFRL/AFRH);
 //     18.4 TIM2-TIM5 registers (CR1, DIER, SR, EGR, CNT, PSC, ARR);
-//     19.4 IWDG registers (KR, PR, RLR);
-//     28.6 SPI registers (CR1, SR, DR);
+//     21.4 IWDG registers (KR, PR, RLR);
+//     28.5 SPI registers (CR1, SR, DR);
 //     30.6 USART registers (SR, DR, BRR, CR1);
 //     38.6.1 DBGMCU_IDCODE.
 //   PM0214 rev 10 "STM32 Cortex-M4 programming manual" (ST): 4.3 NVIC (ISER, IPR),
-//     4.4 SCB (VTOR, CPACR), 4.5 SysTick (CTRL, LOAD, VAL).
+//     4.4 SCB (VTOR, ICSR, SHPR3), 4.5 SysTick (CTRL, LOAD, VAL), 4.6.1 CPACR.
 //   DS8626 (STM32F405xx/407xx datasheet) table 9 "alternate function mapping" for the AF
 //     numbers in the board files; RM0090 table 61 for the interrupt positions.
 
@@ -38,7 +38,8 @@ namespace rcc {
 inline constexpr std::uint32_t CR = RCC + 0x00, PLLCFGR = RCC + 0x04, CFGR = RCC + 0x08;
 inline constexpr std::uint32_t AHB1ENR = RCC + 0x30, APB1ENR = RCC + 0x40, APB2ENR = RCC + 0x44;
 inline constexpr std::uint32_t CR_HSION = 1u << 0, CR_HSIRDY = 1u << 1, CR_HSEON = 1u << 16,
-                               CR_HSERDY = 1u << 17, CR_PLLON = 1u << 24, CR_PLLRDY = 1u << 25;
+                               CR_HSERDY = 1u << 17, CR_HSEBYP = 1u << 18, CR_PLLON = 1u << 24,
+                               CR_PLLRDY = 1u << 25;
 inline constexpr std::uint32_t PLLCFGR_SRC_HSE = 1u << 22;
 inline constexpr std::uint32_t CFGR_SW_PLL = 2u, CFGR_SWS_MASK = 3u << 2, CFGR_SWS_PLL = 2u << 2;
 inline constexpr std::uint32_t CFGR_PPRE1_DIV4 = 5u << 10, CFGR_PPRE2_DIV2 = 4u << 13;

@@ -28,7 +28,8 @@ extern "C" void Default_Handler() {
   }
 }
 
-// Handlers the firmware defines; every other vector stops the output (fault.cpp).
+// Handlers the firmware defines (main.cpp); every other vector stops the output
+// (Default_Handler, above).
 #define TP_WEAK_HANDLER(name) extern "C" void name() __attribute__((weak, alias("Default_Handler")))
 TP_WEAK_HANDLER(NMI_Handler);
 TP_WEAK_HANDLER(HardFault_Handler);

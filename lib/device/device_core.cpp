@@ -24,7 +24,10 @@ bool DeviceCore::of_session(const RxFrame& f) const {
 }
 
 void DeviceCore::end_session() {
-  if (status_.state == State::running) status_.fault = Fault::stopped;
+  if (status_.state == State::running) {
+    status_.fault = Fault::stopped;
+    ++output_ends_;
+  }
   status_.state = State::idle;
   session_ = 0;
   configured_ = false;
@@ -104,7 +107,7 @@ void DeviceCore::handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxP
 
 Result DeviceCore::configure(const FixedBytes<kMaxPayload>& payload) {
   if (payload.size() != 4 + kConfigSize) return Result::bad_length;
-  if (status_.state == State::running) return Result::bad_state;
+  if (status_.state == State::running || faulted_) return Result::bad_state;
   const std::uint32_t session = get_u32(payload.data());
   if (session == 0) return Result::wrong_session;
   const auto c = decode_config(payload.data() + 4, payload.size() - 4);
@@ -185,6 +188,14 @@ void DeviceCore::end_advance(std::uint64_t now_us) {
     end_session();
     status_.fault = Fault::watchdog;
   }
+}
+
+void DeviceCore::output_fault() {
+  const bool was_running = status_.state == State::running;
+  end_session();
+  faulted_ = true;
+  status_.fault = Fault::output_fault;
+  if (!was_running) ++output_ends_;  // the stage must stop even if nothing ran
 }
 
 void DeviceCore::link_lost() {

@@ -82,6 +82,12 @@ class DeviceCore {
 
   // The link is gone (port closed): stop output and end the session.
   void link_lost();
+  // The output stage failed: stop output, end the session, and refuse every later
+  // configure (bad_state) until the device is reset.
+  void output_fault();
+  // Counts every end of an output (stop, watchdog, completion, link lost, fault): a
+  // firmware compares it after each frame to stop its output stage before it answers.
+  std::uint32_t output_ends() const { return output_ends_; }
   // When something next happens (a pulse or the watchdog); UINT64_MAX when idle.
   std::uint64_t next_event_us() const;
   // The receiver's own counts (a UART's framing errors and overruns), for the status.
@@ -110,6 +116,8 @@ class DeviceCore {
   PulseConfig config_;
   std::uint32_t session_ = 0;  // 0: no session
   bool configured_ = false;
+  bool faulted_ = false;
+  std::uint32_t output_ends_ = 0;
   bool weights_set_ = false;
   Codes weights_;
   std::uint64_t last_fed_us_ = 0;  // the running session's last frame

@@ -40,6 +40,8 @@ const char* to_string(Fault f) {
       return "completed";
     case Fault::stopped:
       return "stopped by the host";
+    case Fault::output_fault:
+      return "output stage fault (the device refuses further output until it is reset)";
   }
   return "unknown fault";
 }

@@ -74,7 +74,8 @@ enum class Fault : std::uint8_t {
   watchdog = 1,
   link_lost = 2,
   completed = 3,
-  stopped = 4
+  stopped = 4,
+  output_fault = 5  // the device's output stage failed (a firmware's DAC): it delivers no more
 };
 const char* to_string(Fault f);
 

@@ -47,7 +47,7 @@ std::vector<std::uint8_t> encode(const Status& s) {
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at) {
   if (b.size() != at + kStatusSize) return std::nullopt;
   const std::uint8_t* p = b.data() + at;
-  if (p[0] > 1 || p[1] > 4) return std::nullopt;
+  if (p[0] > 1 || p[1] > 5) return std::nullopt;
   Status s;
   s.state = static_cast<State>(p[0]);
   s.fault = static_cast<Fault>(p[1]);

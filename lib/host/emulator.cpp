@@ -176,21 +176,30 @@ int connect_device(const std::string& path) {
   failure("no device at " + path + " after 10 s");
 }
 
-// Writes every byte to a non-blocking descriptor, waiting while it is full.
-bool write_all(int fd, const std::uint8_t* p, std::size_t n) {
-  while (n > 0) {
-    const ssize_t w = ::write(fd, p, n);
-    if (w > 0) {
-      p += w;
-      n -= static_cast<std::size_t>(w);
-    } else if (w < 0 && (errno == EAGAIN || errno == EINTR)) {
-      pollfd pfd{fd, POLLOUT, 0};
-      poll(&pfd, 1, 100);
-    } else {
-      return false;
+// Waits until the device answers an identify (up to 10 s): a booting firmware drops what
+// arrives before its UART is on, and a host's first frame must not be lost to that.
+void await_device(int fd, const std::string& path) {
+  std::vector<std::uint8_t> probe;
+  device::encode_frame(device::Frame{0, static_cast<std::uint8_t>(device::Msg::identify), {}},
+                       probe);
+  device::FrameDecoder decoder;
+  std::uint8_t buf[256];
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    if (::write(fd, probe.data(), probe.size()) < 0 && errno != EAGAIN && errno != EINTR)
+      failure("cannot write to the device at " + path + ": " + std::strerror(errno));
+    const std::uint64_t until = monotonic_us() + 50000;
+    for (std::uint64_t now = monotonic_us(); now < until; now = monotonic_us()) {
+      pollfd pfd{fd, POLLIN, 0};
+      if (poll(&pfd, 1, static_cast<int>((until - now) / 1000 + 1)) <= 0) continue;
+      const ssize_t n = read(fd, buf, sizeof buf);
+      if (n == 0) failure("the device at " + path + " closed its line");
+      for (ssize_t i = 0; i < n; ++i)
+        if (decoder.push(buf[i]) &&
+            decoder.frame().type == static_cast<std::uint8_t>(device::Msg::ack))
+          return;
     }
   }
-  return true;
+  failure("the device at " + path + " did not answer within 10 s");
 }
 
 }  // namespace
@@ -227,6 +236,9 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
 
   const bool forward = !opt.forward_socket.empty();
   const int device_fd = forward ? connect_device(opt.forward_socket) : -1;
+  std::vector<std::uint8_t> to_device;  // forwarded bytes the device's line has not taken yet
+  constexpr std::size_t kMaxToDevice = 65536;
+  if (forward) await_device(device_fd, opt.forward_socket);
 
   std::printf("%s\n", path.c_str());
   std::fflush(stdout);
@@ -278,8 +290,14 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     if (next != UINT64_MAX)
       timeout_ms =
           next <= now ? 0 : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
-    pollfd pfds[2] = {{master, static_cast<short>(stalled ? 0 : POLLIN), 0},
-                      {device_fd, static_cast<short>(stalled ? 0 : POLLIN), 0}};
+    // Forwarding never blocks: the host's bytes wait in to_device while the device's line
+    // is full, and the host is not read while that holds 64 KiB (the device's replies are
+    // read all the while: a device that cannot write its replies stops reading too).
+    const bool read_host = !stalled && (!forward || to_device.size() < kMaxToDevice);
+    const short device_events =
+        static_cast<short>(stalled ? 0 : (POLLIN | (to_device.empty() ? 0 : POLLOUT)));
+    pollfd pfds[2] = {{master, static_cast<short>(read_host ? POLLIN : 0), 0},
+                      {device_fd, device_events, 0}};
     const int pr = poll(pfds, forward ? 2 : 1, timeout_ms);
     if (pr < 0 && errno != EINTR) break;
     pollfd& pfd = pfds[0];
@@ -302,12 +320,19 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
       if (n > 0) {
         std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
         inject(bytes, opt.faults, rng);
-        if (!write_all(device_fd, bytes.data(), bytes.size())) {
-          std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
-          break;
-        }
+        to_device.insert(to_device.end(), bytes.begin(), bytes.end());
       }
-    } else if (pr > 0 && (pfd.revents & POLLIN)) {
+    }
+    if (forward && !to_device.empty() && !stalled) {
+      const ssize_t w = ::write(device_fd, to_device.data(), to_device.size());
+      if (w > 0) {
+        to_device.erase(to_device.begin(), to_device.begin() + w);
+      } else if (w < 0 && errno != EAGAIN && errno != EINTR) {
+        std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
+        break;
+      }
+    }
+    if (!forward && pr > 0 && (pfd.revents & POLLIN)) {
       const ssize_t n = read(master, in.data(), in.size());
       if (n > 0) {
         std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);

@@ -12,7 +12,7 @@ namespace tp::host {
 
 // Writes one JSON object per delivered pulse (device::format_record, as the firmware's
 // monitor does):
-//   {"t_s": 0.005000, "currents_mA": [...], "net_charge_nC": [...]}
+//   {"t_s": 0.005, "currents_mA": [...], "net_charge_nC": [...]}
 // t_s from the start command; currents are the main phase as the DAC makes them
 // (code x step), positive = cathodic; net_charge_nC is the main phase's charge plus the
 // balancing phase's, in whole DAC codes.
@@ -53,7 +53,9 @@ struct PtyEmulatorOptions {
 
 // Opens a pseudo-terminal, prints its path on stdout's first line, and runs the device until
 // SIGINT/SIGTERM (returns 0) or a fault-injected disconnect.  Output stops first, always.
-// With forward_socket, relays the line to that device instead until it closes the socket.
+// With forward_socket, relays the line to that device instead, until it closes the socket;
+// the path is printed once the device has answered an identify (a booting device drops
+// what arrives too early).
 int run_pty_emulator(const PtyEmulatorOptions& opt);
 
 }  // namespace tp::host

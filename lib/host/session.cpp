@@ -278,6 +278,9 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   rep.pulses = st.pulses;
   rep.seconds = static_cast<double>(monotonic_ns() - t0) * 1e-9;
   rep.retransmissions = dev.retransmissions();
+  rep.rx_errors = st.rx_errors;
+  rep.line_errors = st.line_errors;
+  rep.overruns = st.overruns;
   return rep;
 }
 

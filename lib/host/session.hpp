@@ -33,6 +33,9 @@ struct SessionReport {
   double peak_mA = 0.0;  // largest |current| sent to the device (as the DAC makes it)
   double seconds = 0.0;
   int retransmissions = 0;
+  // The device's receiver at the end (status): damaged frames, bytes with line errors,
+  // bytes lost to overruns.
+  std::uint32_t rx_errors = 0, line_errors = 0, overruns = 0;
   device::Capabilities caps;
 };
 

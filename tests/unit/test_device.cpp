@@ -641,3 +641,34 @@ TEST_CASE("the firmware's configuration block: defaults, a valid block, and refu
   // A 4-channel board: its defaults have 4 channels.
   CHECK(parse_config_block(erased, 4, bits).channels == 4);
 }
+
+TEST_CASE("every end of an output is counted, and an output fault refuses later sessions",
+          "[device][core]") {
+  DeviceCore core(Capabilities{});
+  auto run = [&](std::uint8_t seq, std::uint64_t now) {
+    REQUIRE(send(core, seq, Msg::configure, configure(config8()), now) == Result::ok);
+    REQUIRE(send(core, seq + 1, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), now) ==
+            Result::ok);
+    REQUIRE(send(core, seq + 2, Msg::start, token(), now) == Result::ok);
+  };
+  CHECK(core.output_ends() == 0);
+  run(1, 0);
+  CHECK(send(core, 4, Msg::stop, {}, 1000) == Result::ok);
+  CHECK(core.output_ends() == 1);
+  CHECK(send(core, 5, Msg::stop, {}, 2000) == Result::ok);  // nothing running: no new end
+  CHECK(core.output_ends() == 1);
+  run(10, 3000);
+  core.advance(3000 + 400000, [](const DeliveredPulse&) {});  // the watchdog
+  CHECK(core.status().fault == Fault::watchdog);
+  CHECK(core.output_ends() == 2);
+  run(20, 500000);
+  core.output_fault();
+  CHECK(core.output_ends() == 3);
+  CHECK(core.status().state == State::idle);
+  CHECK(core.status().fault == Fault::output_fault);
+  core.advance(600000, [](const DeliveredPulse&) { FAIL("a pulse after an output fault"); });
+  CHECK(send(core, 30, Msg::configure, configure(config8()), 600000) == Result::bad_state);
+  const auto s = decode_status(encode(core.status()), 0);
+  REQUIRE(s);
+  CHECK(s->fault == Fault::output_fault);
+}

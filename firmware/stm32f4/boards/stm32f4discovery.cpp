@@ -1,4 +1,5 @@
-// STM32F4-Discovery (STM32F407VGT6, 8 MHz clock from its ST-LINK).  Pins are MCU pins;
+// STM32F4-Discovery (STM32F407VGT6; 8 MHz HSE: a crystal, or on some revisions the
+// ST-LINK's clock output, which needs HSE bypass: clock_init tries both).  Pins are MCU pins;
 // firmware/README.md has the wiring.
 #include "board.hpp"
 

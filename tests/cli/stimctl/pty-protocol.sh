@@ -12,6 +12,10 @@ config() {  # config TOKEN CHANNELS: 200 Hz, 200 us + 200 us, no pulse limit
 A=$(le32 $((0x1234ABCD))) B=$(le32 $((0x0BADF00D)))
 start_emu --record raw.jsonl --watchdog-ms 300
 {
+  echo "send 250 4 $A"                                 # start before any configure
+  echo "send 251 3 ${A}$(codes 100 -100 0 0 0 0 0 0)"  # weights before any configure
+  echo "send 252 2 $(config $((0x1234ABCD)) 8)00"      # a configure one byte too long
+  echo "send 253 9"                                    # an unknown message type
   echo "send 1 2 $(config $((0x1234ABCD)) 8)"          # configure: session A
   echo "send 2 3 ${A}$(codes 100 -100 0 0 0 0 0 0)"    # set_weights
   echo "send 3 4 $A"                                   # start
@@ -36,6 +40,8 @@ start_emu --record raw.jsonl --watchdog-ms 300
 stop_emu
 result() { awk -v s="$1" '$1 == s { r = $2 } END { print r }' acks.txt; }  # the last
 expect() { [[ $(result "$1") == "$2" ]] || fail "frame $1 ($3): result $(result "$1"), expected $2"; }
+expect 250 8 "start before configure"; expect 251 8 "weights before configure"
+expect 252 2 "configure too long"; expect 253 1 "unknown type"
 expect 1 0 configure; expect 2 0 set_weights; expect 3 8 "replayed start after stop"
 expect 201 8 "start after stop"; expect 202 0 "new session"; expect 203 3 "29 mA codes"
 expect 204 2 "65 codes"; expect 205 6 "65 channels"; expect 206 4 "start without weights"
