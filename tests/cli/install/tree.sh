@@ -1,0 +1,56 @@
+# The install tree (cmake --install BUILD --prefix P) as a user gets it: the programs, the
+# tp- scripts, data, docs, man pages and bash completion under P, no path into the source
+# or build tree compiled in, and the README's main pipeline from P/bin alone.
+: "${TP_BUILD:?}"
+P=$PWD/P
+cmake --install "$TP_BUILD" --prefix "$P" > install.log 2>&1 || fail "install: $(tail -3 install.log)"
+for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-emu bin/fiber-threshold \
+         bin/tp-sweep-spacing bin/tp-compare-models bin/tp-plot-field bin/tp-plot-pulse bin/tp-plot-sweep bin/tp-plot-sd \
+         share/tactile-primaries/receptors.json share/tactile-primaries/skin/fingertip.json \
+         share/doc/tactile-primaries/README.md share/doc/tactile-primaries/document-format.md \
+         share/man/man1/af-field.1 share/man/man1/stimctl.1 share/man/man7/tactile-primaries.7 \
+         share/bash-completion/completions/af-field share/bash-completion/completions/stimctl; do
+  [[ -e $P/$f ]] || fail "not installed: $f"
+done
+# Nothing refers to where it was built: the data are compiled in.  (Debug information
+# names the sources by design, and so does AddressSanitizer's instrumentation: the
+# sanitizer build skips the check.)
+for exe in "$P"/bin/*; do
+  grep -qaF __asan_init "$exe" && continue
+  copy=$exe
+  if [[ $(head -c 4 "$exe") == $'\x7fELF' ]]; then
+    strip --strip-debug -o stripped "$exe" || fail "strip $exe"
+    copy=stripped
+  fi
+  if grep -qaF -e "$TP_SOURCE" -e "$TP_BUILD" "$copy"; then fail "$exe names the source or build tree"; fi
+done
+# The programs from P/bin alone (the build's tools are not on this PATH).
+export PATH=$P/bin:/usr/bin:/bin
+[[ $(af-field --version) == "af-field "* ]] || fail "af-field --version: $(af-field --version)"
+optimize-weights --mode SAI 2> /dev/null | make-pulse --amplitude 1.0 --frequency 200 2> /dev/null \
+  | stimctl --port emu --duration 0.5 --record rec.jsonl 2> run.err || fail "pipeline: $(cat run.err)"
+[[ $(wc -l < rec.jsonl) -eq 100 ]] || fail "pipeline: $(wc -l < rec.jsonl) pulses"
+# Man pages: help2man's from --help, and the overview.
+if command -v man > /dev/null; then
+  MANPATH=$P/share/man man -w af-field | grep -F "$P/share/man/man1/af-field.1" > /dev/null || fail "man -w af-field: $(MANPATH=$P/share/man man -w af-field 2>&1)"
+  MANPATH=$P/share/man MANWIDTH=100 man af-field 2> /dev/null | grep -- "--electrodes" > /dev/null || fail "man af-field lacks --electrodes"
+  MANPATH=$P/share/man MANWIDTH=100 man 7 tactile-primaries 2> /dev/null | grep "make-pulse --amplitude" > /dev/null || fail "man 7 tactile-primaries"
+fi
+grep -q '^\.TH AF-FIELD "1"' "$P/share/man/man1/af-field.1" || fail "af-field.1 header: $(head -3 "$P/share/man/man1/af-field.1")"
+# Bash completion: bash-completion's _longopt for options, and the values it cannot know.
+bc=/usr/share/bash-completion/bash_completion
+[[ -f $bc ]] || fail "bash-completion is not installed (scripts/setup installs it)"
+complete_words() {  # complete_words WORD... : what TAB offers after the last word
+  bash -c 'source '"$bc"'; source "'"$P"'/share/bash-completion/completions/$1"
+           COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); COMP_LINE="$*"; COMP_POINT=${#COMP_LINE}
+           spec=$(complete -p "$1"); fn=${spec#*-F }; fn=${fn%% *}
+           "$fn" "$1" "${COMP_WORDS[COMP_CWORD]}" "${COMP_WORDS[COMP_CWORD-1]}"
+           printf "%s\n" "${COMPREPLY[@]}"' _ "$@"
+}
+bash -c "source $bc; source $P/share/bash-completion/completions/af-field; complete -p af-field" \
+  | grep "complete -F _tactile_primaries" > /dev/null || fail "complete -p af-field"
+[[ $(complete_words optimize-weights --mode "" | sort | tr '\n' ' ') == "PC RA SAI " ]] || fail "--mode: $(complete_words optimize-weights --mode "")"
+[[ $(complete_words fiber-threshold --model "" | sort | tr '\n' ' ') == "mrg senn " ]] || fail "fiber-threshold --model"
+complete_words af-field --ele | grep -x -- "--electrodes" > /dev/null || fail "af-field --ele: $(complete_words af-field --ele)"
+complete_words stimctl --port "" | grep -x emu > /dev/null || fail "stimctl --port: $(complete_words stimctl --port "")"
+echo "ok: installed under P; pipeline from P/bin: $(cat run.err)"
