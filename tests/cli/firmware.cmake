@@ -30,9 +30,9 @@ foreach(script pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchd
 endforeach()
 # The other board file builds too (a board is a file, not a fork).
 if(TP_ARM_GXX)
+  set(dir ${CMAKE_CURRENT_BINARY_DIR}/firmware-stm32f4discovery)
   add_test(NAME firmware.build-stm32f4discovery
-    COMMAND ${CMAKE_COMMAND} -E env TP_FIRMWARE_BUILD_DIR=${CMAKE_CURRENT_BINARY_DIR}/firmware-stm32f4discovery
-            ${PROJECT_SOURCE_DIR}/scripts/build-firmware --board stm32f4discovery)
+    COMMAND bash -c "rm -rf '${dir}' && TP_FIRMWARE_BUILD_DIR='${dir}' '${PROJECT_SOURCE_DIR}/scripts/build-firmware' --board stm32f4discovery")
   set_tests_properties(firmware.build-stm32f4discovery PROPERTIES LABELS "firmware"
     PASS_REGULAR_EXPRESSION "firmware \\(stm32f4discovery\\): flash [0-9]+ bytes")
 endif()
