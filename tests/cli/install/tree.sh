@@ -8,7 +8,7 @@ for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-e
          bin/tp-sweep-spacing bin/tp-compare-models bin/tp-plot-field bin/tp-plot-pulse bin/tp-plot-sweep bin/tp-plot-sd \
          share/tactile-primaries/receptors.json share/tactile-primaries/skin/fingertip.json \
          share/doc/tactile-primaries/README.md share/doc/tactile-primaries/document-format.md \
-         share/man/man1/af-field.1 share/man/man1/stimctl.1 share/man/man7/tactile-primaries.7 \
+         share/man/man1/af-field.1.gz share/man/man1/stimctl.1.gz share/man/man7/tactile-primaries.7.gz \
          share/bash-completion/completions/af-field share/bash-completion/completions/stimctl; do
   [[ -e $P/$f ]] || fail "not installed: $f"
 done
@@ -32,11 +32,11 @@ optimize-weights --mode SAI 2> /dev/null | make-pulse --amplitude 1.0 --frequenc
 [[ $(wc -l < rec.jsonl) -eq 100 ]] || fail "pipeline: $(wc -l < rec.jsonl) pulses"
 # Man pages: help2man's from --help, and the overview.
 if command -v man > /dev/null; then
-  MANPATH=$P/share/man man -w af-field | grep -F "$P/share/man/man1/af-field.1" > /dev/null || fail "man -w af-field: $(MANPATH=$P/share/man man -w af-field 2>&1)"
+  MANPATH=$P/share/man man -w af-field | grep -F "$P/share/man/man1/af-field.1.gz" > /dev/null || fail "man -w af-field: $(MANPATH=$P/share/man man -w af-field 2>&1)"
   MANPATH=$P/share/man MANWIDTH=100 man af-field 2> /dev/null | grep -- "--electrodes" > /dev/null || fail "man af-field lacks --electrodes"
   MANPATH=$P/share/man MANWIDTH=100 man 7 tactile-primaries 2> /dev/null | grep "make-pulse --amplitude" > /dev/null || fail "man 7 tactile-primaries"
 fi
-grep -q '^\.TH AF-FIELD "1"' "$P/share/man/man1/af-field.1" || fail "af-field.1 header: $(head -3 "$P/share/man/man1/af-field.1")"
+zcat "$P/share/man/man1/af-field.1.gz" | grep '^\.TH AF-FIELD "1"' > /dev/null || fail "af-field.1 header"
 # Bash completion: bash-completion's _longopt for options, and the values it cannot know.
 bc=/usr/share/bash-completion/bash_completion
 [[ -f $bc ]] || fail "bash-completion is not installed (scripts/setup installs it)"
