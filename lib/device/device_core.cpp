@@ -183,13 +183,6 @@ void DeviceCore::pulse_delivered() {
   }
 }
 
-void DeviceCore::end_advance(std::uint64_t now_us) {
-  if (status_.state == State::running && now_us >= deadline_us()) {
-    end_session();
-    status_.fault = Fault::watchdog;
-  }
-}
-
 void DeviceCore::output_fault() {
   const bool was_running = status_.state == State::running;
   end_session();

@@ -77,7 +77,7 @@ class DeviceCore {
                           config_, caps_});
       pulse_delivered();
     }
-    end_advance(now_us);
+    expire(now_us);  // the watchdog
   }
 
   // The link is gone (port closed): stop output and end the session.
@@ -107,7 +107,6 @@ class DeviceCore {
   bool begin_advance(std::uint64_t now_us);  // false when not running
   bool pulse_due(std::uint64_t now_us) const;
   void pulse_delivered();
-  void end_advance(std::uint64_t now_us);
   std::uint64_t deadline_us() const;
 
   Capabilities caps_;

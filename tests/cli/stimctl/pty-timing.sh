@@ -5,6 +5,11 @@
 # each channel keeps because of that rounding, as the monitor reports it.
 source "$TP_SOURCE/tests/cli/stimctl/common.sh"
 [[ ${TP_DEVICE:-} == firmware ]] || fail "pty-timing checks the firmware's monitor: run with TP_DEVICE=firmware"
+summary() {  # summary FILE: the ranges of the measured periods and phases
+  jq -sc '{ periods: (map(.start_us) | [range(1; length) as $i | .[$i] - .[$i - 1]] | [min, max]),
+            widths: (map(.width_us) | [min, max]), gaps: (map(.interphase_us) | [min, max]),
+            balance: (map(.balance_width_us) | [min, max]) }' "$1"
+}
 check_timing() {  # check_timing NAME PERIOD_US WIDTH GAP BALANCE COUNT
   local name=$1 period=$2 w=$3 g=$4 b=$5 count=$6
   [[ $(lines "$name.jsonl") -eq $count ]] || fail "$name: $(lines "$name.jsonl") pulses, expected $count"
@@ -13,14 +18,8 @@ check_timing() {  # check_timing NAME PERIOD_US WIDTH GAP BALANCE COUNT
     (map(.start_us) | [range(1; length) as $i | .[$i] - .[$i - 1]]) as $periods
     | ($periods | all(within1(.; $p)))
       and all(.[]; within1(.width_us; $w) and within1(.interphase_us; $g) and within1(.balance_width_us; $b))
-    ' "$name.jsonl" > /dev/null || fail "$name: timing off by more than one tick: $(jq -sc --argjson p "$period" '
-      { periods: (map(.start_us) | [range(1; length) as $i | .[$i] - .[$i - 1]] | [min, max]),
-        widths: (map(.width_us) | [min, max]), gaps: (map(.interphase_us) | [min, max]),
-        balance: (map(.balance_width_us) | [min, max]) }' "$name.jsonl")"
-  echo "ok: $name: $count pulses, period $period us, phases $w/$g/$b us, each within 1 us: $(jq -sc '
-      { periods: (map(.start_us) | [range(1; length) as $i | .[$i] - .[$i - 1]] | [min, max]),
-        widths: (map(.width_us) | [min, max]), gaps: (map(.interphase_us) | [min, max]),
-        balance: (map(.balance_width_us) | [min, max]) }' "$name.jsonl")"
+    ' "$name.jsonl" > /dev/null || fail "$name: timing off by more than one tick: $(summary "$name.jsonl")"
+  echo "ok: $name: $count pulses, period $period us, phases $w/$g/$b us, each within 1 us: $(summary "$name.jsonl")"
 }
 # 1. The paper's pulse: 200 Hz, 200 + 200 us.
 make_stimulus a.json --frequency 200 --count 100
