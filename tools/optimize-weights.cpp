@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   tp::cli::ModelOptions model;
   std::string mode, max_current, min_af, format = "json";
   int random_starts = 0, pattern_starts = 2;
-  bool timing = false, certify = false, no_header = false;
+  bool timing = false, certify = false, no_header = false, header_only = false;
   std::string objective = "af";
   tp::cli::FibreOptions fibre;
   int max_evaluations = 120;
@@ -61,6 +61,10 @@ int main(int argc, char** argv) {
   app.add_option("--format", format, "Output: json or csv [json]")
       ->check(CLI::IsMember({"json", "csv"}));
   app.add_flag("--no-header", no_header, "CSV without its header row (for sweeps)");
+  app.add_flag("--header-only", header_only,
+               "Check the options and print the CSV header row only, computing nothing (for "
+               "sweeps)")
+      ->excludes("--no-header");
   app.add_flag("--timing", timing,
                "Add solver.time_s to the JSON (output is then not reproducible)");
   app.add_option("--objective", objective,
@@ -124,6 +128,11 @@ int main(int argc, char** argv) {
       tp::bad_input("--min-target-af: applies to the AF objective only");
     if (certify && format != "json")
       tp::bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
+    if (header_only) {
+      if (format != "csv") tp::bad_input("--header-only: needs --format csv");
+      tp::cli::write_stdout(tp::optimize_csv_header(doc.setup));
+      return;
+    }
 
     if (by_threshold) {
       const tp::OptimizeResult r = tp::optimize_mode(doc.setup, modes[0], opt);

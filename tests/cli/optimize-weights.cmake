@@ -38,7 +38,7 @@ tp_cli_test(optimize-weights deterministic script ${CMAKE_CURRENT_SOURCE_DIR}/op
 tp_cli_test(optimize-weights efficiency script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/efficiency.sh)
 tp_cli_test(optimize-weights several-modes script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/several-modes.sh)
 tp_cli_test(optimize-weights compare-models script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/compare-models.sh)
-tp_cli_test(optimize-weights sweep script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/sweep.sh)
+
 tp_cli_test(optimize-weights large-array script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/large-array.sh)
 set_tests_properties(optimize-weights.large-array PROPERTIES TIMEOUT 300)
 
@@ -52,3 +52,8 @@ tp_cli_test(optimize-weights refuses-threshold-certify refuses 2 -- optimize-wei
 tp_cli_test(optimize-weights refuses-threshold-evaluations refuses 2 -- optimize-weights --mode SAI --objective threshold --max-evaluations 5)
 tp_cli_test(optimize-weights refuses-unknown-objective refuses 2 -- optimize-weights --mode SAI --objective charge)
 tp_cli_test(optimize-weights refuses-threshold-unknown-fibre refuses 2 -- optimize-weights --mode SAI --objective threshold --fibre-model hh)
+
+# --header-only: the CSV header, nothing computed (sweep-spacing checks options with it).
+tp_cli_test(optimize-weights refuses-header-only-json refuses 2 -- optimize-weights --mode SAI --header-only)
+tp_cli_test(optimize-weights refuses-header-only-no-header refuses 2 -- optimize-weights --mode SAI --format csv --header-only --no-header)
+tp_cli_test(optimize-weights refuses-header-only-mode refuses 2 -- optimize-weights --mode SAI,XY --format csv --header-only)

@@ -53,4 +53,7 @@ bash -c "source $bc; source $P/share/bash-completion/completions/af-field; compl
 [[ $(complete_words fiber-threshold --model "" | sort | tr '\n' ' ') == "mrg senn " ]] || fail "fiber-threshold --model"
 complete_words af-field --ele | grep -x -- "--electrodes" > /dev/null || fail "af-field --ele: $(complete_words af-field --ele)"
 complete_words stimctl --port "" | grep -x emu > /dev/null || fail "stimctl --port: $(complete_words stimctl --port "")"
+[[ $(complete_words tp-sweep-spacing --engine "" | tr '\n' ' ') == "local parallel slurm " ]] \
+  || fail "tp-sweep-spacing --engine: $(complete_words tp-sweep-spacing --engine "")"
+complete_words tp-sweep-spacing --ssh | grep -x -- "--sshloginfile" > /dev/null || fail "tp-sweep-spacing --ssh"
 echo "ok: installed under P; pipeline from P/bin: $(cat run.err)"

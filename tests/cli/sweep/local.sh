@@ -11,6 +11,11 @@ tail -n +2 sweep.csv | awk -F, '{ s = 0; for (i = 9; i <= NF; i++) s += $i; if (
 # each row is what optimize-weights gives for that array and mode alone
 expected=$(optimize-weights --mode PC --electrodes 6 --pitch 1 --format csv --no-header 2> /dev/null)
 [[ $(grep '^6,1,PC,' sweep.csv) == "$expected" ]] || fail "row 6,1,PC: $(grep '^6,1,PC,' sweep.csv) != $expected"
+# optimize-weights --header-only (which the sweep checks its options with) prints what a
+# computing run's first line is
+[[ $(optimize-weights --mode SAI,PC --electrodes 6 --pitch 1 --format csv --header-only) \
+   == "$(optimize-weights --mode SAI,PC --electrodes 6 --pitch 1 --format csv 2> /dev/null | head -1)" ]] \
+  || fail "--header-only differs from the header of a computing run"
 # options after -- reach every job; a bad mode or option is refused before any job runs
 "$TP_SOURCE/scripts/sweep-spacing" --electrodes 4 --pitch 1:1.5:0.5 --modes SAI -- --pattern-starts 1 \
   > starts.csv 2> err.txt || fail "extra options: $(cat err.txt)"
