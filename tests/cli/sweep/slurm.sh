@@ -2,9 +2,9 @@
 # (Debian's munge and slurm-wlm) configured in this test's directory, started, and stopped
 # at the end.  The job array and the merge job give the local engine's CSV, byte for byte;
 # a failed array fails the sweep; --no-wait leaves the CSV in the state directory.
-# Skipped (77) where Slurm cannot start, unless TP_REQUIRE_SLURM=1 (CI).
+# Skipped (77) where Slurm cannot start, unless TP_REQUIRE_CLUSTER=1 (CI).
 skip() {
-  [[ ${TP_REQUIRE_SLURM:-0} == 1 ]] && fail "TP_REQUIRE_SLURM=1 but $*"
+  [[ ${TP_REQUIRE_CLUSTER:-0} == 1 ]] && fail "TP_REQUIRE_CLUSTER=1 but $*"
   echo "SKIP: $*"
   exit 77
 }
