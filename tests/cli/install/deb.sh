@@ -10,7 +10,8 @@ if tr ',' '\n' <<< "$depends" | grep -E -- '-dev( |$)' > /dev/null; then fail "D
 tr ',' '\n' <<< "$depends" | grep -E '^ ?libc6 ' > /dev/null || fail "Depends lacks libc6: $depends"
 dpkg-deb -c "$deb" > contents.txt
 for f in ./usr/bin/af-field ./usr/bin/stimctl ./usr/bin/tp-sweep-spacing ./usr/share/man/man1/af-field.1.gz \
-         ./usr/share/man/man7/tactile-primaries.7.gz ./usr/share/bash-completion/completions/af-field \
+         ./usr/share/man/man7/tactile-primaries.7.gz ./usr/share/man/man1/tp-sweep-spacing.1.gz \
+         ./usr/share/bash-completion/completions/af-field ./usr/share/bash-completion/completions/tp-sweep-spacing \
          ./usr/share/tactile-primaries/receptors.json ./usr/share/doc/tactile-primaries/copyright \
          ./usr/share/doc/tactile-primaries/changelog.gz ./usr/lib/cmake/TactilePrimaries/TactilePrimariesConfig.cmake; do
   grep -F " $f" contents.txt > /dev/null || fail "not in the package: $f"

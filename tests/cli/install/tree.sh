@@ -9,6 +9,7 @@ for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-e
          share/tactile-primaries/receptors.json share/tactile-primaries/skin/fingertip.json \
          share/doc/tactile-primaries/README.md share/doc/tactile-primaries/document-format.md \
          share/man/man1/af-field.1.gz share/man/man1/stimctl.1.gz share/man/man7/tactile-primaries.7.gz \
+         share/man/man1/tp-sweep-spacing.1.gz share/man/man1/tp-plot-sd.1.gz share/bash-completion/completions/tp-sweep-spacing \
          share/bash-completion/completions/af-field share/bash-completion/completions/stimctl; do
   [[ -e $P/$f ]] || fail "not installed: $f"
 done
