@@ -1,5 +1,6 @@
 # The Debian package, installed system-wide with apt-get as a user would: the README's main
-# pipeline, sweep-spacing, man pages and bash completion from /usr, then removed.  It
+# pipeline, sweep-spacing, man pages, bash completion and the library (tests/consumer)
+# from /usr, then removed.  It
 # changes the machine, so it runs only with TP_SYSTEM_INSTALL=1 (CI's fresh machine sets
 # it), as root or with sudo; skipped (77) otherwise.
 : "${TP_BUILD:?}"
@@ -63,6 +64,19 @@ grep -E '^complete -F _tactile_primaries.* af-field$' complete.txt > /dev/null |
   "$fn" optimize-weights "" --mode; printf "%s\n" "${COMPREPLY[@]}"' > modes.txt 2>&1
 [[ $(sort modes.txt | tr '\n' ' ') == "PC RA SAI " ]] || fail "optimize-weights --mode TAB: $(cat modes.txt)"
 echo "ok: $(cat complete.txt); optimize-weights --mode TAB: $(sort modes.txt | tr '\n' ' ')"
+
+# The library from the package: tests/consumer found in /usr by CMake (no prefix given)
+# and by pkg-config (no path given).
+"${user_env[@]}" cmake -S "$TP_SOURCE/tests/consumer" -B consumer -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF > configure.log 2>&1 || fail "consumer: configure: $(grep -m3 -i error configure.log)"
+grep -E '^TactilePrimaries_DIR:PATH=/usr/lib/' consumer/CMakeCache.txt > /dev/null \
+  || fail "consumer: $(grep TactilePrimaries_DIR consumer/CMakeCache.txt)"
+"${user_env[@]}" cmake --build consumer > build.log 2>&1 || fail "consumer: build: $(grep -m3 error build.log)"
+./consumer/consumer > cmake.out || fail "consumer (CMake): $(cat cmake.out)"
+"${user_env[@]}" bash -c 'c++ -std=c++17 -O1 "$1" -o pc-consumer $(pkg-config --cflags --libs tactile-primaries)' _ \
+  "$TP_SOURCE/tests/consumer/main.cpp" 2> pc.log || fail "consumer (pkg-config): $(grep -m3 error pc.log)"
+./pc-consumer > pc.out && cmp -s cmake.out pc.out || fail "consumer (pkg-config): $(cat pc.out)"
+echo "ok: tests/consumer against /usr, by CMake and pkg-config: $(tr '\n' ';' < cmake.out)"
 
 remove
 [[ ! -e /usr/bin/af-field && ! -e /usr/share/man/man1/af-field.1.gz ]] || fail "apt-get remove left files"
