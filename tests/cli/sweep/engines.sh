@@ -51,8 +51,14 @@ rm -f computed
 FAKE_SLEEP=0.5 setsid "$sweep" --engine parallel --jobs 2 --state st "${args[@]}" > first.csv 2> first.err &
 pid=$!
 for _ in $(seq 300); do [[ $(lines st/joblog) -ge 4 ]] && break; sleep 0.05; done
+# While it runs, another run on the same --state is refused.
+set +e; "$sweep" --engine parallel --jobs 2 --state st "${args[@]}" > second.csv 2> second.err; rc=$?; set -e
+[[ $rc -eq 1 && ! -s second.csv ]] && grep -F -- "another sweep-spacing is using" second.err > /dev/null \
+  || fail "a second run on a busy --state: exit $rc, $(cat second.err)"
 kill -TERM -- -"$pid" 2> /dev/null || fail "the sweep ended before it was interrupted"
-wait "$pid" 2> /dev/null || true
+rc=0; wait "$pid" 2> /dev/null || rc=$?
+[[ $rc -eq 143 ]] && grep -Fx "sweep-spacing: terminated; the same command resumes" first.err > /dev/null \
+  || fail "interrupted: exit $rc, stderr: $(cat first.err)"
 finished=$(awk -F'\t' 'NR > 1 && $7 == 0 && $8 == 0 { print $1 }' st/joblog | sort -n)
 n_finished=$(grep -c . <<< "$finished" || true)
 [[ $n_finished -ge 3 && $n_finished -lt 9 ]] || fail "interrupted after $n_finished arrays: $(cat st/joblog)"
@@ -83,7 +89,7 @@ unset TP_BIN
   > dry.txt 2> err.txt || fail "--dry-run: $(cat err.txt)"
 [[ ! -e sl && ! -s err.txt ]] || fail "--dry-run created the state or talked: $(cat err.txt)"
 for want in '#SBATCH --array=0-2' '#SBATCH --partition=short' "#SBATCH --output=$PWD/sl/logs/task-%a.out" \
-            '#SBATCH --job-name=tp-sweep-merge' 'run_one ()' 'merge_rows ()' '8 1.4'; do
+            '#SBATCH --job-name=tp-sweep-merge' 'run_one ()' 'merge_rows ()' "cd '$PWD/sl'" ' jobs | while read -r n p'; do
   grep -F -- "$want" dry.txt > /dev/null || fail "--dry-run lacks '$want'"
 done
 [[ $(grep -c '^#!/bin/bash' dry.txt) -eq 2 ]] || fail "--dry-run: expected two scripts"
@@ -102,6 +108,16 @@ refuses 2 -- "$sweep" --electrodes 1,4
 refuses 2 -- "$sweep" --pitch 1:0.5:0.1
 refuses 2 -- "$sweep" --pitch 0.5:1000:0.001
 refuses 2 -- "$sweep" --jobs
+refuses 2 -- "$sweep" --electrodes 4,6,4
+refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1.0000000001:0.00000000001   # pitches the same in 10 digits
+refuses 2 -- "$sweep" --electrodes 4 --pitch 50:150:50                      # 150 mm: the largest pitch is checked
+refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --header-only
+refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --format=json
+refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin "sk{1}.json"
+refuses 2 -- "$sweep" --engine slurm --state "a b" --electrodes 4 --pitch 1:1:1
+[[ ! -e "a b" ]] || fail "a refused --state was created"
+refuses 2 -- "$sweep" --engine local --chunk 4
+refuses 2 -- "$sweep" --electrodes 2,3,4,5,6,7,8,9,10,11,12 --pitch 0.5:10:0.0001
 
 # The progress bar, on a terminal (script(1) gives stderr one).
 if command -v script > /dev/null; then

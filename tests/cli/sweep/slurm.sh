@@ -114,3 +114,27 @@ echo "ok: a failed array: $(cat err.txt)"
 for _ in $(seq 600); do [[ -f later/sweep.csv ]] && break; sleep 0.1; done
 cmp local.csv later/sweep.csv || { show_logs; fail "--no-wait's CSV differs from local's"; }
 echo "ok: --no-wait: $(cat err.txt)"
+
+# The same --state again, in other chunks: a fresh run (the old parts removed), the same
+# CSV; another sweep on it is refused.
+"$sweep" --engine slurm --chunk 3 --state "$PWD/later" "${args[@]}" > again.csv 2> err.txt || fail "again: $(cat err.txt)"
+cmp local.csv again.csv || fail "a second run on the same --state differs"
+[[ $(ls later/parts | wc -l) -eq 3 ]] || fail "parts of the earlier run left: $(ls later/parts)"
+refuses 2 -- "$sweep" --engine slurm --state "$PWD/later" --electrodes 4 --pitch 1:1:1
+
+# Interrupted while it waits: both jobs cancelled, the default state removed, exit 130.
+mkdir interrupted && cd interrupted
+# (env --default-signal: a background job of a script starts with SIGINT ignored.)
+setsid env --default-signal=INT "$sweep" --engine slurm "${args[@]}" > out.csv 2> err.txt &
+pid=$!
+for _ in $(seq 200); do [[ -n $(squeue -h -o %i 2> /dev/null) ]] && break; sleep 0.05; done
+[[ -n $(squeue -h -o %i) ]] || fail "no job was queued: $(cat err.txt)"
+kill -INT -- -"$pid"
+rc=0; wait "$pid" || rc=$?
+[[ $rc -eq 130 && ! -s out.csv ]] && grep -E '^sweep-spacing: interrupted; cancelled jobs [0-9]+ and [0-9]+$' err.txt > /dev/null \
+  || fail "interrupted: exit $rc, $(cat err.txt)"
+for _ in $(seq 100); do [[ -z $(squeue -h -o %i) ]] && break; sleep 0.1; done
+[[ -z $(squeue -h -o %i) ]] || fail "jobs left in the queue: $(squeue)"
+[[ -z $(ls) || $(ls) == "out.csv err.txt" || $(ls | sort | tr '\n' ' ') == "err.txt out.csv " ]] || fail "left behind: $(ls)"
+cd ..
+echo "ok: interrupted while waiting: $(cat interrupted/err.txt), the queue empty"
