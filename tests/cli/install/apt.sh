@@ -64,6 +64,14 @@ grep -E '^complete -F _tactile_primaries.* af-field$' complete.txt > /dev/null |
   "$fn" optimize-weights "" --mode; printf "%s\n" "${COMPREPLY[@]}"' > modes.txt 2>&1
 [[ $(sort modes.txt | tr '\n' ' ') == "PC RA SAI " ]] || fail "optimize-weights --mode TAB: $(cat modes.txt)"
 echo "ok: $(cat complete.txt); optimize-weights --mode TAB: $(sort modes.txt | tr '\n' ' ')"
+# The installed sweep script: its page and its completion.
+"${user_env[@]}" MANPAGER=cat man tp-sweep-spacing 2> /dev/null | grep -- '--sshloginfile' > /dev/null || fail "man tp-sweep-spacing"
+"${user_env[@]}" bash -c 'source /usr/share/bash-completion/bash_completion; __load_completion tp-sweep-spacing
+  COMP_WORDS=(tp-sweep-spacing --engine ""); COMP_CWORD=2; COMP_LINE="tp-sweep-spacing --engine "; COMP_POINT=${#COMP_LINE}
+  spec=$(complete -p tp-sweep-spacing); fn=${spec#*-F }; fn=${fn%% *}
+  "$fn" tp-sweep-spacing "" --engine; printf "%s\n" "${COMPREPLY[@]}"' > engines.txt 2>&1
+[[ $(tr '\n' ' ' < engines.txt) == "local parallel slurm " ]] || fail "tp-sweep-spacing --engine TAB: $(cat engines.txt)"
+echo "ok: man tp-sweep-spacing; tp-sweep-spacing --engine TAB: $(tr '\n' ' ' < engines.txt)"
 
 # The library from the package: tests/consumer found in /usr by CMake (no prefix given)
 # and by pkg-config (no path given).

@@ -46,11 +46,32 @@ for engine in local parallel; do
 done
 echo "ok: a failed array fails the sweep: $(cat err.txt)"
 
+# A signal to the script alone (not its process group) stops its workers at once: exit
+# 143 or 130, one line, nothing on stdout, no job left running.  (env --default-signal: a
+# script's background job starts with SIGINT ignored.)
+for case in "local TERM 143 terminated" "parallel TERM 143 terminated" "local INT 130 interrupted"; do
+  read -r engine sig code word <<< "$case"
+  rm -f computed
+  FAKE_SLEEP=30 env --default-signal=INT "$sweep" --engine "$engine" --jobs 2 "${args[@]}" > out.csv 2> err.txt &
+  pid=$!
+  for _ in $(seq 1200); do [[ $(lines computed) -ge 2 ]] && break; sleep 0.05; done
+  [[ $(lines computed) -ge 2 ]] || fail "$engine: no job started: $(cat err.txt)"
+  t0=$(date +%s)
+  kill -"$sig" "$pid"
+  rc=0; wait "$pid" || rc=$?
+  [[ $rc -eq $code && ! -s out.csv && $(wc -l < err.txt) -eq 1 ]] && grep -Fx "sweep-spacing: $word" err.txt > /dev/null \
+    || fail "$engine, SIG$sig: exit $rc, stderr: $(cat err.txt)"
+  (($(date +%s) - t0 < 10)) || fail "$engine, SIG$sig: took $(($(date +%s) - t0)) s to stop"
+  sleep 0.5
+  if pgrep -f "$PWD/fake/optimize-weights" > /dev/null; then fail "$engine, SIG$sig: jobs left running: $(pgrep -af "$PWD/fake/")"; fi
+  echo "ok: $engine, SIG$sig to the script alone: exit $rc, $(cat err.txt), no job left"
+done
+
 # Interrupt a parallel sweep with a --state, after some arrays, then run the same command.
 rm -f computed
-FAKE_SLEEP=0.5 setsid "$sweep" --engine parallel --jobs 2 --state st "${args[@]}" > first.csv 2> first.err &
+FAKE_SLEEP=1.5 setsid "$sweep" --engine parallel --jobs 2 --state st "${args[@]}" > first.csv 2> first.err &
 pid=$!
-for _ in $(seq 300); do [[ $(lines st/joblog) -ge 4 ]] && break; sleep 0.05; done
+for _ in $(seq 1200); do [[ $(lines st/joblog) -ge 4 ]] && break; sleep 0.05; done
 # While it runs, another run on the same --state is refused.
 set +e; "$sweep" --engine parallel --jobs 2 --state st "${args[@]}" > second.csv 2> second.err; rc=$?; set -e
 [[ $rc -eq 1 && ! -s second.csv ]] && grep -F -- "another sweep-spacing is using" second.err > /dev/null \
@@ -94,6 +115,7 @@ for want in '#SBATCH --array=0-2' '#SBATCH --partition=short' "#SBATCH --output=
 done
 [[ $(grep -c '^#!/bin/bash' dry.txt) -eq 2 ]] || fail "--dry-run: expected two scripts"
 bash -n <(sed -n '1,/^$/p' dry.txt) || fail "the array script is not valid bash"
+bash -n <(sed -n '/^$/,$p' dry.txt) || fail "the merge script is not valid bash"
 echo "ok: --dry-run prints two scripts ($(wc -l < dry.txt) lines)"
 
 # Bad options: exit 2, one line, nothing run.
@@ -113,6 +135,7 @@ refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1.0000000001:0.00000000001   # pi
 refuses 2 -- "$sweep" --electrodes 4 --pitch 50:150:50                      # 150 mm: the largest pitch is checked
 refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --header-only
 refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --format=json
+refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --version
 refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin "sk{1}.json"
 refuses 2 -- "$sweep" --engine slurm --state "a b" --electrodes 4 --pitch 1:1:1
 [[ ! -e "a b" ]] || fail "a refused --state was created"

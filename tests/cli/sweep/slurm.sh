@@ -51,6 +51,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 MpiDefault=none
 ReturnToService=2
+MaxArraySize=2
 NodeName=$node NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
 PartitionName=test Nodes=$node Default=YES MaxTime=INFINITE State=UP
 EOF
@@ -86,12 +87,15 @@ args=(--electrodes 4,6,8 --pitch 0.6:1.4:0.4 --modes RA,SAI,PC)
 "$sweep" "${args[@]}" > local.csv || fail "local engine"
 mkdir run && cd run
 t0=$(date +%s.%N)
-"$sweep" --engine slurm --chunk 2 "${args[@]}" > ../slurm.csv 2> ../err.txt || { show_logs; fail "slurm engine: $(cat ../err.txt)"; }
+"$sweep" --engine slurm "${args[@]}" > ../slurm.csv 2> ../err.txt || { show_logs; fail "slurm engine: $(cat ../err.txt)"; }
 t1=$(date +%s.%N)
 cd ..
 cmp local.csv slurm.csv || fail "the Slurm engine's CSV differs from local's"
 [[ -z $(ls run) ]] || fail "the default state directory was left: $(ls run)"
-echo "ok: a job array of 5 tasks and a merge job: the local engine's CSV, byte for byte, in $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }') s"
+echo "ok: a job array of 2 tasks (9 arrays, MaxArraySize=2) and a merge job: the local engine's CSV, byte for byte, in $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }') s"
+# More tasks than MaxArraySize allows: refused before anything is made or submitted.
+refuses 2 -- "$sweep" --engine slurm --chunk 3 --state "$PWD/toomany" "${args[@]}"
+[[ ! -e toomany ]] || fail "a refused sweep made its --state"
 
 # A failed array (a fake optimize-weights that fails 6 electrodes at 1 mm): exit 1, one
 # line naming it, no output, the logs kept.
@@ -109,17 +113,24 @@ ls failed/logs/task-*.out > /dev/null || fail "no task logs kept"
 echo "ok: a failed array: $(cat err.txt)"
 
 # --no-wait: the job ids on stderr, nothing on stdout, the CSV in the state directory.
-"$sweep" --engine slurm --no-wait --state "$PWD/later" "${args[@]}" > out.csv 2> err.txt || fail "--no-wait: $(cat err.txt)"
+"$sweep" --engine slurm --no-wait --sbatch --time=10 --state "$PWD/later" "${args[@]}" > out.csv 2> err.txt || fail "--no-wait: $(cat err.txt)"
 [[ ! -s out.csv ]] && grep -F "the CSV will be $PWD/later/sweep.csv" err.txt > /dev/null || fail "--no-wait: $(cat err.txt)"
+array_id=$(sed -n 's/.*submitted job array \([0-9]*\) .*/\1/p' err.txt)
+# --sbatch reached Slurm: the array's time limit is 10 minutes.
+scontrol show job -o "$array_id" | grep -F 'TimeLimit=00:10:00' > /dev/null || fail "--sbatch --time=10: $(scontrol show job -o "$array_id" | grep -o 'TimeLimit=[^ ]*' | head -1)"
+# While its jobs are queued, another run on the same --state is refused.
+set +e; "$sweep" --engine slurm --state "$PWD/later" "${args[@]}" > busy.csv 2> busy.err; rc=$?; set -e
+[[ $rc -eq 1 && ! -s busy.csv ]] && grep -F "are still queued or running" busy.err > /dev/null || fail "a run on a busy --state: exit $rc, $(cat busy.err)"
 for _ in $(seq 600); do [[ -f later/sweep.csv ]] && break; sleep 0.1; done
+for _ in $(seq 300); do [[ -z $(squeue -h -o %i) ]] && break; sleep 0.1; done
 cmp local.csv later/sweep.csv || { show_logs; fail "--no-wait's CSV differs from local's"; }
 echo "ok: --no-wait: $(cat err.txt)"
 
 # The same --state again, in other chunks: a fresh run (the old parts removed), the same
 # CSV; another sweep on it is refused.
-"$sweep" --engine slurm --chunk 3 --state "$PWD/later" "${args[@]}" > again.csv 2> err.txt || fail "again: $(cat err.txt)"
+"$sweep" --engine slurm --chunk 9 --state "$PWD/later" "${args[@]}" > again.csv 2> err.txt || fail "again: $(cat err.txt)"
 cmp local.csv again.csv || fail "a second run on the same --state differs"
-[[ $(ls later/parts | wc -l) -eq 3 ]] || fail "parts of the earlier run left: $(ls later/parts)"
+[[ $(ls later/parts | wc -l) -eq 1 ]] || fail "parts of the earlier run left: $(ls later/parts)"
 refuses 2 -- "$sweep" --engine slurm --state "$PWD/later" --electrodes 4 --pitch 1:1:1
 
 # Interrupted while it waits: both jobs cancelled, the default state removed, exit 130.
