@@ -28,6 +28,8 @@ echo "ok: apt-get install $(basename "$deb")"
 # From now on only what a user of the package has: /usr/bin and /bin, an empty home.
 mkdir home
 user_env=(env -i HOME="$PWD/home" PATH=/usr/bin:/bin LANG=C.UTF-8)
+run=("${user_env[@]}")
+source "$TP_SOURCE/tests/cli/install/helpers.sh"
 [[ $("${user_env[@]}" bash -c 'command -v af-field') == /usr/bin/af-field ]] || fail "af-field is not /usr/bin/af-field"
 version=$("${user_env[@]}" af-field --version) || fail "af-field --version"
 [[ $version =~ ^af-field\ [0-9]+\.[0-9]+\.[0-9]+$ ]] || fail "af-field --version: $version"
@@ -58,32 +60,20 @@ echo "ok: man af-field ($(wc -l < man.txt) lines), man 7 tactile-primaries"
 "${user_env[@]}" bash -c 'source /usr/share/bash-completion/bash_completion; __load_completion af-field; complete -p af-field' \
   > complete.txt 2>&1 || fail "complete -p af-field: $(cat complete.txt)"
 grep -E '^complete -F _tactile_primaries.* af-field$' complete.txt > /dev/null || fail "complete -p af-field: $(cat complete.txt)"
-"${user_env[@]}" bash -c 'source /usr/share/bash-completion/bash_completion; __load_completion optimize-weights
-  COMP_WORDS=(optimize-weights --mode ""); COMP_CWORD=2; COMP_LINE="optimize-weights --mode "; COMP_POINT=${#COMP_LINE}
-  spec=$(complete -p optimize-weights); fn=${spec#*-F }; fn=${fn%% *}
-  "$fn" optimize-weights "" --mode; printf "%s\n" "${COMPREPLY[@]}"' > modes.txt 2>&1
+complete_words_from - optimize-weights --mode "" > modes.txt 2>&1
 [[ $(sort modes.txt | tr '\n' ' ') == "PC RA SAI " ]] || fail "optimize-weights --mode TAB: $(cat modes.txt)"
 echo "ok: $(cat complete.txt); optimize-weights --mode TAB: $(sort modes.txt | tr '\n' ' ')"
 # The installed sweep script: its page and its completion.
 "${user_env[@]}" MANPAGER=cat man tp-sweep-spacing 2> /dev/null | grep -- '--sshloginfile' > /dev/null || fail "man tp-sweep-spacing"
-"${user_env[@]}" bash -c 'source /usr/share/bash-completion/bash_completion; __load_completion tp-sweep-spacing
-  COMP_WORDS=(tp-sweep-spacing --engine ""); COMP_CWORD=2; COMP_LINE="tp-sweep-spacing --engine "; COMP_POINT=${#COMP_LINE}
-  spec=$(complete -p tp-sweep-spacing); fn=${spec#*-F }; fn=${fn%% *}
-  "$fn" tp-sweep-spacing "" --engine; printf "%s\n" "${COMPREPLY[@]}"' > engines.txt 2>&1
+complete_words_from - tp-sweep-spacing --engine "" > engines.txt 2>&1
 [[ $(tr '\n' ' ' < engines.txt) == "local parallel slurm " ]] || fail "tp-sweep-spacing --engine TAB: $(cat engines.txt)"
 echo "ok: man tp-sweep-spacing; tp-sweep-spacing --engine TAB: $(tr '\n' ' ' < engines.txt)"
 
 # The library from the package: tests/consumer found in /usr by CMake (no prefix given)
 # and by pkg-config (no path given).
-"${user_env[@]}" cmake -S "$TP_SOURCE/tests/consumer" -B consumer -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF > configure.log 2>&1 || fail "consumer: configure: $(grep -m3 -i error configure.log)"
+build_consumer ""
 grep -E '^TactilePrimaries_DIR:PATH=/usr/lib/' consumer/CMakeCache.txt > /dev/null \
   || fail "consumer: $(grep TactilePrimaries_DIR consumer/CMakeCache.txt)"
-"${user_env[@]}" cmake --build consumer > build.log 2>&1 || fail "consumer: build: $(grep -m3 error build.log)"
-./consumer/consumer > cmake.out || fail "consumer (CMake): $(cat cmake.out)"
-"${user_env[@]}" bash -c 'c++ -std=c++17 -O1 "$1" -o pc-consumer $(pkg-config --cflags --libs tactile-primaries)' _ \
-  "$TP_SOURCE/tests/consumer/main.cpp" 2> pc.log || fail "consumer (pkg-config): $(grep -m3 error pc.log)"
-./pc-consumer > pc.out && cmp -s cmake.out pc.out || fail "consumer (pkg-config): $(cat pc.out)"
 echo "ok: tests/consumer against /usr, by CMake and pkg-config: $(tr '\n' ';' < cmake.out)"
 
 remove

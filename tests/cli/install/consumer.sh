@@ -13,18 +13,9 @@ if nm "$P/lib/libtactile-primaries-model.a" 2> /dev/null | grep -- __asan_ > /de
   san="-fsanitize=address,undefined -DEIGEN_MALLOC_ALREADY_ALIGNED=1"
 fi
 # The package registry and the build tree stay out of the search: only P.
-cmake -S "$TP_SOURCE/tests/consumer" -B consumer -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_CXX_FLAGS="$san" -DCMAKE_EXE_LINKER_FLAGS="${san%% -D*}" \
-  -DCMAKE_PREFIX_PATH="$P" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF > configure.log 2>&1 \
-  || fail "configure: $(grep -m3 -i error configure.log)"
-grep -F "$P" consumer/CMakeCache.txt | grep -q TactilePrimaries_DIR || fail "not found under P: $(grep TactilePrimaries_DIR consumer/CMakeCache.txt)"
-cmake --build consumer > build.log 2>&1 || fail "build: $(grep -m3 error build.log)"
-./consumer/consumer > cmake.out || fail "consumer (CMake): $(cat cmake.out)"
-# pkg-config
+source "$TP_SOURCE/tests/cli/install/helpers.sh"
 export PKG_CONFIG_PATH=$P/lib/pkgconfig:$P/lib/x86_64-linux-gnu/pkgconfig
 pkg-config --exists tactile-primaries || fail "pkg-config: $(pkg-config --print-errors --exists tactile-primaries 2>&1)"
-c++ -std=c++17 -O1 $san "$TP_SOURCE/tests/consumer/main.cpp" -o pc-consumer $(pkg-config --cflags --libs tactile-primaries) \
-  2> pc.log || fail "pkg-config build: $(grep -m3 error pc.log)"
-./pc-consumer > pc.out || fail "consumer (pkg-config): $(cat pc.out)"
-cmp -s cmake.out pc.out || fail "the two builds disagree"
+build_consumer "$san" -DCMAKE_EXE_LINKER_FLAGS="${san%% -D*}" -DCMAKE_PREFIX_PATH="$P"
+grep -F "$P" consumer/CMakeCache.txt | grep -q TactilePrimaries_DIR || fail "not found under P: $(grep TactilePrimaries_DIR consumer/CMakeCache.txt)"
 echo "ok: $(tr '\n' ';' < cmake.out)"

@@ -41,13 +41,8 @@ zcat "$P/share/man/man1/af-field.1.gz" | grep '^\.TH AF-FIELD "1"' > /dev/null |
 # Bash completion: bash-completion's _longopt for options, and the values it cannot know.
 bc=/usr/share/bash-completion/bash_completion
 [[ -f $bc ]] || fail "bash-completion is not installed (scripts/setup installs it)"
-complete_words() {  # complete_words WORD... : what TAB offers after the last word
-  bash -c 'source '"$bc"'; source "'"$P"'/share/bash-completion/completions/$1"
-           COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); COMP_LINE="$*"; COMP_POINT=${#COMP_LINE}
-           spec=$(complete -p "$1"); fn=${spec#*-F }; fn=${fn%% *}
-           "$fn" "$1" "${COMP_WORDS[COMP_CWORD]}" "${COMP_WORDS[COMP_CWORD-1]}"
-           printf "%s\n" "${COMPREPLY[@]}"' _ "$@"
-}
+source "$TP_SOURCE/tests/cli/install/helpers.sh"
+complete_words() { complete_words_from "$P/share/bash-completion/completions" "$@"; }
 bash -c "source $bc; source $P/share/bash-completion/completions/af-field; complete -p af-field" \
   | grep "complete -F _tactile_primaries" > /dev/null || fail "complete -p af-field"
 [[ $(complete_words optimize-weights --mode "" | sort | tr '\n' ' ') == "PC RA SAI " ]] || fail "--mode: $(complete_words optimize-weights --mode "")"

@@ -3,15 +3,10 @@
 # at the end.  The job array and the merge job give the local engine's CSV, byte for byte;
 # a failed array fails the sweep; --no-wait leaves the CSV in the state directory.
 # Skipped (77) where Slurm cannot start, unless TP_REQUIRE_CLUSTER=1 (CI).
-skip() {
-  [[ ${TP_REQUIRE_CLUSTER:-0} == 1 ]] && fail "TP_REQUIRE_CLUSTER=1 but $*"
-  echo "SKIP: $*"
-  exit 77
-}
 for p in munged mungekey slurmctld slurmd sbatch scontrol; do
-  command -v $p > /dev/null || skip "no $p (scripts/setup installs munge and slurm-wlm)"
+  command -v $p > /dev/null || skip TP_REQUIRE_CLUSTER "no $p (scripts/setup installs munge and slurm-wlm)"
 done
-[[ $(id -u) -eq 0 ]] || skip "slurmd must run as root to start jobs (this is uid $(id -u))"
+[[ $(id -u) -eq 0 ]] || skip TP_REQUIRE_CLUSTER "slurmd must run as root to start jobs (this is uid $(id -u))"
 
 # Everything lives here; daemons are stopped and their logs shown on failure.
 sl=$PWD/slurm
@@ -68,9 +63,9 @@ stop_slurm() {
   done
 }
 trap 'stop_slurm; cleanup' EXIT
-start_failed() { show_logs; stop_slurm; skip "$1 did not start (logs above)"; }
+start_failed() { show_logs; stop_slurm; skip TP_REQUIRE_CLUSTER "$1 did not start (logs above)"; }
 
-mungekey --create --keyfile="$sl/munge/key" > /dev/null 2>&1 || skip "mungekey could not create a key"
+mungekey --create --keyfile="$sl/munge/key" > /dev/null 2>&1 || skip TP_REQUIRE_CLUSTER "mungekey could not create a key"
 munged --force --key-file="$sl/munge/key" --socket="$sl/munge/socket" --pid-file="$sl/munged.pid" \
   --log-file="$sl/log/munged.log" --seed-file="$sl/munge/seed" || start_failed munged
 slurmctld -i || start_failed slurmctld

@@ -2,18 +2,13 @@
 # host and user keys in this test's directory, is "another host" in the --sshloginfile;
 # every array runs through it, and the CSV is the local engine's, byte for byte.
 # Skipped (77) where sshd cannot start, unless TP_REQUIRE_CLUSTER=1 (CI).
-skip() {
-  [[ ${TP_REQUIRE_CLUSTER:-0} == 1 ]] && fail "TP_REQUIRE_CLUSTER=1 but $*"
-  echo "SKIP: $*"
-  exit 77
-}
 sshd=$(command -v sshd || echo /usr/sbin/sshd)
-[[ -x $sshd ]] || skip "no sshd (scripts/setup cluster installs openssh-server)"
-command -v ssh > /dev/null && command -v parallel > /dev/null || skip "no ssh or GNU parallel"
-[[ $(id -u) -eq 0 ]] || skip "sshd's privilege separation needs root (this is uid $(id -u))"
+[[ -x $sshd ]] || skip TP_REQUIRE_CLUSTER "no sshd (scripts/setup cluster installs openssh-server)"
+command -v ssh > /dev/null && command -v parallel > /dev/null || skip TP_REQUIRE_CLUSTER "no ssh or GNU parallel"
+[[ $(id -u) -eq 0 ]] || skip TP_REQUIRE_CLUSTER "sshd's privilege separation needs root (this is uid $(id -u))"
 
 chmod 755 "$PWD"
-ssh-keygen -q -t ed25519 -N '' -f hostkey && ssh-keygen -q -t ed25519 -N '' -f userkey || skip "ssh-keygen failed"
+ssh-keygen -q -t ed25519 -N '' -f hostkey && ssh-keygen -q -t ed25519 -N '' -f userkey || skip TP_REQUIRE_CLUSTER "ssh-keygen failed"
 cp userkey.pub authorized_keys
 port=$((30000 + $$ % 5000))
 while (echo > /dev/tcp/127.0.0.1/$port) 2> /dev/null; do port=$((port + 1)); done
@@ -32,11 +27,11 @@ PidFile $PWD/sshd.pid
 LogLevel INFO
 EOF2
 mkdir -p /run/sshd
-"$sshd" -f "$PWD/sshd_config" -E "$PWD/sshd.log" || skip "sshd did not start: $(tail -3 sshd.log)"
+"$sshd" -f "$PWD/sshd_config" -E "$PWD/sshd.log" || skip TP_REQUIRE_CLUSTER "sshd did not start: $(tail -3 sshd.log)"
 trap 'kill "$(cat sshd.pid 2> /dev/null)" 2> /dev/null || true; cleanup' EXIT
 for _ in $(seq 100); do (echo > /dev/tcp/127.0.0.1/$port) 2> /dev/null && break; sleep 0.05; done
 login="ssh -p $port -i $PWD/userkey -o StrictHostKeyChecking=no -o UserKnownHostsFile=/dev/null -o BatchMode=yes -o LogLevel=ERROR 127.0.0.1"
-$login true || skip "ssh to the test's sshd failed: $(tail -3 sshd.log)"
+$login true || skip TP_REQUIRE_CLUSTER "ssh to the test's sshd failed: $(tail -3 sshd.log)"
 echo "ok: sshd on 127.0.0.1:$port"
 
 sweep=$TP_SOURCE/scripts/sweep-spacing
