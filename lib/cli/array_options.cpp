@@ -1,7 +1,10 @@
 #include "cli/array_options.hpp"
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/conductor.hpp"
 #include "model/ranges.hpp"
 
 namespace tp::cli {
@@ -41,14 +44,26 @@ void add_model_options(CLI::App& app, ModelOptions& o) {
 
 void apply_model_options(Document& doc, const ModelOptions& o) {
   if (!o.model.empty()) doc.setup.conductor.model = o.model;
+  const std::string& model = doc.setup.conductor.model;
+  // Nothing given may be silently ignored: neither a flag nor a setting of the document
+  // that the (possibly new) model does not use.
+  const std::string how = o.model.empty() ? "" : " (from " + o.flag + ")";
+  const auto& known = conductor_models();
+  if (std::find(known.begin(), known.end(), model) == known.end())
+    bad_input(o.flag + ": unknown conductor model '" + model + "' (expected " +
+              conductor_model_list() + ")");
+  for (const std::string& key : doc.model_settings)
+    check_setting_applies(model, key, "model." + key, how);
   if (!o.plane_z.empty()) {
+    check_setting_applies(model, "plane_z_mm", "--z", how);
     doc.setup.conductor.plane_z_mm = parse_finite(o.plane_z, "--z");
     ranges::check(doc.setup.conductor.plane_z_mm, ranges::plane_z_mm, "--z");
   }
-  if (!o.skin.empty()) doc.setup.conductor.skin = load_skin(o.skin, "--skin");
-  if (!o.skin.empty() && doc.setup.conductor.model != "layered")
-    bad_input("--skin: applies to the layered model only (this is " + doc.setup.conductor.model +
-              "; add " + o.flag + " layered)");
+  if (!o.skin.empty()) {
+    check_setting_applies(model, "skin", "--skin",
+                          how.empty() ? "; add " + o.flag + " layered" : how);
+    doc.setup.conductor.skin = load_skin(o.skin, "--skin");
+  }
   validate_setup(doc.setup);
 }
 

@@ -25,11 +25,35 @@ int report(const std::string& program, const std::string& message, ExitCode code
   return static_cast<int>(code);
 }
 
+// An option given with an empty value (--width '', --width=) is refused, naming it: an empty
+// string never means "not given".  Flags take no value and are skipped.
+void refuse_empty_values(const CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_type_size_max() == 0) continue;
+    for (const std::string& value : opt->results())
+      if (value.empty()) {
+        const std::string name = !opt->get_lnames().empty()   ? "--" + opt->get_lnames().front()
+                                 : !opt->get_snames().empty() ? "-" + opt->get_snames().front()
+                                                              : opt->get_name(true);
+        bad_input(name + ": empty value");
+      }
+  }
+  for (const CLI::App* sub : app.get_subcommands()) refuse_empty_values(*sub);
+}
+
 }  // namespace
 
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
   const std::string program = app.get_name();
   app.set_version_flag("--version", program + " " + TP_VERSION);
+  // --name= gives the option an empty value: refused as refuse_empty_values refuses --name ''.
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() > 3 && arg.compare(0, 2, "--") == 0 && arg.back() == '=' &&
+        arg.find('=') == arg.size() - 1)
+      return report(program, arg.substr(0, arg.size() - 1) + ": empty value", ExitCode::bad_input);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -45,6 +69,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
     return report(program, std::string(e.what()) + " (see --help)", ExitCode::bad_input);
   }
   try {
+    refuse_empty_values(app);
     body();
     if (std::fflush(stdout) != 0 || std::ferror(stdout))
       failure(std::string("write error on stdout: ") + std::strerror(errno));

@@ -9,6 +9,7 @@
 namespace tp::cli {
 
 void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_flag) {
+  o.model_flag = model_flag;
   app.add_option(model_flag, o.model,
                  "Fibre model: mrg (McIntyre-Richardson-Grill 2002, 37 C, 2 to 16 um) or senn "
                  "(McNeal 1976 / Reilly, Frankenhaeuser-Huxley nodes, 20 C, 1 to 30 um) [mrg]")
@@ -44,6 +45,9 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
 
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights) {
   FibreSetup f;
+  const auto& known = fibre::fibre_models();
+  if (std::find(known.begin(), known.end(), o.model) == known.end())
+    bad_input(o.model_flag + ": unknown fibre model '" + o.model + "' (mrg or senn)");
   f.model = fibre::make_fibre_model(o.model);
   if (!o.stimulus.empty()) {
     Stimulus s = stimulus_from_json(read_json(o.stimulus, "--stimulus"));

@@ -24,6 +24,7 @@ struct FibreOptions {
   int offsets = 8;
   std::string tolerance;
   int threads = 0;
+  std::string model_flag = "--model";  // set by add_fibre_options, for messages
 };
 
 // model_flag: "--model" (fiber-threshold) or "--fibre-model" (optimize-weights).

@@ -51,6 +51,31 @@ ElectrodeArray array_from_json(const Json& j) {
 
 }  // namespace
 
+bool model_uses(const std::string& model, const std::string& key) {
+  if (key == "resistivity_ohm_m") return model != "layered";  // layered: the skin's layers
+  if (key == "plane_z_mm") return model == "point3d" || model == "rect3d" || model == "layered";
+  if (key == "source_depth_mm") return model == "point3d";
+  if (key == "skin") return model == "layered";
+  return true;
+}
+
+void check_setting_applies(const std::string& model, const std::string& key,
+                           const std::string& name, const std::string& how) {
+  if (model_uses(model, key)) return;
+  std::string which;
+  if (key == "resistivity_ohm_m")
+    which =
+        "the uniform models (line2d, strip2d, point3d, rect3d); the layered model takes its "
+        "resistivities from its skin's layers";
+  else if (key == "plane_z_mm")
+    which = "the 3-D models (point3d, rect3d, layered) only";
+  else if (key == "source_depth_mm")
+    which = "the point3d model only";
+  else
+    which = "the layered model only";
+  bad_input(name + ": applies to " + which + "; this model is " + model + how);
+}
+
 Document document_from_json(const Json& j) {
   if (!j.is_object()) bad_input("document: expected a JSON object");
   Document d;
@@ -99,9 +124,14 @@ Document document_from_json(const Json& j) {
       else
         d.setup.conductor.skin = skin_from_json(m["skin"], "model.skin");
     }
+    for (const char* key : {"resistivity_ohm_m", "plane_z_mm", "source_depth_mm", "skin"})
+      if (m.contains(key)) d.model_settings.emplace_back(key);
   }
   if (j.contains("receptors")) d.setup.receptors = receptors_from_json(j["receptors"]);
   validate_setup(d.setup);  // the model name, and the model against the receptors
+  // A setting the model does not use would be silently ignored: refuse it.
+  for (const std::string& key : d.model_settings)
+    check_setting_applies(d.setup.conductor.model, key, "model." + key);
   if (j.contains("weights")) {
     d.weights = finite_list(j["weights"], "weights");
     for (std::size_t i = 0; i < d.weights->size(); ++i)
@@ -148,12 +178,18 @@ Json array_to_json(const ElectrodeArray& a) {
 Json model_to_json(const Setup& s) {
   Json j;
   j["conductor"] = s.conductor.model;
-  j["resistivity_ohm_m"] = s.conductor.resistivity_ohm_m > 0 ? s.conductor.resistivity_ohm_m
-                                                             : constants::tissue_resistivity_ohm_m;
+  // Only the settings the model uses (a document read back must not hold one it ignores).
+  const std::string& m = s.conductor.model;
+  if (model_uses(m, "resistivity_ohm_m"))
+    j["resistivity_ohm_m"] = s.conductor.resistivity_ohm_m > 0
+                                 ? s.conductor.resistivity_ohm_m
+                                 : constants::tissue_resistivity_ohm_m;
   j["lateral_margin_mm"] = s.lateral_margin_mm;
-  if (s.conductor.plane_z_mm != 0.0) j["plane_z_mm"] = s.conductor.plane_z_mm;
-  if (s.conductor.source_depth_mm != 0.0) j["source_depth_mm"] = s.conductor.source_depth_mm;
-  if (s.conductor.model == "layered") j["skin"] = skin_to_json(effective_skin(s.conductor));
+  if (s.conductor.plane_z_mm != 0.0 && model_uses(m, "plane_z_mm"))
+    j["plane_z_mm"] = s.conductor.plane_z_mm;
+  if (s.conductor.source_depth_mm != 0.0 && model_uses(m, "source_depth_mm"))
+    j["source_depth_mm"] = s.conductor.source_depth_mm;
+  if (model_uses(m, "skin")) j["skin"] = skin_to_json(effective_skin(s.conductor));
   return j;
 }
 

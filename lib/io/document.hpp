@@ -20,7 +20,19 @@ struct Document {
   std::optional<std::vector<double>> weights;  // positive = cathodic; |w| = 1 -> amplitude
   double max_current_mA = kDefaultMaxCurrent_mA;
   Json extra = Json::object();  // every other key, carried along in order
+  // The model settings the document gave (keys of "model" other than conductor and
+  // lateral_margin_mm), so that a later change of conductor (--model) can refuse those that
+  // the new model would silently ignore.
+  std::vector<std::string> model_settings;
 };
+
+// Whether conductor model `model` uses the model setting `key` (resistivity_ohm_m,
+// plane_z_mm, source_depth_mm, skin; every model uses conductor and lateral_margin_mm).
+bool model_uses(const std::string& model, const std::string& key);
+// Refuses (bad input) a setting that `model` does not use, naming it as `name` and saying
+// which models use it; `how` says where the model came from, e.g. "" or " (from --model)".
+void check_setting_applies(const std::string& model, const std::string& key,
+                           const std::string& name, const std::string& how = "");
 
 // Parses a document; throws tp::Error (bad input) naming the field at fault.
 Document document_from_json(const Json& j);

@@ -45,3 +45,58 @@ tp_cli_test(af-field refuses-deep-nesting refuses 2 --stdin ${IN}/nested-65.json
 tp_cli_test(optimize-weights refuses-receptor-name-comma refuses 2 --stdin ${IN}/receptor-name-comma.json --
   optimize-weights --mode SAI --config - --format csv)
 tp_cli_test(optimize-weights refuses-huge-min-af refuses 2 -- optimize-weights --mode SAI --min-target-af 1e300)
+
+# An empty option value is refused, never taken as "not given" (issue 20, item 8): every
+# program's options go through one check in the entry helper.
+foreach(opt width tolerance z conductor skin widths)
+  tp_cli_test(fiber-threshold refuses-empty-${opt} refuses 2 --stdin ${W} --says "--${opt}: empty value" --
+    fiber-threshold --${opt}=)
+endforeach()
+foreach(opt amplitude weights z x)
+  tp_cli_test(af-field refuses-empty-${opt} refuses 2 --says "--${opt}: empty value" -- af-field --${opt}=)
+endforeach()
+# (CMake drops an empty argument, so the tests above give --opt=; this one gives --opt ''.)
+tp_cli_test(af-field refuses-empty-separate script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/empty-values.sh)
+foreach(opt max-current min-target-af electrodes)
+  tp_cli_test(optimize-weights refuses-empty-${opt} refuses 2 --says "--${opt}: empty value" --
+    optimize-weights --mode SAI --${opt}=)
+endforeach()
+tp_cli_test(optimize-weights refuses-empty-mode-value refuses 2 --says "--mode: empty value" -- optimize-weights --mode=)
+
+# A setting the model does not use is refused, never silently ignored (item 9): the 3-D
+# models' --z under a 2-D model, a document's model keys under a model that ignores them,
+# and a document's setting left behind when --model changes the conductor.
+tp_cli_test(af-field refuses-z-line2d refuses 2 --says "--z: applies to the 3-D models" -- af-field --z 1)
+tp_cli_test(af-field refuses-z-strip2d refuses 2 --says "this model is strip2d (from --model)" --
+  af-field --model strip2d --z 1)
+tp_cli_test(optimize-weights refuses-z-line2d refuses 2 --says "--z: applies to the 3-D models" --
+  optimize-weights --mode SAI --z 1)
+tp_cli_test(fiber-threshold refuses-z-line2d refuses 2 --stdin ${W} --says "--z: applies to the 3-D models" --
+  fiber-threshold --z 1)
+foreach(case source-depth-rect3d source-depth-layered plane-z-line2d skin-line2d skin-default-model
+             resistivity-layered)
+  tp_cli_test(af-field refuses-setting-${case} refuses 2 --stdin ${IN}/setting-${case}.json --says "applies to" --
+    af-field --config - --summary)
+  tp_cli_test(optimize-weights refuses-setting-${case} refuses 2 --stdin ${IN}/setting-${case}.json --says "applies to" --
+    optimize-weights --mode SAI --config -)
+endforeach()
+tp_cli_test(af-field refuses-setting-left-by-model refuses 2 --stdin ${IN}/setting-point3d-source-depth.json
+  --says "this model is rect3d (from --model)" --
+  af-field --config - --model rect3d --summary)
+tp_cli_test(fiber-threshold refuses-setting-left-by-conductor refuses 2 --stdin ${IN}/setting-point3d-source-depth.json
+  --says "this model is layered (from --conductor)" --
+  fiber-threshold --conductor layered)
+# A document carries only the settings its model uses, so it always reads back.
+tp_cli_test(optimize-weights layered-document-reads-back script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/settings-round-trip.sh)
+
+# Messages name the option the user typed (item 10).
+tp_cli_test(optimize-weights refuses-unknown-fibre-model refuses 2 --says "--fibre-model: unknown fibre model 'x'" --
+  optimize-weights --mode SAI --objective threshold --fibre-model x)
+tp_cli_test(fiber-threshold refuses-unknown-fibre-model refuses 2 --stdin ${W} --says "--model: unknown fibre model 'x'" --
+  fiber-threshold --model x)
+tp_cli_test(af-field refuses-unknown-conductor refuses 2 --says "--model: unknown conductor model 'x'" --
+  af-field --model x)
+
+# A grid ending at a limit stays within it (item 11): the last row of 0.01:20:0.01 is 20, not
+# 20.000000000000004, so neither the depth range nor a layered skin's valid_to_mm refuses it.
+tp_cli_test(af-field grid-ends-at-limit script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/grid-ends.sh)

@@ -45,6 +45,14 @@ TEST_CASE("grid axes include both ends", "[io][number]") {
   CHECK(parse_axis("0:1:0.1", "x").count() == 11);
   CHECK(parse_axis("1:1:0.1", "x").count() == 1);
   CHECK(parse_axis("0:1:0.3", "x").count() == 4);  // 0, 0.3, 0.6, 0.9
+  // No point beyond MAX, though min + i * step rounds above it (0.01 + 1999 * 0.01 is
+  // 20.000000000000004 in doubles): a grid ending at a model's limit stays within it.
+  for (const char* text : {"0.01:20:0.01", "0.1:3:0.1", "-5:5:0.1", "0:0.3:0.1"}) {
+    const Axis a = parse_axis(text, "y");
+    CHECK(a.at(a.count() - 1) == a.max);
+    for (std::size_t i = 0; i < a.count(); ++i) CHECK(a.at(i) <= a.max);
+  }
+  CHECK(parse_axis("0:1:0.3", "x").at(3) == Approx(0.9));  // not clamped where MAX is not a point
   for (const char* bad : {"1:0:0.1", "0:1:0", "0:1:-1", "0:1", "0:1:0.1:2", "a:1:1", "0:nan:1"})
     CHECK(code_of([&] { parse_axis(bad, "x"); }) == ExitCode::bad_input);
 }
