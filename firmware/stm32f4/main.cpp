@@ -141,10 +141,14 @@ extern "C" void firmware_main() {
       ends_seen = core.output_ends();
       const bool completed = core.status().fault == device::Fault::completed &&
                              core.status().state == device::State::idle;
-      if (completed)
+      if (completed) {
         g_engine.finish_output();  // its last pulses are queued: deliver them
-      else
-        g_engine.stop_output();
+      } else {
+        // The queued pulses are dropped: the status counts delivered pulses only.
+        std::uint64_t start_us = 0;
+        const std::uint32_t dropped = g_engine.stop_output(start_us);
+        if (dropped != 0) core.not_delivered(start_us, dropped);
+      }
       engine_on = false;
     }
     if (core.status().state == device::State::running && !engine_on) {
@@ -170,7 +174,10 @@ extern "C" void firmware_main() {
         // retransmits.
         (void)g_host.write(p, k);
       });
-    // 2. The pulses due soon, to the engine.
+    // 2. The pulses due soon, to the engine.  One it cannot queue is not delivered, and
+    // not counted.
+    std::uint32_t not_queued = 0;
+    std::uint64_t not_queued_start_us = 0;
     core.advance(now + kLeadUs, [&](const device::DeliveredPulse& p) {
       follow();
       PulseJob job;
@@ -189,8 +196,12 @@ extern "C" void firmware_main() {
       job.balance_width_us = p.config.balance_width_us;
       job.period_us = p.config.period_us;
       job.step_nA = step_nA;
-      g_engine.submit(job);
+      if (!g_engine.submit(job)) {
+        ++not_queued;
+        not_queued_start_us = p.start_us;
+      }
     });
+    if (not_queued != 0) core.not_delivered(not_queued_start_us, not_queued);
     // 3. The DAC failed: no more output until a reset.
     if (g_dac.faults() != 0 && core.status().fault != device::Fault::output_fault)
       core.output_fault();

@@ -11,6 +11,11 @@ void PulseEngine::init(OutputStage& stage, Clock& clock, Alarm& alarm, std::uint
                        std::uint32_t core_hz) {
   early_us_ = early_us;
   spins_per_us_ = core_hz / 3000000u;  // three cycles a turn on a Cortex-M4
+  // Two cycles a turn is the fastest the loop can go: a measurement above that is a
+  // misreading (a clock read that took less than a tick), and trusting it would make the
+  // next wait overshoot its edge by up to 8 x the time left.
+  max_spins_per_us_ = core_hz / 2000000u;
+  if (max_spins_per_us_ < 1) max_spins_per_us_ = 1;
   stage_ = &stage;
   clock_ = &clock;
   alarm_ = &alarm;
@@ -41,8 +46,10 @@ void PulseEngine::start_output() {
     stage_->enable(true);
 }
 
-void PulseEngine::stop_output() {
+std::uint32_t PulseEngine::stop_output(std::uint64_t& start_us) {
   reg::CriticalSection cs;
+  const std::uint32_t dropped = job_head_ - job_tail_;
+  if (dropped != 0) start_us = jobs_[job_tail_ % kJobs].start_us;
   job_head_ = job_tail_;  // drop the queue (an in-flight pulse is not in it)
   loaded_ = false;
   finish_requested_ = false;
@@ -52,6 +59,7 @@ void PulseEngine::stop_output() {
   } else {
     stop_requested_ = true;  // after this pulse's balancing phase
   }
+  return dropped;
 }
 
 void PulseEngine::finish_output() {
@@ -108,7 +116,9 @@ void PulseEngine::edge(std::uint64_t scheduled, int index) {
       const std::uint64_t took = now - before;
       if (took > 0) {
         const std::uint64_t rate = n / took;
-        spins_per_us_ = static_cast<std::uint32_t>(rate < 1 ? 1 : rate > 1000 ? 1000 : rate);
+        spins_per_us_ = static_cast<std::uint32_t>(rate < 1                   ? 1
+                                                   : rate > max_spins_per_us_ ? max_spins_per_us_
+                                                                              : rate);
       }
     } else {
       now = clock_->now_us();
@@ -149,7 +159,10 @@ void PulseEngine::on_alarm() {
       edge(due, 0);
       // The later edges follow the measured first one: a late start never shortens a phase.
       exec_us_ = edges_[0];
-      last_start_us_ = edges_[0];
+      // The no-burst rule counts from when this pulse started, unless that was only the
+      // clock's reading jitter after its due time: propagating a tick of jitter to every
+      // later pulse would make them drift later and later (a tick every other pulse).
+      last_start_us_ = edges_[0] <= due + kJitterUs ? due : edges_[0];
       have_last_start_ = true;
       stage_->output(latched_main_, current_.channels);
       phase_ = Phase::main;

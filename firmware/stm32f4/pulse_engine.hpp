@@ -35,6 +35,8 @@ class PulseEngine {
  public:
   static constexpr std::uint64_t kDelayUs = 500;
   static constexpr std::uint64_t kHousekeepingUs = 1000;  // the alarm's longest sleep
+  // An edge whose reading came this late is on time (the clock's read jitter).
+  static constexpr std::uint64_t kJitterUs = 2;
 
   // early_us: how long before an edge the alarm wakes the engine, which then waits on the
   // clock for the edge's microsecond.  A few microseconds on a real MCU, whose SysTick is
@@ -46,8 +48,10 @@ class PulseEngine {
   // Main loop.
   bool submit(const PulseJob& job);  // false: the queue is full (the pulse is not delivered)
   void start_output();               // output-enable high
-  void stop_output();                // see above
-  void finish_output();              // the queued pulses first (a completed stimulus)
+  // See above.  Returns how many queued pulses it dropped (never delivered) and, through
+  // start_us, the start command's time of the output they belonged to.
+  std::uint32_t stop_output(std::uint64_t& start_us);
+  void finish_output();  // the queued pulses first (a completed stimulus)
   bool pop_record(device::PulseRecord& r);
   std::uint32_t lost_pulses() const { return lost_; }
 
@@ -64,7 +68,8 @@ class PulseEngine {
   Clock* clock_ = nullptr;
   Alarm* alarm_ = nullptr;
   std::uint32_t early_us_ = 2;
-  std::uint32_t spins_per_us_ = 56;  // the wait loop's speed, as last measured
+  std::uint32_t spins_per_us_ = 56;      // the wait loop's speed, as last measured
+  std::uint32_t max_spins_per_us_ = 84;  // its fastest possible speed (2 cycles a turn)
   PulseJob jobs_[kJobs];
   volatile std::uint32_t job_head_ = 0, job_tail_ = 0;
   device::PulseRecord records_[kRecords];

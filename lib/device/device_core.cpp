@@ -42,10 +42,14 @@ bool DeviceCore::receive_byte(std::uint8_t byte, std::uint64_t now_us) {
   // A session whose watchdog has run out is over, even if nothing advanced the clock in
   // between: a late frame must not revive it.
   expire(now_us);
+  // A repeated frame (a retransmission, or the same bytes replayed) is answered again
+  // from the cache and neither executed nor allowed to feed the watchdog: only a new
+  // frame shows that the host is alive.  (A retransmission follows a first copy that was
+  // lost, so was never seen, or that arrived, and fed the watchdog then.)
+  if (have_last_ && f.same_as(last_request_)) return true;
   // Only the running session's own frames keep its output alive: a host that did not
   // start the output (or identify/status queries) can never hold it on.
   if (status_.state == State::running && of_session(f)) last_fed_us_ = now_us;
-  if (have_last_ && f.same_as(last_request_)) return true;  // a retransmission: same reply
   FixedBytes<kMaxPayload> body;
   handle(f, now_us, body);
   last_reply_.clear();
@@ -122,6 +126,10 @@ Result DeviceCore::configure(const FixedBytes<kMaxPayload>& payload) {
   const std::uint32_t min_period = (1000000u + caps_.max_rate_hz - 1) / caps_.max_rate_hz;
   if (c->period_us <= length || c->period_us < min_period || c->period_us > hard::max_period_us)
     return Result::out_of_range;
+  // Every stretch between two edges is at least the shortest phase (min_width_us): a gap,
+  // if there is one, and the time from a pulse's end to the next one's start.  The output
+  // stage loads the next phase's codes in it; shorter, a pulse would come late.
+  if (!phase_fits(*c, caps_)) return Result::out_of_range;
   config_ = *c;
   session_ = session;  // a new session: weights must be sent again
   configured_ = true;
@@ -181,6 +189,11 @@ void DeviceCore::pulse_delivered() {
     end_session();
     status_.fault = Fault::completed;
   }
+}
+
+void DeviceCore::not_delivered(std::uint64_t start_us, std::uint32_t n) {
+  if (start_us != start_us_) return;  // an earlier output's: its count is final
+  status_.pulses -= std::min(n, status_.pulses);
 }
 
 void DeviceCore::output_fault() {

@@ -9,14 +9,18 @@
 //    configuration can raise the current, width, rate or watchdog limits;
 //  - set_weights: channel count must match, |code| <= max, and the codes must sum to zero;
 //    a refused frame changes nothing;
-//  - configure: width, balance width, gap and rate within the capabilities; the balancing
-//    phase carries the main phase's charge (current scaled by width / balance width);
+//  - configure: width, balance width, gap and rate within the capabilities, and every
+//    stretch between two edges (a gap, the time between pulses) at least the shortest
+//    phase, min_width_us (phase_fits); the balancing phase carries the main phase's charge
+//    (current scaled by width / balance width, never above the main phase's current);
+//  - status.pulses counts delivered pulses only (not_delivered);
 //  - sessions: configure opens one (a non-zero token); set_weights, start and keepalive
 //    must carry its token; stop ends it, so nothing of an old session can be restarted;
 //  - watchdog: output stops when no frame *of the running session* arrived for
 //    watchdog_ms; identify, status and other sessions' frames do not feed it;
-//  - a repeated frame (same seq, type and payload: a retransmission) is answered again
-//    but not executed twice.
+//  - a repeated frame (same seq, type and payload: a retransmission, or a replay of the
+//    same bytes) is answered again from the cache, but neither executed twice nor allowed
+//    to feed the watchdog.
 
 #include <cstdint>
 #include <vector>
@@ -80,6 +84,11 @@ class DeviceCore {
     expire(now_us);  // the watchdog
   }
 
+  // Pulses the core emitted for the output started at start_us (DeliveredPulse::start_us)
+  // that never reached the electrodes (a firmware's engine dropped them when the output
+  // stopped, or could not deliver them on time): the status counts delivered pulses only.
+  // Reports for an earlier output are ignored.
+  void not_delivered(std::uint64_t start_us, std::uint32_t n);
   // The link is gone (port closed): stop output and end the session.
   void link_lost();
   // The output stage failed: stop output, end the session, and refuse every later

@@ -60,6 +60,12 @@ std::int32_t Capabilities::max_code() const {
   return static_cast<std::int32_t>(std::min<std::uint32_t>(code, hard::max_dac_code));
 }
 
+bool phase_fits(const PulseConfig& c, const Capabilities& caps) {
+  if (c.interphase_us != 0 && c.interphase_us < caps.min_width_us) return false;
+  const std::uint64_t length = std::uint64_t{c.width_us} + c.interphase_us + c.balance_width_us;
+  return c.period_us > length && c.period_us - length >= caps.min_width_us;
+}
+
 Capabilities within_hard_limits(Capabilities c) {
   c.protocol = kProtocolVersion;
   c.channels = static_cast<std::uint8_t>(std::clamp<std::size_t>(c.channels, 1, kMaxChannels));

@@ -109,7 +109,7 @@ struct PulseConfig {
 struct Status {
   State state = State::idle;
   Fault fault = Fault::none;
-  std::uint32_t pulses = 0;  // delivered since the last start
+  std::uint32_t pulses = 0;  // delivered since the last start: slots not delivered do not count
   std::uint32_t weight_updates = 0;
   std::uint16_t rx_errors = 0;    // damaged frames dropped
   std::uint16_t line_errors = 0;  // bytes received with a framing, noise or parity error
@@ -170,6 +170,13 @@ void put_status(B& b, const Status& s) {
 }
 
 std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
+
+// The device's timing rule beyond the widths and the rate: a gap, if there is one (> 0),
+// and the off time between one pulse's end and the next one's start (period - width - gap
+// - balance width) are each at least the shortest phase, min_width_us.  A device loads the
+// next phase's codes in each such stretch, so shorter ones could not be delivered on time.
+// The host checks it before configuring; the device refuses (out_of_range) what breaks it.
+bool phase_fits(const PulseConfig& c, const Capabilities& caps);
 
 // Channel codes, in fixed storage.
 struct Codes {

@@ -38,6 +38,10 @@ StimulusLimits device_limits(StimulusLimits l, const device::Capabilities& c) {
 
 }  // namespace
 
+double current_limit_mA(const Stimulus& s, const StimulusLimits& lim) {
+  return std::min(s.max_current_mA, lim.max_current_mA);
+}
+
 std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t n_line,
                                            const Stimulus& s, const StimulusLimits& lim,
                                            const device::Capabilities& caps) {
@@ -61,7 +65,7 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
   shape_of.currents_mA = c;
   try {
     check_stimulus(shape_of, lim);
-    return quantize_currents(c, caps);
+    return quantize_currents(c, caps, current_limit_mA(s, lim));
   } catch (const Error& e) {
     bad_input(where + ": " + e.what());
   }
@@ -160,12 +164,25 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   if (period < std::ceil(1e6 / rep.caps.max_rate_hz))
     bad_input("period of " + number_text(period) + " us is faster than the device's " +
               std::to_string(rep.caps.max_rate_hz) + " Hz");
+  // The device's timing rule (device::phase_fits): a gap, and the off time between
+  // pulses, each at least its shortest phase, in which it loads the next phase's codes.
+  if (cfg.interphase_us != 0 && cfg.interphase_us < rep.caps.min_width_us)
+    bad_input("interphase gap of " + std::to_string(cfg.interphase_us) +
+              " us is shorter than the device's shortest phase of " +
+              std::to_string(rep.caps.min_width_us) + " us (0 for no gap)");
+  if (period - length_us < rep.caps.min_width_us)
+    bad_input("off time of " + number_text(period - length_us) + " us between pulses (period " +
+              number_text(period) + " us, pulse " + number_text(length_us) +
+              " us) is shorter than the device's shortest phase of " +
+              std::to_string(rep.caps.min_width_us) + " us");
   cfg.channels = static_cast<std::uint8_t>(s.currents_mA.size());
   // The device always has a pulse budget: it stops by itself after the stimulus' pulses
   // (live mode: --duration, or the duration limit), whatever becomes of the host.
   cfg.max_pulses = static_cast<std::uint32_t>(count);
   const double expected_s = count * period * 1e-6;  // at the device's (rounded) period
-  const std::vector<std::int16_t> codes = quantize_currents(s.currents_mA, rep.caps);
+  // No code above the limit in force (the stimulus's, the host's, the device's).
+  const std::vector<std::int16_t> codes =
+      quantize_currents(s.currents_mA, rep.caps, current_limit_mA(s, lim));
 
   std::FILE* latency = nullptr;
   if (opt.live && !opt.latency_log.empty()) {

@@ -44,8 +44,13 @@ struct SessionReport {
 // channels than the protocol carries.
 void check_device(const device::Capabilities& caps);
 
+// The current limit in force for a stimulus: its own max_current_mA or the limits'
+// (already narrowed to the device's), whichever is lower.  No code sent exceeds it.
+double current_limit_mA(const Stimulus& s, const StimulusLimits& lim);
+
 // One live frame, {"currents_mA": [...]}: parsed, checked like the stimulus itself (the
-// shape of `s`, limits `lim`) and quantised for the device.  Bad input names the line.
+// shape of `s`, limits `lim`) and quantised for the device within current_limit_mA.  Bad
+// input names the line.
 std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t line_number,
                                            const Stimulus& s, const StimulusLimits& lim,
                                            const device::Capabilities& caps);

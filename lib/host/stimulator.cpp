@@ -138,12 +138,26 @@ std::uint32_t new_session_token() {
   return t;
 }
 
+std::int32_t limit_code(double limit_mA, const device::Capabilities& caps) {
+  const std::int32_t max_code = caps.max_code();
+  if (!(limit_mA >= 0.0) || caps.dac_step_nA == 0) return 0;
+  const double step_mA = caps.dac_step_nA * 1e-6;
+  if (limit_mA >= static_cast<double>(max_code) * step_mA) return max_code;
+  // The largest whole code whose current is within the limit: floor, then checked
+  // against the limit itself (a quotient that lands a hair above a whole number).
+  auto code = static_cast<std::int32_t>(std::floor(limit_mA / step_mA));
+  while (code > 0 && static_cast<double>(code) * step_mA > limit_mA) --code;
+  return std::min(code, max_code);
+}
+
 std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_mA,
-                                            const device::Capabilities& caps) {
+                                            const device::Capabilities& caps, double limit_mA) {
   const double step_mA = caps.dac_step_nA * 1e-6;
   const long max_code = caps.max_code();
+  const long lim_code = limit_code(limit_mA, caps);
+  const double lim_mA = std::min(limit_mA, static_cast<double>(max_code) * step_mA);
   std::vector<std::int16_t> codes;
-  std::vector<double> err;  // exact - rounded, in codes
+  std::vector<double> err;  // exact - quantised, in codes
   long sum = 0;
   for (double c : currents_mA) {
     const double exact = c / step_mA;
@@ -154,12 +168,20 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
                 number_text(static_cast<double>(max_code) * step_mA) + " mA (" +
                 std::to_string(max_code) + " DAC steps of " + std::to_string(caps.dac_step_nA) +
                 " nA)");
-    const long code = std::lround(exact);
+    if (!(std::fabs(c) <= lim_mA + 1e-12))
+      bad_input("current " + number_text(c) + " mA exceeds the limit of " + number_text(lim_mA) +
+                " mA");
+    // The nearest code, or the next one toward zero where the nearest would cross the
+    // limit: no code is ever above the limit.
+    long code = std::lround(exact);
+    if (std::labs(code) > lim_code) code = static_cast<long>(std::trunc(exact));
+    if (std::labs(code) > lim_code) code = code > 0 ? lim_code : -lim_code;
     codes.push_back(static_cast<std::int16_t>(code));
     err.push_back(exact - static_cast<double>(code));
     sum += code;
   }
-  // Move the sum to zero one code at a time, where rounding erred most in that direction.
+  // Move the sum to zero one code at a time, where quantising erred most in that
+  // direction, never taking a code beyond the limit.
   std::vector<std::size_t> order(codes.size());
   while (sum != 0) {
     const int dir = sum > 0 ? -1 : 1;
@@ -168,14 +190,16 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
                      [&](std::size_t a, std::size_t b) { return dir * err[a] > dir * err[b]; });
     bool moved = false;
     for (std::size_t i : order) {
-      if (std::abs(codes[i] + dir) > max_code) continue;
+      if (std::abs(codes[i] + dir) > lim_code) continue;
       codes[i] = static_cast<std::int16_t>(codes[i] + dir);
       err[i] -= dir;
       sum += dir;
       moved = true;
       break;
     }
-    if (!moved) bad_input("currents cannot be made to sum to zero within the device's range");
+    if (!moved)
+      bad_input("currents cannot be made to sum to zero within the limit of " +
+                number_text(lim_mA) + " mA");
   }
   return codes;
 }

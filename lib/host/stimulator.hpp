@@ -71,9 +71,18 @@ class StimulatorClient {
 // A random non-zero session token (the OS's random source).
 std::uint32_t new_session_token();
 
-// DAC codes for the main-phase currents: rounded to the DAC step, then adjusted by single
-// codes (largest rounding error first) so that they sum to exactly zero.
+// The largest code whose current (code x the DAC step) is at most limit_mA, and at most
+// the device's largest code.
+std::int32_t limit_code(double limit_mA, const device::Capabilities& caps);
+
+// DAC codes for the main-phase currents, none above limit_mA (the limit in force: the
+// stimulus's max_current_mA, the host's and the device's, whichever is lowest): each
+// current rounded to the nearest DAC step, or toward zero where the nearest would cross
+// the limit; then adjusted by single codes (largest error first, never beyond the limit)
+// so that they sum to exactly zero.  Bad input when a current exceeds the limit or the
+// sum cannot be made zero within it.  The balancing phase's codes (device::balance_codes)
+// are never larger than the main phase's, so the limit holds for every phase.
 std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_mA,
-                                            const device::Capabilities& caps);
+                                            const device::Capabilities& caps, double limit_mA);
 
 }  // namespace tp::host

@@ -429,6 +429,91 @@ TEST_CASE("a retransmitted request is answered again but executed once", "[devic
   CHECK(core.status().weight_updates == 2);
 }
 
+TEST_CASE("a repeated frame answered from the cache does not feed the watchdog",
+          "[device][core][watchdog]") {
+  Capabilities caps;
+  caps.watchdog_ms = 300;
+  DeviceCore core(caps);
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(core, 3, Msg::start, token(), 0);
+  CHECK(send(core, 4, Msg::keepalive, token(), 100000) == Result::ok);  // deadline 0.4 s
+  // The same keep-alive, byte for byte, every 50 ms: answered, but the output stops at
+  // 0.4 s all the same.
+  std::uint64_t last = 0;
+  for (std::uint64_t now = 150000; now <= 1000000; now += 50000) {
+    if (core.status().state != State::running) break;
+    CHECK(send(core, 4, Msg::keepalive, token(), now) == Result::ok);
+    core.advance(now, [&](const DeliveredPulse& p) { last = p.t_us; });
+  }
+  CHECK(core.status().state == State::idle);
+  CHECK(core.status().fault == Fault::watchdog);
+  CHECK(last < 400000);
+  // A new keep-alive (the next sequence number) feeds it, as before.
+  DeviceCore other(caps);
+  send(other, 1, Msg::configure, configure(config8()), 0);
+  send(other, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(other, 3, Msg::start, token(), 0);
+  for (std::uint64_t now = 100000, seq = 4; now <= 1000000; now += 100000, ++seq) {
+    CHECK(send(other, static_cast<std::uint8_t>(seq), Msg::keepalive, token(), now) == Result::ok);
+    other.advance(now, [](const DeliveredPulse&) {});
+  }
+  CHECK(other.status().state == State::running);
+}
+
+TEST_CASE("configure refuses a gap or an off time shorter than the shortest phase",
+          "[device][core][timing]") {
+  Capabilities caps;
+  caps.min_width_us = 50;
+  auto result = [&](std::uint32_t period, std::uint16_t w, std::uint16_t gap, std::uint16_t bw) {
+    DeviceCore core(caps);
+    PulseConfig c = config8();
+    c.period_us = period;
+    c.width_us = w;
+    c.interphase_us = gap;
+    c.balance_width_us = bw;
+    CHECK(phase_fits(c, core.caps()) ==
+          (send(core, 1, Msg::configure, configure(c), 0) == Result::ok));
+    return send(core, 2, Msg::configure, configure(c), 0);
+  };
+  // The issue's cases at 1000 Hz: 300 + 100 + 599 leaves 1 us between pulses.
+  CHECK(result(1000, 300, 100, 599) == Result::out_of_range);
+  CHECK(result(1000, 300, 100, 551) == Result::out_of_range);
+  CHECK(result(1000, 300, 100, 550) == Result::ok);  // off time 50 us: the shortest phase
+  CHECK(result(1000, 300, 100, 500) == Result::ok);
+  CHECK(result(1000, 300, 49, 500) == Result::out_of_range);  // a gap shorter than a phase
+  CHECK(result(1000, 300, 50, 500) == Result::ok);
+  CHECK(result(1000, 300, 0, 650) == Result::ok);
+  CHECK(result(1000, 300, 0, 651) == Result::out_of_range);
+}
+
+TEST_CASE("pulses a device could not deliver are not counted", "[device][core][timing]") {
+  DeviceCore core(Capabilities{});
+  PulseConfig c = config8();
+  c.max_pulses = 10;
+  send(core, 1, Msg::configure, configure(c), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(core, 3, Msg::start, token(), 1000);
+  std::uint64_t start = 0;
+  int emitted = 0;
+  for (std::uint64_t now = 1000; now <= 60000; now += 1000) {
+    send(core, static_cast<std::uint8_t>(4 + now / 1000), Msg::keepalive, token(), now);
+    core.advance(now, [&](const DeliveredPulse& p) {
+      start = p.start_us;
+      ++emitted;
+    });
+  }
+  CHECK(emitted == 10);
+  CHECK(core.status().fault == Fault::completed);
+  CHECK(core.status().pulses == 10);
+  core.not_delivered(start, 3);  // an engine that dropped three
+  CHECK(core.status().pulses == 7);
+  core.not_delivered(start + 1, 3);  // another output's: ignored
+  CHECK(core.status().pulses == 7);
+  core.not_delivered(start, 100);  // never below zero
+  CHECK(core.status().pulses == 0);
+}
+
 TEST_CASE("host quantisation: codes sum to exactly zero and stay within half a step or so",
           "[device][quantize]") {
   Capabilities caps;
@@ -440,11 +525,60 @@ TEST_CASE("host quantisation: codes sum to exactly zero and stay within half a s
     for (auto& v : c) v = u(rng);
     const double mean = std::accumulate(c.begin(), c.end(), 0.0) / 8;
     for (auto& v : c) v -= mean;
-    const auto codes = host::quantize_currents(c, caps);
+    const auto codes = host::quantize_currents(c, caps, 2.0);
     CHECK(std::accumulate(codes.begin(), codes.end(), 0L) == 0);
     for (std::size_t i = 0; i < c.size(); ++i)
       CHECK(std::fabs(codes[i] * step - c[i]) <= 1.5 * step);
   }
+}
+
+TEST_CASE("host quantisation never crosses the limit in force, and keeps the sum at zero",
+          "[device][quantize]") {
+  // The issue's case: 0.5 mA on a 977 nA step is 511.77 codes; the nearest, 512, is
+  // 0.500224 mA.  Toward zero instead: 511, 0.499247 mA.
+  Capabilities caps;
+  CHECK(host::limit_code(0.5, caps) == 511);
+  CHECK(host::limit_code(512 * 977e-6, caps) == 512);  // an exact multiple is within
+  CHECK(host::limit_code(5.0, caps) == caps.max_code());
+  const auto sai = host::quantize_currents({0.5, -0.25, -0.25}, caps, 0.5);
+  CHECK(sai[0] == 511);
+  CHECK(std::accumulate(sai.begin(), sai.end(), 0L) == 0);
+  // A 6-bit DAC: 64516 nA a code; 0.49 mA is 7.6 codes, the nearest 8 (0.516 mA).
+  Capabilities coarse;
+  coarse.dac_step_nA = static_cast<std::uint16_t>(dac_step_nA(2000, 6));
+  const auto six = host::quantize_currents({0.49, -0.49}, coarse, 0.5);
+  CHECK(six[0] == 7);
+  CHECK(six[1] == -7);
+  // Randomised: every code within the limit, within one step of the exact current
+  // (more where the sum is moved), summing to zero.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), lim(0.05, 2.0);
+  std::uniform_int_distribution<int> nch(2, 64), bits(6, 16);
+  for (int trial = 0; trial < 5000; ++trial) {
+    Capabilities d;
+    d.dac_step_nA = static_cast<std::uint16_t>(dac_step_nA(2000, bits(rng)));
+    const double limit = lim(rng);
+    const double step = d.dac_step_nA * 1e-6;
+    std::vector<double> c(static_cast<std::size_t>(nch(rng)));
+    for (auto& v : c) v = u(rng);
+    const double mean = std::accumulate(c.begin(), c.end(), 0.0) / static_cast<double>(c.size());
+    double peak = 0;
+    for (auto& v : c) peak = std::max(peak, std::fabs(v -= mean));
+    for (auto& v : c) v *= limit / peak;  // the largest exactly at the limit
+    std::vector<std::int16_t> codes;
+    try {
+      codes = host::quantize_currents(c, d, limit);
+    } catch (const Error&) {
+      continue;  // no zero sum within the limit: refused, nothing sent
+    }
+    REQUIRE(std::accumulate(codes.begin(), codes.end(), 0L) == 0);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      REQUIRE(std::abs(codes[i]) * step <= limit + 1e-12);
+      REQUIRE(std::fabs(codes[i] * step - c[i]) <= 2.0 * step);
+    }
+  }
+  // Above the limit: refused.
+  CHECK_THROWS_AS(host::quantize_currents({0.6, -0.6}, caps, 0.5), Error);
 }
 
 TEST_CASE("stimulus checks (limits, zero sum, balance) and safety figures", "[pulse]") {
@@ -539,6 +673,8 @@ TEST_CASE("balancing codes sum to zero and stay within one code of the exact cha
     for (std::size_t i = 0; i < main.size(); ++i) {
       const double exact = -double(main[i]) * w / bw;
       REQUIRE(std::fabs(bal[i] - exact) < 1.0);
+      // Never above the main phase's current (the limit the host checked it against).
+      REQUIRE(std::abs(bal[i]) <= std::abs(main[i]));
       if (bw == w) REQUIRE(bal[i] == -main[i]);
     }
   }

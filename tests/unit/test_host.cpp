@@ -107,7 +107,7 @@ TEST_CASE("a device still running another session's output is stopped first", "[
   device::PulseConfig cfg;
   cfg.max_pulses = 100000;
   first.configure(cfg);
-  first.set_weights(host::quantize_currents(test_stimulus().currents_mA, caps));
+  first.set_weights(host::quantize_currents(test_stimulus().currents_mA, caps, 2.0));
   first.start();
   REQUIRE(first.status().state == device::State::running);
   Stimulus s = test_stimulus();
@@ -336,7 +336,7 @@ TEST_CASE("a session whose output another session took over fails, never reports
   const auto caps = first.identify();
   device::PulseConfig cfg;
   cfg.max_pulses = 100000;
-  const auto codes = host::quantize_currents(test_stimulus().currents_mA, caps);
+  const auto codes = host::quantize_currents(test_stimulus().currents_mA, caps, 2.0);
   first.configure(cfg);
   first.set_weights(codes);
   first.start();
