@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
       tp::check_model_depth(doc.setup, y.at(y.count() - 1), "--y: the deepest row,");
     }
     const tp::Field field(doc.setup, currents_mA);
+    if (!summary) tp::check_grid(doc.setup, field.conductor(), x, y);  // before the first row
     if (summary) {
       const tp::Summary s = tp::summarize(doc.setup, currents_mA);
       tp::cli::write_stdout(tp::dump_json(tp::summary_to_json(doc.setup, currents_mA, s)));

@@ -85,9 +85,17 @@ int main(int argc, char** argv) {
   return tp::cli::run(app, argc, argv, [&] {
     tp::cli::ArrayOptions source = array;
     if (source.config.empty() && weights.empty()) source.config = "-";
-    if (source.config == "-" && fibre.stimulus == "-")
-      tp::bad_input(
-          "--stimulus -: stdin already carries the weights document (give --config FILE)");
+    {  // stdin can be read once: at most one of the weights document, --stimulus, --skin
+      std::vector<std::string> readers;
+      if (source.config == "-")
+        readers.push_back(array.config.empty() ? "the weights document (no --config)"
+                                               : "--config -");
+      if (fibre.stimulus == "-") readers.push_back("--stimulus -");
+      if (conductor.skin == "-") readers.push_back("--skin -");
+      if (readers.size() > 1)
+        tp::bad_input(readers[0] + " and " + readers[1] +
+                      " both read stdin, which can be read once: give the other as a file");
+    }
     tp::Document doc = tp::cli::load_document(source, 1);
     if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     tp::cli::apply_model_options(doc, conductor);
@@ -127,6 +135,14 @@ int main(int argc, char** argv) {
         if (!p.monophasic && !(p.balance_width_us >= 1.0 && p.balance_width_us <= 10000.0))
           tp::bad_input("--widths: " + num(w) + " us gives a balancing phase of " +
                         num(p.balance_width_us) + " us, outside [1, 10000] us");
+      }
+      {  // the whole table's work, bounded before any of it
+        double work = 0.0;
+        for (double w : ws)
+          work += tp::fibre::thresholds_work(doc.setup, *f.model, pulse_at(w), f.settings);
+        tp::fibre::check_threshold_work(
+            work, tp::fibre::kMaxThresholdWork,
+            "--strength-duration (" + std::to_string(ws.size()) + " widths)");
       }
       const std::size_t nr = doc.setup.receptors.size();
       std::vector<std::vector<std::optional<double>>> th(nr);

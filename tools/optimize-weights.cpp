@@ -159,25 +159,22 @@ int main(int argc, char** argv) {
       tp::Json start = tp::Json::object();
       start["weights"] = r.weights;
       start["ratio"] = r.ratio;
-      const double f0 = tp::fibre::threshold_objective(t.start, target, f.settings.max_mA);
       start["threshold_ratio"] =
           t.start.ratios[target] ? tp::Json(*t.start.ratios[target]) : tp::Json(nullptr);
       start["threshold_mA"] = t.start.receptors[target].threshold_mA
                                   ? tp::Json(*t.start.receptors[target].threshold_mA)
                                   : tp::Json(nullptr);
       out.extra["af_optimum"] = start;
-      const double f1 = tp::fibre::threshold_objective(t.report, target, f.settings.max_mA);
       tp::Json search = tp::Json::object();
       search["method"] = "Nelder-Mead over the zero-sum weights from the AF optimum";
       search["evaluations"] = t.evaluations;
       search["improved"] = t.improved;
       out.extra["threshold_search"] = search;
       const std::string text = tp::dump_json(tp::document_to_json(out));
-      std::fprintf(stderr,
-                   "optimize-weights: %s threshold ratio %.4g (AF optimum: %.4g), AF ratio %.4g, "
-                   "%zu evaluations, %s, %s\n",
-                   modes[0].c_str(), f1, f0, af_ratio ? *af_ratio : 0.0, t.evaluations,
-                   f.model->name(), f.pulse.describe().c_str());
+      std::fprintf(stderr, "optimize-weights: %s, AF ratio %.4g, %zu evaluations, %s, %s\n",
+                   tp::fibre::threshold_search_summary(t, target, f.settings.max_mA).c_str(),
+                   af_ratio ? *af_ratio : 0.0, t.evaluations, f.model->name(),
+                   f.pulse.describe().c_str());
       tp::cli::write_stdout(text);
       return;
     }

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 
 #include "core/error.hpp"
+#include "io/number.hpp"
 
 namespace tp::fibre {
 
@@ -18,6 +20,26 @@ double threshold_objective(const ThresholdReport& r, std::size_t target, double 
     if (k != target && r.receptors[k].threshold_mA)
       other = std::min(other, *r.receptors[k].threshold_mA);
   return *r.receptors[target].threshold_mA / other;
+}
+
+namespace {
+std::string objective_text(const ThresholdReport& r, std::size_t target, double max_mA) {
+  const double f = threshold_objective(r, target, max_mA);
+  if (!std::isfinite(f)) return "none";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", f);
+  return b;
+}
+}  // namespace
+
+std::string threshold_search_summary(const ThresholdOptimum& t, std::size_t target, double max_mA) {
+  const std::string& name = t.report.receptors[target].receptor;
+  const std::string result = objective_text(t.report, target, max_mA);
+  const std::string start = objective_text(t.start, target, max_mA);
+  const std::string none = name + " has no threshold below " + number_text(max_mA) + " mA";
+  if (result == "none") return name + " threshold ratio none (" + none + ", nor at the AF optimum)";
+  return name + " threshold ratio " + result + " (AF optimum: " + start +
+         (start == "none" ? ", where " + none : std::string()) + ")";
 }
 
 namespace {
@@ -41,6 +63,13 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
                                     const ThresholdSearchOptions& opt) {
   const std::size_t n = af.size();
   if (n < 2) bad_input("array: optimisation needs at least 2 electrodes");
+  // The whole search's work, bounded before any of it: every evaluation is one
+  // compute_thresholds() of the same fibres.
+  check_threshold_work(
+      thresholds_work(setup, model, pulse, settings) *
+          static_cast<double>(std::max<std::size_t>(opt.max_evaluations, 1)),
+      kMaxSearchWork,
+      "--objective threshold (" + std::to_string(opt.max_evaluations) + " evaluations)");
   PotentialCache cache;
   ThresholdOptimum out;
   out.start = compute_thresholds(setup, af, model, pulse, settings, &cache);

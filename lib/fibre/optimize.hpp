@@ -38,4 +38,10 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
 // counts as firing at settings.max_mA (the target: +infinity).
 double threshold_objective(const ThresholdReport& r, std::size_t target, double max_mA);
 
+// "SAI threshold ratio 0.8123 (AF optimum: 0.9)": the objective at the result and at the
+// AF optimum; where the target has no threshold (an infinite objective), "none" and why,
+// never "inf": "SAI threshold ratio none (SAI has no threshold below 100 mA, nor at the AF
+// optimum)".
+std::string threshold_search_summary(const ThresholdOptimum& t, std::size_t target, double max_mA);
+
 }  // namespace tp::fibre

@@ -55,10 +55,25 @@ double time_step_ms(const PulseSpec& p) {
   return std::max(1e-4, std::min(0.005, shortest * 1e-3 / 10.0));
 }
 
+double thresholds_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
+                       ThresholdSettings settings) {
+  check_pulse(pulse);
+  settings.dt_ms = 0.005;
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const Waveform w = pulse.waveform(settings.delay_ms);
+  double work = 0.0;
+  for (const Receptor& rec : setup.receptors)
+    work += threshold_work(model, setup, *conductor, rec, w, settings);
+  return work;
+}
+
 ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
                                    const FibreModel& model, const PulseSpec& pulse,
                                    ThresholdSettings settings, PotentialCache* cache) {
   check_pulse(pulse);
+  // Every receptor's fibre first, and the whole work: bad input before any work.
+  check_threshold_work(thresholds_work(setup, model, pulse, settings), kMaxThresholdWork,
+                       "thresholds");
   ThresholdReport r;
   r.model = model.name();
   r.peak_weight = 0.0;
@@ -69,8 +84,6 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
   r.dt_ms = time_step_ms(pulse);
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const Waveform w = pulse.waveform(settings.delay_ms);
-  // Every receptor's fibre first: a bad one is refused before any work.
-  for (const Receptor& rec : setup.receptors) fibre_nodes(model, setup, *conductor, rec, settings);
   for (const Receptor& rec : setup.receptors)
     r.receptors.push_back(
         receptor_threshold(model, setup, *conductor, weights, rec, w, settings, cache));

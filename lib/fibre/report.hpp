@@ -48,7 +48,14 @@ struct ThresholdReport {
 // 0.1 us), used from that phase's start to 0.1 ms after its end (cable.hpp); gaps do not count.
 double time_step_ms(const PulseSpec& p);
 
-// Every receptor of the setup, for weights (|w| = 1 carries the amplitude).
+// The estimated work of compute_thresholds() (threshold_work() summed over the receptors),
+// in compartment-steps; bad input when a receptor's fibre is (fibre_nodes()).
+double thresholds_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
+                       ThresholdSettings settings);
+
+// Every receptor of the setup, for weights (|w| = 1 carries the amplitude).  Bad input,
+// before any work, when a fibre is (fibre_nodes()) or the estimated work exceeds
+// kMaxThresholdWork.
 // cache (optional) keeps the unit potentials between calls with the same setup.
 ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
                                    const FibreModel& model, const PulseSpec& pulse,

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <tuple>
@@ -84,25 +86,48 @@ class Search {
 
   // The lexicographic minimum of (threshold lattice point, index) over placements
   // ps[base..], given `best` over the placements before them.
+  //
+  // No exception leaves a worker: each is caught there, the placements after the failing
+  // one are skipped, and the failure of the lowest placement index is rethrown here, on the
+  // caller's thread, once every worker has joined.
   Best minimum(const std::vector<Placement>& ps, std::size_t base, Best best, long guess) {
     std::atomic<std::size_t> next{base};
     std::mutex m;
+    std::exception_ptr error;
+    std::size_t error_index = ps.size();
     auto work = [&] {
-      CableSimulator sim(model_, axon_);
-      for (;;) {
-        const std::size_t i = next.fetch_add(1);
-        if (i >= ps.size()) return;
-        Best snap;
-        long g;
-        {
+      try {
+        CableSimulator sim(model_, axon_);
+        for (;;) {
+          const std::size_t i = next.fetch_add(1);
+          if (i >= ps.size()) return;
+          Best snap;
+          long g;
+          {
+            std::lock_guard<std::mutex> lock(m);
+            if (i > error_index) return;
+            snap = best;
+            g = best.found ? best.j : guess;
+          }
+          long j;
+          bool found;
+          try {
+            found = search_one(sim, ps[i], i, snap, g, j);
+          } catch (...) {
+            std::lock_guard<std::mutex> lock(m);
+            if (i < error_index) {
+              error_index = i;
+              error = std::current_exception();
+            }
+            return;
+          }
+          if (!found) continue;
           std::lock_guard<std::mutex> lock(m);
-          snap = best;
-          g = best.found ? best.j : guess;
+          if (best.beats(j, i)) best = {true, j, i};
         }
-        long j;
-        if (!search_one(sim, ps[i], i, snap, g, j)) continue;
+      } catch (...) {  // the simulator's construction: before any placement
         std::lock_guard<std::mutex> lock(m);
-        if (best.beats(j, i)) best = {true, j, i};
+        if (!error) error = std::current_exception();
       }
     };
     const unsigned n = static_cast<unsigned>(std::min<std::size_t>(threads_, ps.size() - base));
@@ -110,9 +135,16 @@ class Search {
       work();
     } else {
       std::vector<std::thread> pool;
-      for (unsigned t = 0; t < n; ++t) pool.emplace_back(work);
+      try {
+        for (unsigned t = 0; t < n; ++t) pool.emplace_back(work);
+      } catch (...) {  // no thread to be had: join those started, then report
+        next = ps.size();
+        for (auto& t : pool) t.join();
+        throw;
+      }
       for (auto& t : pool) t.join();
     }
+    if (error) std::rethrow_exception(error);
     return best;
   }
 
@@ -288,6 +320,25 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     nodes = static_cast<std::size_t>(std::ceil((reg.x1_mm - reg.x0_mm) / L_mm - 1e-9)) + 12;
   }
   if (nodes < 12) nodes = 12;
+  // A buried point source (point3d) on or near a fibre's path: the potential is singular
+  // there, and within an internode of the path the compartments do not resolve it.  The
+  // fibre occupies the depths [top, bottom] (a vertical one down to its deep end, the
+  // internodes below the receptor included) at every x across the array, in the plane
+  // z = plane_z_mm; the sources lie at depth d in z = 0.
+  if (setup.conductor.model == "point3d" && setup.conductor.source_depth_mm > 0.0) {
+    const double src = setup.conductor.source_depth_mm;
+    const double top = r.depth_min_mm;
+    const double bottom =
+        vertical ? r.depth_min_mm + static_cast<double>(nodes - 1) * L_mm : r.depth_max_mm;
+    const double gap = src < top ? top - src : src > bottom ? src - bottom : 0.0;
+    const double distance = std::hypot(gap, setup.conductor.plane_z_mm);
+    if (!(distance >= L_mm))
+      bad_input("model.source_depth_mm: " + number_text(src) + " mm is " + number_text(distance) +
+                " mm from receptor " + r.name + "'s " + (vertical ? "vertical" : "horizontal") +
+                " fibre (depths " + number_text(top) + " to " + number_text(bottom) +
+                " mm), less than one internode (" + number_text(L_mm) +
+                " mm): the source would be on or too near its path");
+  }
   // Bounded work and memory: a fibre of at most kMaxNodes nodes, and the unit potentials of
   // all its placements (compartments x electrodes x placements) at most kMaxPotentials.
   if (nodes > kMaxNodes)
@@ -312,24 +363,71 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
   return nodes;
 }
 
+namespace {
+// The fibre a receptor's search simulates, and the simulation's end.
+struct FibreRun {
+  std::size_t nodes;
+  double internode_mm, tstop_ms;
+  Axon axon;
+};
+FibreRun fibre_run(const FibreModel& model, const Setup& setup, const Conductor& conductor,
+                   const Receptor& r, const Waveform& waveform, const ThresholdSettings& s) {
+  const double d = r.fibre.diameter_um;
+  const std::size_t nodes = fibre_nodes(model, setup, conductor, r, s);
+  Axon axon = model.axon(d, nodes);
+  const double length_mm = axon.length_um() * 1e-3;
+  const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
+  return {nodes, model.internode_um(d) * 1e-3, waveform.end_ms() + after, std::move(axon)};
+}
+}  // namespace
+
+double threshold_work(const FibreModel& model, const Setup& setup, const Conductor& conductor,
+                      const Receptor& r, const Waveform& waveform, const ThresholdSettings& s) {
+  const FibreRun f = fibre_run(model, setup, conductor, r, waveform, s);
+  // Time steps: dt throughout, and a tenth of each short phase over it and 0.1 ms after it
+  // (SimOptions).
+  const SimOptions o;
+  double steps = f.tstop_ms / s.dt_ms;
+  for (const Waveform::Phase& ph : waveform.phases)
+    if (ph.duration_ms < o.short_phase_ms && ph.level != 0.0 && ph.duration_ms > 0.0)
+      steps += (ph.duration_ms + 0.1) / std::max(o.min_dt_ms, ph.duration_ms / 10.0);
+  const bool vertical = r.fibre.orientation == Orientation::vertical;
+  const double placements =
+      vertical
+          ? 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) + 1) + 1.0 + 18.0
+          : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
+  const double probes =
+      std::ceil(std::log2(static_cast<double>(Lattice(s.tolerance).per_octave))) + 4.0;
+  return static_cast<double>(f.axon.compartments.size()) * steps * placements * probes;
+}
+
+void check_threshold_work(double work, double bound, const std::string& what) {
+  if (!(work <= bound)) {
+    char estimate[32];
+    std::snprintf(estimate, sizeof estimate, "%.2g", work);
+    bad_input(what + ": an estimated " + estimate +
+              " compartment-steps of fibre simulation, more than the bound of " +
+              number_text(bound) +
+              " (a larger --tolerance, fewer --offsets, a shorter array, margin or pulse)");
+  }
+}
+
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
                                      const Conductor& conductor, const std::vector<double>& weights,
                                      const Receptor& r, const Waveform& waveform,
                                      const ThresholdSettings& s, PotentialCache* shared_cache) {
   PotentialCache local_cache;
   PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
-  const double d = r.fibre.diameter_um;
-  const std::size_t nodes = fibre_nodes(model, setup, conductor, r, s);
-  const double L_mm = model.internode_um(d) * 1e-3;
+  const FibreRun f = fibre_run(model, setup, conductor, r, waveform, s);
+  const std::size_t nodes = f.nodes;
+  const double L_mm = f.internode_mm;
   const bool vertical = r.fibre.orientation == Orientation::vertical;
   const Region reg = fibre_region(setup, r);
-  const Axon axon = model.axon(d, nodes);
-  const double length_mm = axon.length_um() * 1e-3;
+  const Axon& axon = f.axon;
 
   SimOptions o;
   o.dt_ms = s.dt_ms;
-  const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
-  o.tstop_ms = waveform.end_ms() + after;
+  o.tstop_ms = f.tstop_ms;
   o.detect =
       vertical ? std::vector<std::size_t>{nodes - 6} : std::vector<std::size_t>{5, nodes - 6};
 

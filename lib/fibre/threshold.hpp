@@ -88,10 +88,29 @@ class PotentialCache {
 };
 
 // The number of nodes of a receptor's fibre; bad input when the model cannot represent it
-// (unmyelinated, diameter out of range) or when its work would be unbounded (at most 2000
-// nodes, and 3e7 unit potentials over its placements).
+// (unmyelinated, diameter out of range), when its work would be unbounded (at most 2000
+// nodes, and 3e7 unit potentials over its placements), or when a buried point source
+// (point3d) lies less than one internode from any depth the fibre occupies (a vertical
+// fibre's internodes below the receptor included).
 std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                         const Receptor& receptor, const ThresholdSettings& settings);
+
+// The work of a receptor's threshold search, in compartment-steps (one compartment advanced
+// one time step): compartments x time steps of one simulation x simulations, the last
+// estimated as placements x (bisection steps over an octave of the lattice + 4 bracketing
+// probes).  An estimate, not a bound on the search; fibre_nodes() must accept the receptor.
+double threshold_work(const FibreModel& model, const Setup& setup, const Conductor& conductor,
+                      const Receptor& receptor, const Waveform& waveform,
+                      const ThresholdSettings& settings);
+
+// The bounds on estimated work (docs/fibres.md, "Bounded work"), at roughly 1e8
+// compartment-steps per second of one core: one set of thresholds, or a strength-duration
+// table (5e10: minutes); a threshold optimisation, all its evaluations (1e12: 10000
+// evaluations of the paper's array).  Bad input beyond, naming `what`, the estimate and the
+// bound.
+inline constexpr double kMaxThresholdWork = 5e10;
+inline constexpr double kMaxSearchWork = 1e12;
+void check_threshold_work(double work, double bound, const std::string& what);
 
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
                                      const Conductor& conductor, const std::vector<double>& weights,

@@ -39,6 +39,12 @@ class Conductor {
   // (the 2-D models have no zero at infinity).  Used to check the derivatives.
   virtual void unit_potentials(double x_mm, double y_mm, double* psi) const = 0;
 
+  // Bad input when the second derivatives at depth y_mm and lateral offsets up to
+  // max_offset_mm from the electrodes could not be evaluated (the layered model's Hankel
+  // rule is bounded); called before any output, so that none fails half-way.  Every other
+  // point of the model's range can be.
+  virtual void check_reach(double /*max_offset_mm*/, double /*y_mm*/) const {}
+
   // True when Psi is harmonic in the (x, y) plane, so that the AF of either orientation
   // is harmonic too (Eq. 28-30) and obeys the maximum principle.
   virtual bool planar_harmonic() const = 0;

@@ -35,6 +35,36 @@ void validate_setup(const Setup& setup) {
   }
 }
 
+void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& y) {
+  const std::size_t ny = y.count(), nx = x.count();
+  // The farthest any point is from an electrode, along x.
+  const double reach = std::max(std::fabs(x.at(nx - 1) - setup.array.x_min_mm()),
+                                std::fabs(setup.array.x_max_mm() - x.at(0)));
+  for (std::size_t j = 0; j < ny; ++j) conductor.check_reach(reach, y.at(j));
+  const ConductorParams& c = setup.conductor;
+  if (c.model != "point3d" || !(c.source_depth_mm > 0.0) || std::fabs(c.plane_z_mm) > 1e-9) return;
+  constexpr double kNear = 1e-9;
+  const double d = c.source_depth_mm;
+  // The rows near the source's depth (y is increasing), then the columns near an electrode.
+  for (std::size_t j = 0; j < ny; ++j) {
+    const double yj = y.at(j);
+    if (std::fabs(yj - d) > kNear) continue;
+    for (const double xe : setup.array.positions_mm) {
+      // The columns within kNear of xe: x is increasing with a positive step.
+      const double first = std::ceil((xe - kNear - x.min) / x.step);
+      for (double i = std::max(0.0, first - 1.0); i < static_cast<double>(nx); ++i) {
+        const double xi = x.at(static_cast<std::size_t>(i));
+        if (xi > xe + kNear) break;
+        if (std::fabs(xi - xe) <= kNear)
+          bad_input("grid point (" + number_text(xi) + ", " + number_text(yj) +
+                    ") mm is a point source (model.source_depth_mm " + number_text(d) +
+                    " mm under an electrode), where the field is singular: move the grid or "
+                    "the source");
+      }
+    }
+  }
+}
+
 Region fibre_region(const Setup& setup, const Receptor& r) {
   return {setup.array.x_min_mm() - setup.lateral_margin_mm,
           setup.array.x_max_mm() + setup.lateral_margin_mm, r.depth_min_mm, r.depth_max_mm};

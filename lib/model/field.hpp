@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "io/number.hpp"
 #include "model/conductor.hpp"
 #include "model/receptors.hpp"
 
@@ -28,6 +29,13 @@ void validate_setup(const Setup& setup);
 // The layered model stands for the finger only down to its skin's valid_to_mm: a deeper
 // depth is bad input, "WHAT DEPTH mm is below the skin model's validity (...)".
 void check_model_depth(const Setup& setup, double depth_mm, const std::string& what);
+
+// Every check of a grid x by y (af-field's rows) before its first row is written, so that
+// none is half-written and none holds a non-finite value.  Bad input, naming the point,
+// when a point lies within 1e-9 mm of a point source (point3d with a buried source, fibres'
+// plane z = 0), where the field is singular; or when the conductor cannot evaluate a row
+// that far from the electrodes (Conductor::check_reach: the layered model's Hankel rule).
+void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& y);
 
 // Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
 // single depth line).

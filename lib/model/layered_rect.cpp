@@ -47,11 +47,12 @@
 namespace tp {
 namespace {
 
-constexpr int kNu = 14;          // Chebyshev nodes along u per tile
-constexpr int kNy = 10;          // along y
-constexpr int kNr = 16;          // along r, per r-tile
-constexpr int kGl = 8;           // Gauss-Legendre points per panel
-constexpr double kDecay = 40.0;  // Hankel integrals stop at e^-40 of the remainder's decay
+constexpr int kNu = 14;             // Chebyshev nodes along u per tile
+constexpr int kNy = 10;             // along y
+constexpr int kNr = 16;             // along r, per r-tile
+constexpr int kGl = 8;              // Gauss-Legendre points per panel
+constexpr double kDecay = 40.0;     // Hankel integrals stop at e^-40 of the remainder's decay
+constexpr double kMaxPanels = 2e5;  // panels of one r-tile's Hankel rule (~1 KB each)
 
 const Chebyshev<kNu>& cheb_u() {
   static const Chebyshev<kNu> c;
@@ -201,6 +202,35 @@ class Tables {
     return *yt.tiles[mi];
   }
 
+  // Bad input when a point at depth y and lateral offset up to u_max from an electrode
+  // would need more than kMaxPanels panels (a conservative bound: the r-tile of the farthest
+  // edge of the u-tile of u_max, at every depth node of y's tile).  Checked before any
+  // output, so that no evaluation of such a point fails half-way through.
+  void reach(double u_max, double y) {
+    const YTile& yt = ytile(y);
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double u1 = yt.u.at(yt.u.index(std::fabs(u_max)) + 1);
+    const double r_max = std::hypot(u1 + 0.5 * w_, std::fabs(z_) + 0.5 * l_);
+    const RGrid& g = rgrid(r_lattice_.index(r_max));
+    const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
+    double worst = 0.0, at_y = y;
+    for (std::size_t j = 0; j < kNy; ++j) {
+      const double yj = ymid + yhalf * cheb_y().t[j];
+      const double p = panels_to(g, lambda_stop(yj));
+      if (p > worst) {
+        worst = p;
+        at_y = yj;
+      }
+    }
+    if (!(worst <= kMaxPanels))
+      bad_input("layered: a field point at depth " + number_text(y) + " mm and " +
+                number_text(std::fabs(u_max)) + " mm from an electrode needs a Hankel rule of " +
+                number_text(worst) + " panels (at most " + number_text(kMaxPanels) +
+                ", near depth " + number_text(at_y) +
+                " mm): the skin's thinnest layer is too thin for a point this shallow this far "
+                "away (a deeper or narrower grid)");
+  }
+
   // The remainder's potential (V, 1 mA injected) of one rectangle at (u, y): a 2-D integral
   // of the tabulated point remainder (for unit_potentials, which only the checks use).
   double remainder_potential(double u, double y) {
@@ -245,17 +275,13 @@ class Tables {
     // contrasts), then at most 1/(4 H) up to 20 / H (the kernel's slow scale, where its
     // poles lie within ~pi / h of the axis; H the stack's depth, at least its thickest
     // layer), then the coarse width: half a period of J1 at r1, and fine enough for the
-    // remainder's decay.  The rule's memory is bounded: at most 2e5 panels, their nodes and
-    // Bessel values built only as far as a depth needs (at most ~200 MB for the shallowest
-    // depths of a stack of the thinnest layers, far from the electrodes).
+    // remainder's decay.  The nodes and Bessel values are built only as far as a depth needs
+    // (to kDecay over its remainder distance), and that is bounded: at most kMaxPanels
+    // (~200 MB), checked per depth (fill(), reach()), so that a deep point far from the
+    // electrodes is not refused for what a shallow one would need.
     const double coarse = std::min(kQuadPi / g->r1, 0.5 / a_glob_);
     const double fine = std::min(coarse, 0.25 / stack_depth_);
     const double lambda_fine = std::min(20.0 / stack_depth_, lambda_max_);
-    const double panels = (lambda_max_ - lambda_fine) / coarse + lambda_fine / fine + 20.0;
-    if (!(panels <= 2e5))
-      failure("layered: the Hankel rule needs " + number_text(panels) + " panels (a field point " +
-              number_text(g->r1) +
-              " mm from an electrode is too far for a stack with layers this thin)");
     std::vector<double> cuts = {0.0};
     auto cut_to = [&](double end, double width) {  // equal panels of at most `width`
       const double start = cuts.back();
@@ -285,6 +311,25 @@ class Tables {
     const std::size_t nf = g.fixed_cuts.size() - 1;
     return p + 1 < nf + 1 ? g.fixed_cuts[p + 1]
                           : g.coarse_start + static_cast<double>(p + 1 - nf) * g.coarse_width;
+  }
+  // The number of panels that start at or below lam_stop (what extend_panels() builds).
+  static double panels_to(const RGrid& g, double lam_stop) {
+    const std::size_t nf = g.fixed_cuts.size() - 1;
+    const double fixed = static_cast<double>(
+        std::upper_bound(g.fixed_cuts.begin(), g.fixed_cuts.end() - 1, lam_stop) -
+        g.fixed_cuts.begin());
+    if (fixed < static_cast<double>(nf) || lam_stop < g.coarse_start) return fixed;
+    return fixed +
+           std::min(g.coarse_count, std::floor((lam_stop - g.coarse_start) / g.coarse_width) + 1.0);
+  }
+  // lam_stop of a depth: the remainder is negligible beyond it.
+  double lambda_stop(double y) const { return kDecay / stack_.remainder_distance(y); }
+  static void check_panels(const RGrid& g, double lam_stop, double y) {
+    const double panels = panels_to(g, lam_stop);
+    if (!(panels <= kMaxPanels))
+      failure("layered: the Hankel rule needs " + number_text(panels) + " panels at depth " +
+              number_text(y) + " mm, " + number_text(g.r1) + " mm from an electrode (at most " +
+              number_text(kMaxPanels) + ")");
   }
   static std::size_t extend_panels(RGrid& g, double lam_stop) {
     const std::size_t total = g.fixed_cuts.size() - 1 + static_cast<std::size_t>(g.coarse_count);
@@ -355,8 +400,9 @@ class Tables {
     const double y = rt.y;
     const double s = y - stack_.top_of(k);
     const double h2 = k + 1 < stack_.layers().size() ? 2.0 * stack_.layers()[k].thickness_mm : 0.0;
-    const double lam_stop = kDecay / stack_.remainder_distance(y);
+    const double lam_stop = lambda_stop(y);
     // The panels this depth needs: up to the first that starts beyond lam_stop.
+    check_panels(g, lam_stop, y);
     const std::size_t panels = extend_panels(g, lam_stop);
     const std::size_t nq = panels == 0 ? 0 : g.panel_end[panels - 1];
     need(g, nq, potential, k);
@@ -493,6 +539,11 @@ class Layered : public Conductor {
       if (xx) xx[i] = rx[i];
       if (yy) yy[i] = ry[i];
     }
+  }
+
+  void check_reach(double max_offset_mm, double y_mm) const override {
+    check_depth(y_mm);
+    if (tables_) tables_->reach(max_offset_mm, y_mm);
   }
 
   // d2Psi/dz2 of electrode i (the tests' Laplace check).

@@ -102,10 +102,18 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
   // The sample matrices hold (samples x electrodes) doubles: bounded, and refused beyond.
   const double entries = static_cast<double>(p.target_pts.size() + p.off_pts.size()) *
                          static_cast<double>(setup.array.size());
-  if (entries > kMaxProblemEntries)
-    bad_input("optimisation problem of " + number_text(entries) +
-              " samples x electrodes, more than the cap of " + number_text(kMaxProblemEntries) +
-              " (an array span or lateral margin out of range)");
+  if (entries > kMaxProblemEntries) {
+    const Region g = fibre_region(setup, setup.receptors.front());
+    bad_input("optimisation problem of " + std::to_string(p.target_pts.size() + p.off_pts.size()) +
+              " samples x " + std::to_string(setup.array.size()) +
+              " electrodes = " + number_text(entries) + ", more than the cap of " +
+              number_text(kMaxProblemEntries) + ": fibres " + number_text(g.x1_mm - g.x0_mm) +
+              " mm long sampled every " + number_text(step_mm) + " mm" +
+              (interior ? " over each receptor's depth range (" + std::string(conductor->name()) +
+                              " is a 3-D model)"
+                        : std::string()) +
+              ", for this many electrodes (fewer electrodes, a smaller pitch or margin)");
+  }
   if (target_rows) p.target_rows = rows_for(setup, *conductor, p.target_pts, p.basis);
   p.off_rows = rows_for(setup, *conductor, p.off_pts, p.basis);
   return p;

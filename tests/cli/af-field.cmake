@@ -70,3 +70,11 @@ tp_cli_test(af-field eq23-single-electrode script ${CMAKE_CURRENT_SOURCE_DIR}/af
 tp_cli_test(af-field deterministic script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/deterministic.sh)
 tp_cli_test(af-field config-equals-flags script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/config-equals-flags.sh)
 tp_cli_test(af-field plot-field script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/plot.sh)
+
+# Issue 20: no non-finite value and no half-written grid.  A grid row through a buried
+# point3d source is refused, naming the point (item 5); a 5 um top layer far from the
+# electrodes works, and what the Hankel rule cannot evaluate is refused before the first row
+# (item 6, the script).
+tp_cli_test(af-field refuses-grid-through-source refuses 2 --says "grid point (-1, 3) mm is a point source" --
+  af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-below-receptors.json --x -2:2:1 --y 3:3:1)
+tp_cli_test(af-field thin-layer script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/thin-layer.sh)

@@ -39,3 +39,20 @@ tp_cli_test(fiber-threshold golden-sd golden fiber-threshold/sd.csv --rtol 1e-9 
 foreach(script deterministic no-threshold stimulus plot-sd)
   tp_cli_test(fiber-threshold ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/${script}.sh)
 endforeach()
+
+# Issue 20.  A buried point3d source on a fibre's path (here the RA fibre's deepest node) is
+# bad input, in fiber-threshold and in optimize-weights --objective threshold, not an abort
+# in a worker thread (item 4; the worker's exceptions: unit test "[threads]").
+tp_cli_test(fiber-threshold refuses-source-on-fibre-path refuses 2 --says "from receptor RA's vertical fibre"
+  --stdin ${IN}/point3d-source-on-ra-tail.json -- fiber-threshold)
+tp_cli_test(fiber-threshold refuses-objective-source-on-fibre-path refuses 2 --says "too near its path" --
+  optimize-weights --mode SAI --objective threshold --config ${IN}/point3d-source-on-ra-tail-2.json)
+# The whole work is estimated before any and bounded (item 7): the issue's 33-minute run,
+# and a strength-duration table, refused at once.
+tp_cli_test(fiber-threshold refuses-work-over-bound refuses 2 --says "compartment-steps of fibre simulation, more than the bound of 5e+10" --
+  fiber-threshold --config ${IN}/fibre-work-over-bound.json --offsets 40 --tolerance 1e-4 --width 1 --balance-width 10000 --interphase 10000)
+tp_cli_test(fiber-threshold refuses-sd-work-over-bound refuses 2 --says "--strength-duration (7 widths): an estimated" --
+  fiber-threshold --config ${IN}/fibre-work-over-bound.json --strength-duration)
+# stdin is read once: --config - with --stimulus - (or --skin -) is refused up front (item 10).
+tp_cli_test(fiber-threshold refuses-config-and-stimulus-stdin refuses 2 --says "--config - and --stimulus - both read stdin"
+  --stdin ${IN}/sai-stimulus.json -- fiber-threshold --config - --stimulus -)

@@ -6,9 +6,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "fibre/cable.hpp"
+#include "fibre/optimize.hpp"
 #include "fibre/report.hpp"
 #include "fibre/threshold.hpp"
 #include "model/field.hpp"
@@ -320,4 +323,98 @@ TEST_CASE("MRG conduction velocity follows the large-fibre scaling factor", "[fi
     CAPTURE(v);
     CHECK(v / d == Approx(5.6).epsilon(0.05));
   }
+}
+
+namespace {
+// The paper's conductor, but with a non-finite potential everywhere: every simulation
+// diverges (a runtime failure thrown inside the search's worker threads).
+class NanConductor : public Conductor {
+ public:
+  explicit NanConductor(const Conductor& c) : c_(c) {}
+  const char* name() const override { return "nan"; }
+  std::size_t size() const override { return c_.size(); }
+  void unit_second_derivatives(double x, double y, double* xx, double* yy) const override {
+    c_.unit_second_derivatives(x, y, xx, yy);
+  }
+  void unit_potentials(double, double, double* psi) const override {
+    for (std::size_t i = 0; i < c_.size(); ++i) psi[i] = std::nan("");
+  }
+  bool planar_harmonic() const override { return c_.planar_harmonic(); }
+
+ private:
+  const Conductor& c_;
+};
+}  // namespace
+
+// Issue 20, item 4: an exception in a worker thread used to call std::terminate (exit 134).
+// It is caught there and rethrown on the caller's thread, whatever the number of threads.
+TEST_CASE("A failure in a search thread reaches the caller", "[fibre][threads]") {
+  PaperCase p;
+  const NanConductor nan_conductor(*p.conductor);
+  const Waveform wf = pulse_waveform(200, 0, 200, false);
+  for (unsigned threads : {1u, 2u, 4u}) {
+    CAPTURE(threads);
+    ThresholdSettings s;
+    s.threads = threads;
+    s.offsets = 8;
+    try {
+      receptor_threshold(*p.model, p.setup, nan_conductor, p.w, p.sai(), wf, s);
+      FAIL("no error");
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::failure);
+      CHECK(std::string(e.what()).find("diverged") != std::string::npos);
+    }
+  }
+}
+
+// Issue 20, item 4: a buried point source on or within an internode of any fibre's path
+// (the RA fibre's internodes below its receptor included) is bad input before any work.
+TEST_CASE("A point source on a fibre's path is refused", "[fibre]") {
+  Setup setup;
+  setup.array = ElectrodeArray::uniform(1, 1.0);
+  setup.conductor.model = "point3d";
+  auto model = make_fibre_model("mrg");
+  ThresholdSettings s;
+  auto refused = [&](double depth_mm, double plane_z_mm = 0.0) {
+    setup.conductor.source_depth_mm = depth_mm;
+    setup.conductor.plane_z_mm = plane_z_mm;
+    const auto c = make_conductor(setup.conductor, setup.array);
+    try {
+      for (const Receptor& r : setup.receptors) fibre_nodes(*model, setup, *c, r, s);
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::bad_input);
+      return true;
+    }
+    return false;
+  };
+  const Receptor& ra = setup.receptors[0];
+  REQUIRE(ra.fibre.orientation == Orientation::vertical);
+  const double L = model->internode_um(ra.fibre.diameter_um) * 1e-3;
+  const double bottom = ra.depth_min_mm + 14 * L;  // its 15 nodes (docs/fibres.md)
+  CHECK(refused(bottom));                          // its deepest node (the issue's case)
+  CHECK(refused(4.0));                             // between its nodes, below the receptor
+  CHECK(refused(bottom + 0.9 * L));                // within an internode of its end
+  CHECK_FALSE(refused(bottom + 1.1 * L));          // beyond
+  CHECK_FALSE(refused(4.0, 1.1 * L));              // out of the fibres' plane by more
+}
+
+// Issue 20, item 10: where the target fires nowhere below max_mA, the objective is +inf; the
+// summary optimize-weights prints says so in words, never "inf".
+TEST_CASE("The threshold search's summary never says inf", "[fibre]") {
+  ThresholdOptimum t;
+  for (const char* name : {"RA", "SAI", "PC"}) {
+    ReceptorThreshold r;
+    r.receptor = name;
+    t.report.receptors.push_back(r);
+  }
+  t.report.receptors[0].threshold_mA = 0.5;
+  t.start = t.report;
+  CHECK(threshold_search_summary(t, 1, 100.0) ==
+        "SAI threshold ratio none (SAI has no threshold below 100 mA, nor at the AF optimum)");
+  t.report.receptors[1].threshold_mA = 0.25;
+  CHECK(threshold_search_summary(t, 1, 100.0) ==
+        "SAI threshold ratio 0.5 (AF optimum: none, where SAI has no threshold below 100 mA)");
+  t.start = t.report;
+  t.report.receptors[1].threshold_mA = 0.2;
+  CHECK(threshold_search_summary(t, 1, 100.0) == "SAI threshold ratio 0.4 (AF optimum: 0.5)");
 }

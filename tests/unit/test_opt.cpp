@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include <unistd.h>
 
@@ -336,5 +337,26 @@ CATCH_TEST_CASE("sample counts are capped: absurd geometry is refused, never all
   } catch (const Error& e) {
     CATCH_CHECK(e.code() == ExitCode::bad_input);
     CATCH_CHECK(std::string(e.what()).find("cap") != std::string::npos);
+  }
+}
+
+// Issue 20, item 10: a problem over the sample cap is refused naming what makes it large
+// (samples, electrodes, the sampling), not as "an array span or lateral margin out of range"
+// when both are in range.
+CATCH_TEST_CASE("An optimisation problem over the cap names its size", "[opt]") {
+  Setup s;
+  s.array = ElectrodeArray::uniform(64, 5.0);
+  s.conductor.model = "layered";
+  try {
+    make_mode_problem(s, "SAI", 0.02);
+    CATCH_FAIL("accepted");
+  } catch (const Error& e) {
+    CATCH_CHECK(e.code() == ExitCode::bad_input);
+    const std::string m = e.what();
+    CATCH_CAPTURE(m);
+    CATCH_CHECK(m.find("out of range") == std::string::npos);
+    CATCH_CHECK(m.find(" x 64 electrodes = ") != std::string::npos);
+    CATCH_CHECK(m.find("sampled every 0.02 mm") != std::string::npos);
+    CATCH_CHECK(m.find("layered is a 3-D model") != std::string::npos);
   }
 }
