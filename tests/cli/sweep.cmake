@@ -13,3 +13,6 @@ if(NOT TP_SANITIZE)
   tp_cli_test(sweep ssh script ${CMAKE_CURRENT_SOURCE_DIR}/sweep/ssh.sh)
   set_tests_properties(sweep.ssh PROPERTIES TIMEOUT 300 SKIP_RETURN_CODE 77)
 endif()
+# Every terminating signal to the script stops its workers, leaves none, and frees --state.
+tp_cli_test(sweep signals script ${CMAKE_CURRENT_SOURCE_DIR}/sweep/signals.sh)
+set_tests_properties(sweep.signals PROPERTIES TIMEOUT 300)

@@ -25,6 +25,35 @@ for exe in "$P"/bin/*; do
   fi
   if grep -qaF -e "$TP_SOURCE" -e "$TP_BUILD" "$copy"; then fail "$exe names the source or build tree"; fi
 done
+# The tp- scripts run by absolute path with P not on PATH: they find their programs beside
+# themselves (also through a link elsewhere), on every engine that runs here; --help needs
+# nothing, and names the installed script, as the man pages made from it do.
+bare=(env -u TP_BIN -u TP_BUILD_DIR PATH=/usr/bin:/bin)
+"${bare[@]}" "$P/bin/optimize-weights" --mode SAI --electrodes 4 --pitch 1 --format csv 2> /dev/null > want.csv \
+  || fail "optimize-weights by absolute path"
+mkdir links && ln -s "$P/bin/tp-sweep-spacing" links/tp-sweep-spacing
+for sweep in "$P/bin/tp-sweep-spacing" "links/tp-sweep-spacing" "$P/bin/tp-sweep-spacing --engine parallel"; do
+  # shellcheck disable=SC2086  # $sweep is words by design
+  "${bare[@]}" $sweep --electrodes 4 --pitch 1:1:1 --modes SAI > sweep.csv 2> err.txt || fail "$sweep: $(cat err.txt)"
+  cmp -s want.csv sweep.csv || fail "$sweep: $(cat sweep.csv) differs from optimize-weights' $(cat want.csv)"
+done
+"${bare[@]}" "$P/bin/tp-compare-models" --models line2d --electrodes 4 > models.md 2> err.txt || fail "tp-compare-models: $(cat err.txt)"
+grep -F '| line2d | ' models.md > /dev/null || fail "tp-compare-models: $(cat models.md)"
+mkdir alone
+for s in sweep-spacing compare-models plot-field plot-pulse plot-sweep plot-sd; do
+  cp "$P/bin/tp-$s" alone/  # without the programs: --help still works
+  "${bare[@]}" TP_BIN=/nonexistent "alone/tp-$s" --help > help.txt 2> err.txt || fail "tp-$s --help alone: $(cat err.txt)"
+  [[ ! -s err.txt ]] && head -1 help.txt | grep "^tp-$s: " > /dev/null || fail "tp-$s --help: $(head -1 help.txt) $(cat err.txt)"
+  ! grep -F "scripts/" help.txt || fail "tp-$s --help names the source tree's scripts"
+  page=$(zcat "$P/share/man/man1/tp-$s.1.gz")
+  grep -F 'tp\-'"${s//-/\\-}"':' <<< "$page" > /dev/null || fail "tp-$s.1 does not name tp-$s: $(sed -n '/^.SH DESCRIPTION/,+3p' <<< "$page")"
+  if grep -e "scripts/" -e "not found" <<< "$page"; then fail "tp-$s.1 names scripts/ or an error"; fi
+done
+zcat "$P/share/man/man1/tp-compare-models.1.gz" | grep -F 'tp\-compare\-models [\-\-models' > /dev/null || fail "tp-compare-models.1: no usage"
+set +e; "${bare[@]}" alone/tp-compare-models > out.txt 2> err.txt; rc=$?; set -e
+[[ $rc -eq 1 && ! -s out.txt && $(wc -l < err.txt) -eq 1 ]] && grep -F "optimize-weights not found" err.txt > /dev/null \
+  || fail "tp-compare-models without its programs: exit $rc, $(cat err.txt)"
+echo "ok: the tp- scripts by absolute path, PATH=/usr/bin:/bin: their programs found beside them; --help and man pages name tp-NAME"
 # The programs from P/bin alone (the build's tools are not on this PATH).
 export PATH=$P/bin:/usr/bin:/bin
 [[ $(af-field --version) == "af-field "* ]] || fail "af-field --version: $(af-field --version)"

@@ -140,6 +140,29 @@ refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin "sk{
 refuses 2 -- "$sweep" --engine slurm --state "a b" --electrodes 4 --pitch 1:1:1
 [[ ! -e "a b" ]] || fail "a refused --state was created"
 refuses 2 -- "$sweep" --engine local --chunk 4
+# What GNU parallel, its job log (a line a job) or sbatch cannot carry is refused up front
+# (exit 2, one line, nothing created), whichever option or variable it comes in.
+refuses 2 -- "$sweep" --engine parallel --state $'nl\nx' --electrodes 4 --pitch 1:1:1
+refuses 2 -- "$sweep" --engine slurm --state $'nl\nx' --electrodes 4 --pitch 1:1:1
+[[ ! -e nl ]] || fail "a refused --state was created"
+refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin $'fingertip\n'
+refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 -- --max-current $'1\n2'
+refuses 2 -- "$sweep" $'--bo\ngus'
+printf '1/:\n' > $'hosts\nx'
+refuses 2 -- "$sweep" --engine parallel --sshloginfile $'hosts\nx' --electrodes 4 --pitch 1:1:1
+mkdir -p $'bin\nx' 'bin{1}'
+ln -s "$(command -v optimize-weights)" $'bin\nx/optimize-weights'
+ln -s "$(command -v optimize-weights)" 'bin{1}/optimize-weights'
+refuses 2 -- env TP_BIN=$'bin\nx' "$sweep" --electrodes 4 --pitch 1:1:1
+refuses 2 -- env TP_BIN='bin{1}' "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1
+mkdir 'in{1}'
+(cd 'in{1}' && refuses 2 -- "$sweep" --engine parallel --state st --electrodes 4 --pitch 1:1:1)
+[[ ! -e 'in{1}/st' ]] || fail "a refused --state was created"
+# '-' is GNU parallel's name for stdin as --sshloginfile: a file of that name is read as one.
+printf '1/:\n' > ./-
+"$sweep" --engine parallel --sshloginfile - --electrodes 4 --pitch 1:1:1 --modes SAI < /dev/null > dash.csv 2> err.txt \
+  || fail "--sshloginfile -: $(cat err.txt)"
+[[ $(wc -l < dash.csv) -eq 2 ]] || fail "--sshloginfile -: $(cat dash.csv)"
 refuses 2 -- "$sweep" --electrodes 2,3,4,5,6,7,8,9,10,11,12 --pitch 0.5:10:0.0001
 
 # The progress bar, on a terminal (script(1) gives stderr one).

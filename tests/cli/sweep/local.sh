@@ -24,6 +24,10 @@ for bad in "--modes SAI,XY" "--modes SAI -- --bogus"; do
   set +e; "$TP_SOURCE/scripts/sweep-spacing" --electrodes 4 --pitch 1:1:1 $bad > out.csv 2> err.txt; rc=$?; set -e
   [[ $rc -eq 2 && ! -s out.csv && $(wc -l < err.txt) -eq 1 ]] || fail "$bad: exit $rc, $(cat err.txt)"
 done
+# A stdout that cannot take the CSV: exit 1, one line.
+set +e; "$TP_SOURCE/scripts/sweep-spacing" --electrodes 4 --pitch 1:1:1 --modes SAI > /dev/full 2> err.txt; rc=$?; set -e
+[[ $rc -eq 1 && $(wc -l < err.txt) -eq 1 ]] && grep -Fx 'sweep-spacing: stdout: the CSV was not written in full' err.txt > /dev/null \
+  || fail "stdout /dev/full: exit $rc, $(cat err.txt)"
 "$TP_SOURCE/scripts/plot-sweep" -o sweep.png sweep.csv 2> /dev/null || fail "plot-sweep"
 [[ $(head -c 4 sweep.png | od -An -tx1 | tr -d ' \n') == 89504e47 ]] || fail "not a PNG"
 echo "ok: $rows rows"

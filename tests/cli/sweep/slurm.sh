@@ -128,19 +128,25 @@ cmp local.csv again.csv || fail "a second run on the same --state differs"
 [[ $(ls later/parts | wc -l) -eq 1 ]] || fail "parts of the earlier run left: $(ls later/parts)"
 refuses 2 -- "$sweep" --engine slurm --state "$PWD/later" --electrodes 4 --pitch 1:1:1
 
-# Interrupted while it waits: both jobs cancelled, the default state removed, exit 130.
-mkdir interrupted && cd interrupted
-# (env --default-signal: a background job of a script starts with SIGINT ignored.)
-setsid env --default-signal=INT "$sweep" --engine slurm "${args[@]}" > out.csv 2> err.txt &
-pid=$!
-for _ in $(seq 200); do [[ -n $(squeue -h -o %i 2> /dev/null) ]] && break; sleep 0.05; done
-[[ -n $(squeue -h -o %i) ]] || fail "no job was queued: $(cat err.txt)"
-kill -INT -- -"$pid"
-rc=0; wait "$pid" || rc=$?
-[[ $rc -eq 130 && ! -s out.csv ]] && grep -E '^sweep-spacing: interrupted; cancelled jobs [0-9]+ and [0-9]+$' err.txt > /dev/null \
-  || fail "interrupted: exit $rc, $(cat err.txt)"
-for _ in $(seq 100); do [[ -z $(squeue -h -o %i) ]] && break; sleep 0.1; done
-[[ -z $(squeue -h -o %i) ]] || fail "jobs left in the queue: $(squeue)"
-[[ -z $(ls) || $(ls) == "out.csv err.txt" || $(ls | sort | tr '\n' ' ') == "err.txt out.csv " ]] || fail "left behind: $(ls)"
-cd ..
-echo "ok: interrupted while waiting: $(cat interrupted/err.txt), the queue empty"
+# Interrupted while it waits, by SIGINT to its process group or SIGHUP to the script alone:
+# both jobs cancelled, the default state removed, exit 128 + N, nothing of its session left.
+for case in "INT 130 interrupted group" "HUP 129 hung_up_(SIGHUP) alone"; do
+  read -r sig code word whom <<< "$case"
+  word=${word//_/ }
+  rm -rf interrupted && mkdir interrupted && cd interrupted
+  # (env --default-signal: a background job of a script starts with SIGINT ignored.)
+  setsid env --default-signal=INT "$sweep" --engine slurm "${args[@]}" > out.csv 2> err.txt &
+  pid=$!
+  for _ in $(seq 200); do [[ -n $(squeue -h -o %i 2> /dev/null) ]] && break; sleep 0.05; done
+  [[ -n $(squeue -h -o %i) ]] || fail "no job was queued: $(cat err.txt)"
+  if [[ $whom == group ]]; then kill -"$sig" -- -"$pid"; else kill -"$sig" "$pid"; fi
+  rc=0; wait "$pid" || rc=$?
+  [[ $rc -eq $code && ! -s out.csv ]] && grep -E "^sweep-spacing: ${word//[()]/.}; cancelled jobs [0-9]+ and [0-9]+\$" err.txt > /dev/null \
+    || fail "SIG$sig: exit $rc, $(cat err.txt)"
+  for _ in $(seq 100); do [[ -z $(squeue -h -o %i) ]] && break; sleep 0.1; done
+  [[ -z $(squeue -h -o %i) ]] || fail "SIG$sig: jobs left in the queue: $(squeue)"
+  [[ -z $(ps -s "$pid" -o pid=,stat= | awk '$2 !~ /^Z/') ]] || fail "SIG$sig: processes left: $(ps -s "$pid" -o pid=,args=)"
+  [[ -z $(ls) || $(ls | sort | tr '\n' ' ') == "err.txt out.csv " ]] || fail "SIG$sig: left behind: $(ls)"
+  cd ..
+  echo "ok: SIG$sig ($whom) while waiting: $(cat interrupted/err.txt), the queue empty"
+done
