@@ -7,12 +7,18 @@ cmake --install "$TP_BUILD" --prefix "$P" > install.log 2>&1 || fail "install: $
 for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-emu bin/fiber-threshold \
          bin/tp-sweep-spacing bin/tp-compare-models bin/tp-plot-field bin/tp-plot-pulse bin/tp-plot-sweep bin/tp-plot-sd \
          share/tactile-primaries/receptors.json share/tactile-primaries/skin/fingertip.json \
-         share/doc/tactile-primaries/README.md share/doc/tactile-primaries/document-format.md \
+         share/doc/tactile-primaries/README.md share/doc/tactile-primaries/docs/document-format.md \
+         share/doc/tactile-primaries/docs/img/sai-layered.png share/doc/tactile-primaries/firmware/README.md \
          share/man/man1/af-field.1.gz share/man/man1/stimctl.1.gz share/man/man7/tactile-primaries.7.gz \
          share/man/man1/tp-sweep-spacing.1.gz share/man/man1/tp-plot-sd.1.gz share/bash-completion/completions/tp-sweep-spacing \
          share/bash-completion/completions/af-field share/bash-completion/completions/stimctl; do
   [[ -e $P/$f ]] || fail "not installed: $f"
 done
+# The documentation is installed as it lies in the source tree: its links work there too.
+if command -v python3 > /dev/null; then
+  python3 "$TP_SOURCE/tests/docs/links.py" "$P/share/doc/tactile-primaries" > links.log ||
+    fail "installed documentation: $(grep FAIL links.log | head -3)"
+fi
 # Nothing refers to where it was built: the data are compiled in.  (Debug information
 # names the sources by design, and so does AddressSanitizer's instrumentation: the
 # sanitizer build skips the check.)
