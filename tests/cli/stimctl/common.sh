@@ -17,3 +17,13 @@ check_record() {
     || fail "record $rec: $(jq -se --argjson exp "$expected" 'map(.currents_mA) | .[0]' "$rec" 2>&1 | tr -d '\n ')"
 }
 EXPECTED='[0, 0, -0.5, 1, -0.5, 0, 0, 0]'
+
+# Raw protocol fields, as hex for raw-frames: le16 N and le32 N (little-endian), codes C...
+# (a set_weights body: the count, then each code), config TOKEN CHANNELS (a configure
+# body: 200 Hz, 200 us + 200 us, no pulse limit).
+le16() { printf '%02x%02x' $(($1 & 255)) $((($1 >> 8) & 255)); }
+le32() { printf '%02x%02x%02x%02x' $(($1 & 255)) $((($1 >> 8) & 255)) $((($1 >> 16) & 255)) $((($1 >> 24) & 255)); }
+codes() { local n=$#; printf '%02x' "$n"; for c in "$@"; do le16 $((c & 0xFFFF)); done; }
+config() {
+  echo "$(le32 "$1")$(le32 5000)$(le16 200)$(le16 0)$(le16 200)$(printf '%02x' "$2")$(le32 0)"
+}

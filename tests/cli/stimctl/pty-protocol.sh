@@ -3,12 +3,6 @@
 # watchdog; a replayed start after stop restarts nothing; over-limit codes and more
 # channels than a frame may carry are refused.  The record shows what was delivered.
 source "$TP_SOURCE/tests/cli/stimctl/common.sh"
-le16() { printf '%02x%02x' $(($1 & 255)) $((($1 >> 8) & 255)); }
-le32() { printf '%02x%02x%02x%02x' $(($1 & 255)) $((($1 >> 8) & 255)) $((($1 >> 16) & 255)) $((($1 >> 24) & 255)); }
-codes() { local n=$#; printf '%02x' "$n"; for c in "$@"; do le16 $((c & 0xFFFF)); done; }
-config() {  # config TOKEN CHANNELS: 200 Hz, 200 us + 200 us, no pulse limit
-  echo "$(le32 "$1")$(le32 5000)$(le16 200)$(le16 0)$(le16 200)$(printf '%02x' "$2")$(le32 0)"
-}
 A=$(le32 $((0x1234ABCD))) B=$(le32 $((0x0BADF00D)))
 start_emu --record raw.jsonl --watchdog-ms 300
 {

@@ -29,14 +29,12 @@ refuse off-short "off time of $((min - 1)) us" \
 refuse gap-short "interphase gap of $((min - 1)) us" \
   --frequency 1000 --width 300 --interphase $((min - 1)) --balance-width 400 --count 50
 # 2. Refused by the device as well, whatever the host: configure with 1 us between pulses.
-le16() { printf '%02x%02x' $(($1 & 255)) $((($1 >> 8) & 255)); }
-le32() { printf '%02x%02x%02x%02x' $(($1 & 255)) $((($1 >> 8) & 255)) $((($1 >> 16) & 255)) $((($1 >> 24) & 255)); }
-config() {  # config PERIOD WIDTH GAP BALANCE: 8 channels, 50 pulses
+rate_config() {  # rate_config PERIOD WIDTH GAP BALANCE: 8 channels, 50 pulses
   echo "$(le32 $((0x7A7E0001)))$(le32 "$1")$(le16 "$2")$(le16 "$3")$(le16 "$4")08$(le32 50)"
 }
-{ echo "send 1 2 $(config 1000 300 100 599)"
-  echo "send 2 2 $(config 1000 300 $((min - 1)) 400)"
-  echo "send 3 2 $(config 1000 300 100 $((600 - min)))"
+{ echo "send 1 2 $(rate_config 1000 300 100 599)"
+  echo "send 2 2 $(rate_config 1000 300 $((min - 1)) 400)"
+  echo "send 3 2 $(rate_config 1000 300 100 $((600 - min)))"
   echo "send 4 5 $(le32 $((0x7A7E0001)))"; } | raw-frames "$PORT" > acks.txt || fail "raw-frames: $(cat acks.txt)"
 result() { awk -v s="$1" '$1 == s { r = $2 } END { print r }' acks.txt; }
 [[ $(result 1) == 3 && $(result 2) == 3 ]] || fail "the device accepted a short off time or gap: $(cat acks.txt)"
