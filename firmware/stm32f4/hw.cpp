@@ -128,9 +128,11 @@ void Alarm::set(std::uint64_t target_us, std::uint64_t now_us) {
   at(st::CTRL) = st::CTRL_ENABLE | st::CTRL_TICKINT | st::CTRL_CLKSOURCE_CPU;
 }
 
-void Uart::init(std::uint32_t base, std::uint32_t clock_hz, std::uint32_t baud, bool receive) {
+void Uart::init(std::uint32_t base, std::uint32_t clock_hz, std::uint32_t baud, bool receive,
+                bool synchronous) {
   namespace u = reg::usart;
   base_ = base;
+  synchronous_ = synchronous;
   at(base + u::CR1) = 0;
   at(base + u::BRR) = (clock_hz + baud / 2) / baud;  // 16x oversampling: USARTDIV x 16
   at(base + u::CR1) = u::CR1_UE | u::CR1_TE | (receive ? u::CR1_RE | u::CR1_RXNEIE : 0u);
@@ -171,7 +173,12 @@ void Uart::kick() {
   // long line must not delay an edge.
   reg::MaskFrom no_uart(1);
   std::uint8_t b;
-  while ((at(base_ + u::SR) & u::SR_TXE) && tx_.pop(b)) at(base_ + u::DR) = b;
+  if (synchronous_) {  // TXE is always set: no read of SR (see hw.hpp)
+    while (tx_.pop(b)) at(base_ + u::DR) = b;
+    return;
+  }
+  // The ring first: a main loop with nothing to send reads no register.
+  while (!tx_.empty() && (at(base_ + u::SR) & u::SR_TXE) && tx_.pop(b)) at(base_ + u::DR) = b;
   if (!tx_.empty()) at(base_ + u::CR1) |= kTxeie;
 }
 

@@ -98,9 +98,18 @@ class ByteRing {
 // A USART: receive by interrupt into a ring; transmit from a ring, by the TXE interrupt
 // where the USART raises it (a real one) and by the main loop's kick() (QEMU's, which
 // transmits at once and raises no TXE interrupt).
+//
+// synchronous: the USART sends each byte the moment DR is written and its TXE is always
+// set (QEMU's, hw/char/stm32f2xx_usart.c), so kick() writes DR without reading SR first.
+// Under QEMU every read of SR also wakes the emulator's main loop
+// (qemu_chr_fe_accept_input -> qemu_notify_event): polling TXE before each byte of the
+// monitor's lines cost ~3 ms of real time per line while the emulated clock stood still,
+// so at 1000 pulses/s the emulated board fell behind real time by 3 to 7 times and missed
+// the host's acknowledgement deadlines (firmware/README.md, "The board and QEMU").
 class Uart {
  public:
-  void init(std::uint32_t base, std::uint32_t clock_hz, std::uint32_t baud, bool receive);
+  void init(std::uint32_t base, std::uint32_t clock_hz, std::uint32_t baud, bool receive,
+            bool synchronous = false);
   void on_interrupt();  // the USART's interrupt handler
   bool read(std::uint8_t& b) { return rx_.pop(b); }
   // Queues n bytes whole, or none (false) when they do not fit.
@@ -112,6 +121,7 @@ class Uart {
 
  private:
   std::uint32_t base_ = 0;
+  bool synchronous_ = false;
   ByteRing<512> rx_;
   ByteRing<4096> tx_;
   volatile std::uint32_t line_errors_ = 0, overruns_ = 0;

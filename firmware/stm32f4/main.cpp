@@ -120,8 +120,8 @@ extern "C" void firmware_main() {
   gpio_alternate(kBoard.host_rx, 7);
   gpio_alternate(kBoard.monitor_tx, 7);
   gpio_alternate(kBoard.monitor_rx, 7);
-  g_host.init(reg::USART1, clocks.apb2_hz, kBoard.host_baud, true);
-  g_monitor.init(reg::USART2, clocks.apb1_hz, kBoard.monitor_baud, false);
+  g_host.init(reg::USART1, clocks.apb2_hz, kBoard.host_baud, true, clocks.emulated);
+  g_monitor.init(reg::USART2, clocks.apb1_hz, kBoard.monitor_baud, false, clocks.emulated);
   g_alarm.init(clocks.sysclk_hz);
   // The alarm wakes the engine early enough to cover its own interrupt latency, then it
   // waits on the clock: edges fall on their microsecond.  (QEMU's slower virtual core,

@@ -11,6 +11,13 @@ bool carries_session(Msg m) {
   return m == Msg::configure || m == Msg::set_weights || m == Msg::start || m == Msg::keepalive;
 }
 
+// Whether sequence number a comes after b: ahead by 1 to 127, modulo 256 (RFC 1982's
+// serial-number arithmetic for 8 bits).
+bool seq_after(std::uint8_t a, std::uint8_t b) {
+  const auto d = static_cast<std::uint8_t>(a - b);
+  return d != 0 && d < 128;
+}
+
 std::uint16_t saturate16(std::uint32_t v) {
   return static_cast<std::uint16_t>(std::min<std::uint32_t>(v, 0xFFFF));
 }
@@ -48,8 +55,13 @@ bool DeviceCore::receive_byte(std::uint8_t byte, std::uint64_t now_us) {
   // lost, so was never seen, or that arrived, and fed the watchdog then.)
   if (have_last_ && f.same_as(last_request_)) return true;
   // Only the running session's own frames keep its output alive: a host that did not
-  // start the output (or identify/status queries) can never hold it on.
-  if (status_.state == State::running && of_session(f)) last_fed_us_ = now_us;
+  // start the output (or identify/status queries) can never hold it on.  And only a frame
+  // newer than the last one that fed it (its seq ahead, modulo 256, by 1 to 127): an
+  // older frame of the session replayed (two keep-alives in turn) feeds nothing.
+  if (status_.state == State::running && of_session(f) && seq_after(f.seq, fed_seq_)) {
+    last_fed_us_ = now_us;
+    fed_seq_ = f.seq;
+  }
   FixedBytes<kMaxPayload> body;
   handle(f, now_us, body);
   last_reply_.clear();
@@ -91,6 +103,7 @@ void DeviceCore::handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxP
         status_.fault = Fault::none;
         status_.pulses = 0;
         start_us_ = next_pulse_us_ = last_fed_us_ = now_us;
+        fed_seq_ = f.seq;
       }
       return;
     case Msg::stop:

@@ -20,7 +20,8 @@
 //    watchdog_ms; identify, status and other sessions' frames do not feed it;
 //  - a repeated frame (same seq, type and payload: a retransmission, or a replay of the
 //    same bytes) is answered again from the cache, but neither executed twice nor allowed
-//    to feed the watchdog.
+//    to feed the watchdog; nor does a frame of the session whose seq is not newer (ahead by
+//    1 to 127, modulo 256) than the last one that fed it: a replay of older frames.
 
 #include <cstdint>
 #include <vector>
@@ -128,7 +129,8 @@ class DeviceCore {
   std::uint32_t output_ends_ = 0;
   bool weights_set_ = false;
   Codes weights_;
-  std::uint64_t last_fed_us_ = 0;  // the running session's last frame
+  std::uint64_t last_fed_us_ = 0;  // the running session's last frame that fed the watchdog
+  std::uint8_t fed_seq_ = 0;       // and its sequence number
   std::uint64_t start_us_ = 0;
   std::uint64_t next_pulse_us_ = 0;
   bool have_last_ = false;

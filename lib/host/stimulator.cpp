@@ -168,8 +168,10 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
                 number_text(static_cast<double>(max_code) * step_mA) + " mA (" +
                 std::to_string(max_code) + " DAC steps of " + std::to_string(caps.dac_step_nA) +
                 " nA)");
-    if (!(std::fabs(c) <= lim_mA + 1e-12))
-      bad_input("current " + number_text(c) + " mA exceeds the limit of " + number_text(lim_mA) +
+    // Against the limit in force itself: the device's largest code (which may lie a hair
+    // below it, 2047 x 977 nA = 1.999919 mA) caps the code below, it does not refuse.
+    if (!(std::fabs(c) <= limit_mA + 1e-12))
+      bad_input("current " + number_text(c) + " mA exceeds the limit of " + number_text(limit_mA) +
                 " mA");
     // The nearest code, or the next one toward zero where the nearest would cross the
     // limit: no code is ever above the limit.
@@ -201,6 +203,15 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
       bad_input("currents cannot be made to sum to zero within the limit of " +
                 number_text(lim_mA) + " mA");
   }
+  // Currents asked for, none delivered: every one is below what the DAC can make within
+  // the limit (a limit under one step, or currents under half a step).
+  const bool asked =
+      std::any_of(currents_mA.begin(), currents_mA.end(), [](double c) { return c != 0.0; });
+  const bool any = std::any_of(codes.begin(), codes.end(), [](std::int16_t k) { return k != 0; });
+  if (asked && !any)
+    bad_input("every current rounds to 0 DAC codes (one step is " +
+              number_text(caps.dac_step_nA * 1e-6) + " mA, the limit " + number_text(lim_mA) +
+              " mA): nothing would be delivered");
   return codes;
 }
 

@@ -1,5 +1,6 @@
 #include "io/document.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -126,6 +127,14 @@ Document document_from_json(const Json& j) {
     }
     for (const char* key : {"resistivity_ohm_m", "plane_z_mm", "source_depth_mm", "skin"})
       if (m.contains(key)) d.model_settings.emplace_back(key);
+    // Documents written before settings were checked carried the default resistivity under
+    // every model, the layered one included: that value, and only that, reads as not given.
+    if (d.setup.conductor.model == "layered" && m.contains("resistivity_ohm_m") &&
+        d.setup.conductor.resistivity_ohm_m == constants::tissue_resistivity_ohm_m) {
+      d.model_settings.erase(std::find(d.model_settings.begin(), d.model_settings.end(),
+                                       std::string("resistivity_ohm_m")));
+      d.setup.conductor.resistivity_ohm_m = 0.0;
+    }
   }
   if (j.contains("receptors")) d.setup.receptors = receptors_from_json(j["receptors"]);
   validate_setup(d.setup);  // the model name, and the model against the receptors

@@ -45,6 +45,12 @@ Json read_json(const std::string& path, const std::string& what) {
   const std::string name = path == "-" ? "stdin" : "'" + path + "'";
   std::string text;
   if (path == "-") {
+    // stdin can be read once: a second reader would find it empty, and say so wrongly.
+    static std::string first_reader;
+    if (!first_reader.empty())
+      bad_input(what + " - and " + first_reader +
+                " - both read stdin, which can be read once: give one of them as a file");
+    first_reader = what;
     text = read_capped(0, what, name);
   } else {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

@@ -20,7 +20,8 @@ inline constexpr std::size_t kMaxJsonKeys = 1000;
 
 // Reads one JSON document from a file, or from stdin when path is "-".  Unreadable,
 // oversized (kMaxDocumentBytes), malformed input, a directory, and numbers beyond the
-// range of a double are bad input (exit 2), with a one-line message.
+// range of a double are bad input (exit 2), with a one-line message.  stdin is read once
+// per process: a second "-" is bad input naming both readers (never "stdin is empty").
 Json read_json(const std::string& path, const std::string& what);
 // The parsing half of read_json: `name` says where the text came from.
 Json parse_json_text(const std::string& text, const std::string& what, const std::string& name);

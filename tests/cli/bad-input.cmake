@@ -100,3 +100,13 @@ tp_cli_test(af-field refuses-unknown-conductor refuses 2 --says "--model: unknow
 # A grid ending at a limit stays within it (item 11): the last row of 0.01:20:0.01 is 20, not
 # 20.000000000000004, so neither the depth range nor a layered skin's valid_to_mm refuses it.
 tp_cli_test(af-field grid-ends-at-limit script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/grid-ends.sh)
+
+# stdin is read once per process: a second reader is refused naming both, in every program
+# (item 10), never "stdin is empty".
+tp_cli_test(af-field refuses-two-stdin-readers refuses 2 --stdin ${IN}/sai-weights.json
+  --says "--skin - and --config - both read stdin" -- af-field --config - --model layered --skin - --summary)
+tp_cli_test(optimize-weights refuses-two-stdin-readers refuses 2 --stdin ${IN}/sai-weights.json
+  --says "--skin - and --config - both read stdin" -- optimize-weights --mode SAI --config - --model layered --skin -)
+tp_cli_test(optimize-weights refuses-two-stdin-readers-threshold refuses 2 --stdin ${IN}/sai-weights.json
+  --says "--stimulus - and --config - both read stdin" --
+  optimize-weights --mode SAI --objective threshold --config - --stimulus -)

@@ -461,6 +461,41 @@ TEST_CASE("a repeated frame answered from the cache does not feed the watchdog",
   CHECK(other.status().state == State::running);
 }
 
+TEST_CASE("older frames of the session, replayed in turn, do not feed the watchdog",
+          "[device][core][watchdog]") {
+  Capabilities caps;
+  caps.watchdog_ms = 300;
+  DeviceCore core(caps);
+  send(core, 1, Msg::configure, configure(config8()), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(core, 3, Msg::start, token(), 0);
+  CHECK(send(core, 4, Msg::keepalive, token(), 50000) == Result::ok);
+  CHECK(send(core, 5, Msg::keepalive, token(), 100000) == Result::ok);  // deadline 0.4 s
+  // Keep-alives 4 and 5 replayed in turn every 20 ms (neither is the last frame, so the
+  // retransmission cache does not catch them): answered, but the output stops at 0.4 s.
+  std::uint64_t last = 0;
+  int turn = 0;
+  for (std::uint64_t now = 120000; now <= 1200000; now += 20000, ++turn) {
+    if (core.status().state != State::running) break;
+    send(core, turn % 2 == 0 ? 4 : 5, Msg::keepalive, token(), now);
+    core.advance(now, [&](const DeliveredPulse& p) { last = p.t_us; });
+  }
+  CHECK(core.status().fault == Fault::watchdog);
+  CHECK(last < 400000);
+  // Sequence numbers wrap: 254, 255, 0, 1 are each newer than the one before.
+  DeviceCore wrap(caps);
+  send(wrap, 250, Msg::configure, configure(config8()), 0);
+  send(wrap, 251, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  send(wrap, 252, Msg::start, token(), 0);
+  std::uint64_t now = 0;
+  for (int seq : {253, 254, 255, 0, 1, 2, 3, 4, 5}) {
+    now += 200000;
+    CHECK(send(wrap, static_cast<std::uint8_t>(seq), Msg::keepalive, token(), now) == Result::ok);
+    wrap.advance(now, [](const DeliveredPulse&) {});
+  }
+  CHECK(wrap.status().state == State::running);
+}
+
 TEST_CASE("configure refuses a gap or an off time shorter than the shortest phase",
           "[device][core][timing]") {
   Capabilities caps;

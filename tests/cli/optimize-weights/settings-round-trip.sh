@@ -18,3 +18,10 @@ optimize-weights --mode SAI --electrodes 4 --model rect3d --z 2 > z.json 2> err 
 [[ $(jq '.model.plane_z_mm' z.json) == 2 ]] || fail "rect3d --z 2: plane_z_mm not written"
 af-field --config z.json --summary > /dev/null 2> err || fail "rect3d --z 2 does not read back: $(cat err)"
 echo "ok: every model's document reads back, with only the settings it uses"
+# A layered document written before settings were checked carries the default resistivity
+# (3 ohm m), which it ignored: it still reads; any other value is refused.
+jq '.model.resistivity_ohm_m = 3.0' layered.json > legacy.json
+af-field --config legacy.json --summary > /dev/null 2> err || fail "legacy layered document: $(cat err)"
+jq '.model.resistivity_ohm_m = 2.0' layered.json > other.json
+refuses 2 --says "model.resistivity_ohm_m: applies to the uniform models" -- af-field --config other.json --summary
+echo "ok: a legacy layered document (3 ohm m) reads; 2 ohm m is refused"

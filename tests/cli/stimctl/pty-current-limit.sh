@@ -65,3 +65,26 @@ if [[ ${TP_DEVICE:-} != firmware ]]; then
   [[ $(reported_peak d.err) == 0.451612 ]] || fail "d: reported $(tail -1 d.err)"
   echo "ok: 6-bit DAC: 0.49 mA under a 0.5 mA limit delivered as 0.451612 mA (not 0.516128)"
 fi
+
+# 4. The paper's 2 mA: the device's largest code (2047 x 977 nA = 1.999919 mA) lies a hair
+# below it; the current is delivered at that code, not refused.
+make-pulse --amplitude 2 --duration 0.02 < "$TP_INPUTS/sai-weights.json" > e.json 2> /dev/null || fail "make-pulse 2 mA"
+start_emu --record e.jsonl
+stimctl --port "$PORT" < e.json 2> e.err || fail "e: 2 mA refused: $(cat e.err)"
+sleep 0.2
+stop_emu
+check_peak e.jsonl 2
+[[ $(reported_peak e.err) == 1.999919 ]] || fail "e: reported $(tail -1 e.err)"
+echo "ok: 2 mA delivered at the largest code, $(reported_peak e.err) mA"
+
+# 5. A limit under one DAC step: every current rounds to 0 codes; refused, nothing sent
+# (stim-emu only, for its 6-bit DAC: one step is 0.0645 mA).
+if [[ ${TP_DEVICE:-} != firmware ]]; then
+  jq '.max_current_mA = 0.05 | .currents_mA = [0.04, -0.04, 0, 0, 0, 0, 0, 0]' a.json > f.json
+  start_emu --record f.jsonl --dac-bits 6
+  refuses 2 --stdin f.json --says "rounds to 0 DAC codes" -- stimctl --port "$PORT"
+  sleep 0.1
+  stop_emu
+  [[ $(lines f.jsonl) -eq 0 ]] || fail "f: delivered $(lines f.jsonl) pulses"
+  echo "ok: currents under one DAC step refused, nothing delivered"
+fi

@@ -33,7 +33,6 @@ left() { ps -s "$1" -o pid=,stat=,args= 2> /dev/null | awk '$2 !~ /^Z/' || true;
 
 for engine in local parallel; do
   for sig in HUP INT QUIT USR1 USR2 ALRM PIPE TERM; do
-    [[ $engine == parallel && ($sig == QUIT || $sig == USR2) ]] && continue
     code=$((128 + $(kill -l $sig)))
     case $sig in INT) word=interrupted ;; TERM) word=terminated ;; HUP) word="hung up (SIGHUP)" ;; *) word="stopped by SIG$sig" ;; esac
     state=() resumes=
