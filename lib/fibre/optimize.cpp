@@ -57,19 +57,26 @@ std::vector<double> weights_of(const std::vector<double>& z) {
 
 }  // namespace
 
-ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
-                                    const std::vector<double>& af, const FibreModel& model,
-                                    const PulseSpec& pulse, const ThresholdSettings& settings,
-                                    const ThresholdSearchOptions& opt) {
-  const std::size_t n = af.size();
-  if (n < 2) bad_input("array: optimisation needs at least 2 electrodes");
+void check_search_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
+                       const ThresholdSettings& settings, const ThresholdSearchOptions& opt) {
   // The whole search's work, bounded before any of it: every evaluation is one
   // compute_thresholds() of the same fibres.
   check_threshold_work(
       thresholds_work(setup, model, pulse, settings) *
           static_cast<double>(std::max<std::size_t>(opt.max_evaluations, 1)),
       kMaxSearchWork,
-      "--objective threshold (" + std::to_string(opt.max_evaluations) + " evaluations)");
+      "--objective threshold (" + std::to_string(opt.max_evaluations) + " evaluations)",
+      "fewer --max-evaluations, a larger --tolerance, fewer --offsets, a shorter array, margin "
+      "or pulse");
+}
+
+ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
+                                    const std::vector<double>& af, const FibreModel& model,
+                                    const PulseSpec& pulse, const ThresholdSettings& settings,
+                                    const ThresholdSearchOptions& opt) {
+  const std::size_t n = af.size();
+  if (n < 2) bad_input("array: optimisation needs at least 2 electrodes");
+  check_search_work(setup, model, pulse, settings, opt);
   PotentialCache cache;
   ThresholdOptimum out;
   out.start = compute_thresholds(setup, af, model, pulse, settings, &cache);

@@ -34,6 +34,13 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
                                     const PulseSpec& pulse, const ThresholdSettings& settings,
                                     const ThresholdSearchOptions& options);
 
+// Bad input when the whole search's estimated work (options.max_evaluations sets of
+// thresholds, thresholds_work()) exceeds kMaxSearchWork, naming --max-evaluations first;
+// or when a receptor's fibre is (fibre_nodes()).  optimize_threshold() calls it first; a
+// program calls it before the AF optimisation the search starts from, so that nothing runs.
+void check_search_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
+                       const ThresholdSettings& settings, const ThresholdSearchOptions& options);
+
 // The objective: threshold(target) / lowest other threshold; a receptor without threshold
 // counts as firing at settings.max_mA (the target: +infinity).
 double threshold_objective(const ThresholdReport& r, std::size_t target, double max_mA);

@@ -360,6 +360,30 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
                 " unit potentials to keep (at most " + number_text(kMaxPotentials) +
                 "): fewer electrodes, a shorter array or fewer --offsets");
   }
+  // Every compartment's potential can be evaluated (the layered model's Hankel rule is
+  // bounded far from the electrodes, for shallow fibres): the farthest any placement's
+  // compartment lies from an electrode, over the depths the fibre occupies.  Horizontal: the
+  // first node within six internodes before the region, the fibre at most `nodes`
+  // internodes long; vertical: across the array +- one pitch, refined by at most a quarter
+  // and a sixteenth of a pitch beyond.
+  {
+    const double x_min = setup.array.x_min_mm(), x_max = setup.array.x_max_mm();
+    double reach_mm, bottom_mm;
+    if (vertical) {
+      const double pitch_mm = setup.array.size() > 1
+                                  ? (x_max - x_min) / static_cast<double>(setup.array.size() - 1)
+                                  : 1.0;
+      reach_mm = x_max - x_min + 1.5 * pitch_mm;
+      bottom_mm = r.depth_min_mm + static_cast<double>(nodes) * L_mm;
+    } else {
+      const double first_mm = reg.x0_mm - 6.0 * L_mm;
+      const double last_mm = first_mm + static_cast<double>(nodes + 1) * L_mm;
+      reach_mm = std::max(std::fabs(last_mm - x_min), std::fabs(x_max - first_mm));
+      bottom_mm = r.depth_max_mm;
+    }
+    conductor.check_reach(reach_mm, r.depth_min_mm, bottom_mm,
+                          "receptor " + r.name + "'s simulated fibre");
+  }
   return nodes;
 }
 
@@ -401,14 +425,14 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
   return static_cast<double>(f.axon.compartments.size()) * steps * placements * probes;
 }
 
-void check_threshold_work(double work, double bound, const std::string& what) {
+void check_threshold_work(double work, double bound, const std::string& what,
+                          const std::string& remedy) {
   if (!(work <= bound)) {
     char estimate[32];
     std::snprintf(estimate, sizeof estimate, "%.2g", work);
     bad_input(what + ": an estimated " + estimate +
               " compartment-steps of fibre simulation, more than the bound of " +
-              number_text(bound) +
-              " (a larger --tolerance, fewer --offsets, a shorter array, margin or pulse)");
+              number_text(bound) + " (" + remedy + ")");
   }
 }
 

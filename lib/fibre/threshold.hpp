@@ -89,9 +89,11 @@ class PotentialCache {
 
 // The number of nodes of a receptor's fibre; bad input when the model cannot represent it
 // (unmyelinated, diameter out of range), when its work would be unbounded (at most 2000
-// nodes, and 3e7 unit potentials over its placements), or when a buried point source
+// nodes, and 3e7 unit potentials over its placements), when a buried point source
 // (point3d) lies less than one internode from any depth the fibre occupies (a vertical
-// fibre's internodes below the receptor included).
+// fibre's internodes below the receptor included), or when the conductor cannot evaluate
+// the potential at every compartment of every placement (Conductor::check_reach: the
+// layered model far from the electrodes).
 std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                         const Receptor& receptor, const ThresholdSettings& settings);
 
@@ -106,11 +108,14 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
 // The bounds on estimated work (docs/fibres.md, "Bounded work"), at roughly 1e8
 // compartment-steps per second of one core: one set of thresholds, or a strength-duration
 // table (5e10: minutes); a threshold optimisation, all its evaluations (1e12: 10000
-// evaluations of the paper's array).  Bad input beyond, naming `what`, the estimate and the
-// bound.
+// evaluations of the paper's array).  Bad input beyond, naming `what`, the estimate, the
+// bound and `remedy` (the settings to change, in parentheses).
 inline constexpr double kMaxThresholdWork = 5e10;
 inline constexpr double kMaxSearchWork = 1e12;
-void check_threshold_work(double work, double bound, const std::string& what);
+void check_threshold_work(double work, double bound, const std::string& what,
+                          const std::string& remedy =
+                              "a larger --tolerance, fewer --offsets, a shorter array, margin "
+                              "or pulse");
 
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
                                      const Conductor& conductor, const std::vector<double>& weights,

@@ -39,11 +39,15 @@ class Conductor {
   // (the 2-D models have no zero at infinity).  Used to check the derivatives.
   virtual void unit_potentials(double x_mm, double y_mm, double* psi) const = 0;
 
-  // Bad input when the second derivatives at depth y_mm and lateral offsets up to
-  // max_offset_mm from the electrodes could not be evaluated (the layered model's Hankel
-  // rule is bounded); called before any output, so that none fails half-way.  Every other
-  // point of the model's range can be.
-  virtual void check_reach(double /*max_offset_mm*/, double /*y_mm*/) const {}
+  // Bad input when the potentials or second derivatives at a depth in [y_min_mm, y_max_mm]
+  // and lateral offsets up to max_offset_mm from the electrodes could not be evaluated (the
+  // layered model's Hankel rule is bounded); `what` names those points in the message
+  // ("receptor SAI's fibres").  Called before any work or output, so that none fails
+  // half-way: af-field's grid (check_grid), each receptor's fibre region
+  // (check_fibre_reach), each simulated fibre (fibre::fibre_nodes).  Every other point of
+  // the model's range can be evaluated.
+  virtual void check_reach(double /*max_offset_mm*/, double /*y_min_mm*/, double /*y_max_mm*/,
+                           const std::string& /*what*/) const {}
 
   // True when Psi is harmonic in the (x, y) plane, so that the AF of either orientation
   // is harmonic too (Eq. 28-30) and obeys the maximum principle.

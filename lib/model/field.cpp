@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/ranges.hpp"
 
 namespace tp {
 
@@ -21,45 +22,85 @@ void check_model_depth(const Setup& setup, double depth_mm, const std::string& w
               skin.name + ": to " + number_text(skin.valid_to_mm) + " mm, valid_to_mm)");
 }
 
+namespace {
+
+// The nearest a buried point source may come to a receptor's fibres or a grid point: the
+// smallest depth of the range, the nearest a surface source can, so that the documented
+// bound on the AF (ranges.hpp) holds everywhere.
+constexpr double kNearest_mm = ranges::depth_mm.lo;
+// Rounding: a distance this little (relatively) under kNearest_mm is taken as kNearest_mm.
+constexpr double kRounding = 1e-9;
+
+}  // namespace
+
 void validate_setup(const Setup& setup) {
   make_conductor(setup.conductor, setup.array);  // the name, and the model's own checks
   for (const Receptor& r : setup.receptors)
     check_model_depth(setup, r.depth_max_mm, "receptor " + r.name + ": depth");
-  if (setup.conductor.model == "point3d" && setup.conductor.source_depth_mm > 0.0) {
-    const double d = setup.conductor.source_depth_mm;
-    for (const Receptor& r : setup.receptors)
-      if (d >= r.depth_min_mm - 1e-9 && d <= r.depth_max_mm + 1e-9)
-        bad_input("model.source_depth_mm: " + number_text(d) + " mm lies among receptor " + r.name +
-                  "'s fibres (" + number_text(r.depth_min_mm) + " to " +
-                  number_text(r.depth_max_mm) + " mm), where the field is singular");
+  const ConductorParams& c = setup.conductor;
+  if (c.model == "point3d" && c.source_depth_mm > 0.0) {
+    // The sources lie at depth d under the electrodes in the plane z = 0; every receptor's
+    // fibres at every x across the array, over its depths, in the plane z = plane_z_mm.
+    const double d = c.source_depth_mm;
+    for (const Receptor& r : setup.receptors) {
+      const double gap = d < r.depth_min_mm   ? r.depth_min_mm - d
+                         : d > r.depth_max_mm ? d - r.depth_max_mm
+                                              : 0.0;
+      const double distance_mm = std::hypot(gap, c.plane_z_mm);
+      if (distance_mm < kNearest_mm * (1.0 - kRounding))
+        bad_input("model.source_depth_mm: " + number_text(d) + " mm is " +
+                  number_text(distance_mm) + " mm from receptor " + r.name + "'s fibres (" +
+                  (r.depth_max_mm > r.depth_min_mm ? "depths " + number_text(r.depth_min_mm) +
+                                                         " to " + number_text(r.depth_max_mm)
+                                                   : "depth " + number_text(r.depth_min_mm)) +
+                  " mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
+                  " mm), where the field is singular or beyond its documented bound");
+    }
+  }
+}
+
+void check_fibre_reach(const Setup& setup, const Conductor& conductor) {
+  for (const Receptor& r : setup.receptors) {
+    const Region g = fibre_region(setup, r);
+    const double reach_mm = std::max(std::fabs(g.x1_mm - setup.array.x_min_mm()),
+                                     std::fabs(setup.array.x_max_mm() - g.x0_mm));
+    conductor.check_reach(reach_mm, g.y0_mm, g.y1_mm, "receptor " + r.name + "'s fibres");
   }
 }
 
 void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& y) {
   const std::size_t ny = y.count(), nx = x.count();
   // The farthest any point is from an electrode, along x.
-  const double reach = std::max(std::fabs(x.at(nx - 1) - setup.array.x_min_mm()),
-                                std::fabs(setup.array.x_max_mm() - x.at(0)));
-  for (std::size_t j = 0; j < ny; ++j) conductor.check_reach(reach, y.at(j));
+  const double reach_mm = std::max(std::fabs(x.at(nx - 1) - setup.array.x_min_mm()),
+                                   std::fabs(setup.array.x_max_mm() - x.at(0)));
+  for (std::size_t j = 0; j < ny; ++j)
+    conductor.check_reach(reach_mm, y.at(j), y.at(j), "a grid row");
   const ConductorParams& c = setup.conductor;
-  if (c.model != "point3d" || !(c.source_depth_mm > 0.0) || std::fabs(c.plane_z_mm) > 1e-9) return;
-  constexpr double kNear = 1e-9;
+  if (c.model != "point3d" || !(c.source_depth_mm > 0.0)) return;
   const double d = c.source_depth_mm;
-  // The rows near the source's depth (y is increasing), then the columns near an electrode.
+  const double near_mm = kNearest_mm * (1.0 - kRounding);
+  if (!(std::fabs(c.plane_z_mm) < near_mm)) return;
+  // The rows near the source's depth (y is increasing), then the columns near an electrode:
+  // a point nearer than kNearest_mm to a source (x_e, d, 0).
   for (std::size_t j = 0; j < ny; ++j) {
     const double yj = y.at(j);
-    if (std::fabs(yj - d) > kNear) continue;
+    const double off2 = (yj - d) * (yj - d) + c.plane_z_mm * c.plane_z_mm;
+    if (!(off2 < near_mm * near_mm)) continue;
+    const double half_mm = std::sqrt(near_mm * near_mm - off2);  // |x - x_e| below this
     for (const double xe : setup.array.positions_mm) {
-      // The columns within kNear of xe: x is increasing with a positive step.
-      const double first = std::ceil((xe - kNear - x.min) / x.step);
+      // The columns within half_mm of xe: x is increasing with a positive step.
+      const double first = std::ceil((xe - half_mm - x.min) / x.step);
       for (double i = std::max(0.0, first - 1.0); i < static_cast<double>(nx); ++i) {
         const double xi = x.at(static_cast<std::size_t>(i));
-        if (xi > xe + kNear) break;
-        if (std::fabs(xi - xe) <= kNear)
-          bad_input("grid point (" + number_text(xi) + ", " + number_text(yj) +
-                    ") mm is a point source (model.source_depth_mm " + number_text(d) +
-                    " mm under an electrode), where the field is singular: move the grid or "
-                    "the source");
+        if (xi >= xe + half_mm) break;
+        if (std::fabs(xi - xe) < half_mm)
+          bad_input("grid point (" + number_text(xi) + ", " + number_text(yj) + ") mm is " +
+                    number_text(std::sqrt((xi - xe) * (xi - xe) + off2)) +
+                    " mm from a point source (model.source_depth_mm " + number_text(d) +
+                    " mm under the electrode at " + number_text(xe) +
+                    " mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
+                    " mm), where the field is singular or beyond its documented bound: move "
+                    "the grid or the source");
       }
     }
   }
@@ -211,6 +252,7 @@ std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>
 
 Summary summarize(const Setup& setup, const std::vector<double>& currents_mA) {
   Field field(setup, currents_mA);
+  check_fibre_reach(setup, field.conductor());  // before any work
   Summary s;
   for (const auto& r : setup.receptors) s.peaks.emplace_back(r.name, field.peak(r));
   for (const auto& r : setup.receptors) s.ratios.emplace_back(r.name, mode_ratio(s.peaks, r.name));

@@ -22,9 +22,10 @@ struct Setup {
   double lateral_margin_mm = 5.0;
 };
 
-// Checks that the conductor model exists and is valid for the receptors (point3d: no
-// receptor's depths may reach a buried source, where the field is singular).  Throws
-// tp::Error (bad input) naming the field.
+// Checks that the conductor model exists and is valid for the receptors (point3d: a buried
+// source may come no nearer to any receptor's fibres than a surface source can, the
+// smallest depth ranges::depth_mm.lo, 0.01 mm, so that the documented bound on the AF holds
+// there).  Throws tp::Error (bad input) naming the field.
 void validate_setup(const Setup& setup);
 // The layered model stands for the finger only down to its skin's valid_to_mm: a deeper
 // depth is bad input, "WHAT DEPTH mm is below the skin model's validity (...)".
@@ -32,9 +33,10 @@ void check_model_depth(const Setup& setup, double depth_mm, const std::string& w
 
 // Every check of a grid x by y (af-field's rows) before its first row is written, so that
 // none is half-written and none holds a non-finite value.  Bad input, naming the point,
-// when a point lies within 1e-9 mm of a point source (point3d with a buried source, fibres'
-// plane z = 0), where the field is singular; or when the conductor cannot evaluate a row
-// that far from the electrodes (Conductor::check_reach: the layered model's Hankel rule).
+// when a point lies nearer than the smallest depth (ranges::depth_mm.lo, 0.01 mm) to a
+// point source (point3d with a buried source), where the field is singular or beyond its
+// documented bound; or when the conductor cannot evaluate a row that far from the
+// electrodes (Conductor::check_reach: the layered model's Hankel rule).
 void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& y);
 
 // Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
@@ -43,6 +45,11 @@ struct Region {
   double x0_mm, x1_mm, y0_mm, y1_mm;
 };
 Region fibre_region(const Setup& setup, const Receptor& r);
+
+// Bad input, before any work, when the conductor cannot evaluate some receptor's fibre
+// region (Conductor::check_reach over the region's depths and its farthest point from an
+// electrode): summarize() and the optimisation problem (make_mode_problem) call it.
+void check_fibre_reach(const Setup& setup, const Conductor& conductor);
 
 struct Peak {
   double af = 0.0;  // V/ms, largest AF over the receptor's fibres

@@ -202,33 +202,54 @@ class Tables {
     return *yt.tiles[mi];
   }
 
-  // Bad input when a point at depth y and lateral offset up to u_max from an electrode
-  // would need more than kMaxPanels panels (a conservative bound: the r-tile of the farthest
-  // edge of the u-tile of u_max, at every depth node of y's tile).  Checked before any
-  // output, so that no evaluation of such a point fails half-way through.
-  void reach(double u_max, double y) {
-    const YTile& yt = ytile(y);
-    std::lock_guard<std::mutex> lock(mutex_);
-    const double u1 = yt.u.at(yt.u.index(std::fabs(u_max)) + 1);
-    const double r_max = std::hypot(u1 + 0.5 * w_, std::fabs(z_) + 0.5 * l_);
-    const RGrid& g = rgrid(r_lattice_.index(r_max));
-    const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
-    double worst = 0.0, at_y = y;
-    for (std::size_t j = 0; j < kNy; ++j) {
-      const double yj = ymid + yhalf * cheb_y().t[j];
-      const double p = panels_to(g, lambda_stop(yj));
+  // Bad input when a point at a depth in [y_min_mm, y_max_mm] and lateral offset up to
+  // u_max_mm from an electrode would need more than kMaxPanels panels.  Conservative: for
+  // every y-tile the range meets, the r-tile of the farthest edge of the u-tile of u_max_mm,
+  // at every depth node of the y-tile (what its second derivatives are built from) and at
+  // the range's ends within it (where potentials are evaluated).  Checked before any work or
+  // output, so that no evaluation fails half-way through.
+  void reach(double u_max_mm, double y_min_mm, double y_max_mm, const std::string& what) {
+    double worst = 0.0, at_y_mm = y_min_mm;
+    // A tile lies in one layer, where the remainder distance is concave in y: its least over
+    // any interval is at an end.
+    auto consider = [&](const RGrid& g, std::size_t layer, double y_mm) {
+      const double p = panels_to(g, kDecay / stack_.remainder_distance_in(layer, y_mm));
       if (p > worst) {
         worst = p;
-        at_y = yj;
+        at_y_mm = y_mm;
       }
+    };
+    double y_mm = y_min_mm, last_y1_mm = -1.0;
+    for (;;) {
+      const YTile& yt = ytile(y_mm);
+      if (!(yt.y1 > last_y1_mm)) {  // y on a tile's bottom, rounded into it: step past
+        y_mm = std::nextafter(y_mm, INFINITY);
+        continue;
+      }
+      last_y1_mm = yt.y1;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const double u1 = yt.u.at(yt.u.index(std::fabs(u_max_mm)) + 1);
+        const double r_max = std::hypot(u1 + 0.5 * w_, std::fabs(z_) + 0.5 * l_);
+        const RGrid& g = rgrid(r_lattice_.index(r_max));
+        const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
+        for (std::size_t j = 0; j < kNy; ++j) consider(g, yt.layer, ymid + yhalf * cheb_y().t[j]);
+        consider(g, yt.layer, std::max(y_min_mm, yt.y0));
+        consider(g, yt.layer, std::min(y_max_mm, yt.y1));
+      }
+      if (yt.y1 >= y_max_mm) break;
+      y_mm = yt.y1;
     }
     if (!(worst <= kMaxPanels))
-      bad_input("layered: a field point at depth " + number_text(y) + " mm and " +
-                number_text(std::fabs(u_max)) + " mm from an electrode needs a Hankel rule of " +
-                number_text(worst) + " panels (at most " + number_text(kMaxPanels) +
-                ", near depth " + number_text(at_y) +
-                " mm): the skin's thinnest layer is too thin for a point this shallow this far "
-                "away (a deeper or narrower grid)");
+      bad_input("layered: " + what + " at depth " +
+                (y_max_mm > y_min_mm ? number_text(y_min_mm) + " to " + number_text(y_max_mm)
+                                     : number_text(y_min_mm)) +
+                " mm, up to " + number_text(std::fabs(u_max_mm)) +
+                " mm from an electrode, would need a Hankel rule of " + number_text(worst) +
+                " panels (at most " + number_text(kMaxPanels) + ", near depth " +
+                number_text(at_y_mm) +
+                " mm): the skin's thinnest layer is too thin for points this "
+                "shallow this far away (deeper points, or a narrower grid, array or margin)");
   }
 
   // The remainder's potential (V, 1 mA injected) of one rectangle at (u, y): a 2-D integral
@@ -541,9 +562,11 @@ class Layered : public Conductor {
     }
   }
 
-  void check_reach(double max_offset_mm, double y_mm) const override {
-    check_depth(y_mm);
-    if (tables_) tables_->reach(max_offset_mm, y_mm);
+  void check_reach(double max_offset_mm, double y_min_mm, double y_max_mm,
+                   const std::string& what) const override {
+    check_depth(y_min_mm);
+    check_depth(y_max_mm);
+    if (tables_) tables_->reach(max_offset_mm, y_min_mm, y_max_mm, what);
   }
 
   // d2Psi/dz2 of electrode i (the tests' Laplace check).

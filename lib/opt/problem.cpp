@@ -96,6 +96,7 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
   p.target = receptor_index(setup, mode);
   p.basis = zero_sum_basis(setup.array.size());
   const auto conductor = make_conductor(setup.conductor, setup.array);
+  check_fibre_reach(setup, *conductor);  // every sample can be evaluated: before any work
   const bool interior = !conductor->planar_harmonic();
   for (std::size_t r = 0; r < setup.receptors.size(); ++r)
     sample_region(setup, r, step_mm, interior, r == p.target ? p.target_pts : p.off_pts);

@@ -75,6 +75,18 @@ tp_cli_test(af-field plot-field script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/plot
 # point3d source is refused, naming the point (item 5); a 5 um top layer far from the
 # electrodes works, and what the Hankel rule cannot evaluate is refused before the first row
 # (item 6, the script).
-tp_cli_test(af-field refuses-grid-through-source refuses 2 --says "grid point (-1, 3) mm is a point source" --
+tp_cli_test(af-field refuses-grid-through-source refuses 2 --says "grid point (-1, 3) mm is 0 mm from a point source" --
   af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-below-receptors.json --x -2:2:1 --y 3:3:1)
 tp_cli_test(af-field thin-layer script ${CMAKE_CURRENT_SOURCE_DIR}/af-field/thin-layer.sh)
+# The fibre regions af-field --summary evaluates, the same way (fiber-threshold.cmake).
+tp_cli_test(af-field refuses-summary-layered-far-shallow refuses 2 --says "receptor SAI's fibres at depth 0.02 mm" --
+  af-field --summary --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/layered-far-shallow.json
+  --skin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/skin-thin-5um.json)
+# A buried source keeps the smallest depth (0.01 mm) from every receptor's fibres and every
+# grid point (in the plane, or out of it by --z), not only 1e-9 mm.
+tp_cli_test(af-field refuses-source-near-fibres refuses 2 --says "0.005 mm from receptor SAI's fibres" --
+  af-field --summary --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-near-sai.json)
+tp_cli_test(af-field refuses-grid-near-source refuses 2 --says "grid point (-1, 2.995) mm is 0.005 mm from a point source" --
+  af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-below-receptors.json --x -2:2:1 --y 2.995:2.995:1)
+tp_cli_test(af-field refuses-grid-near-source-off-plane refuses 2 --says "is 0.005 mm from a point source" --
+  af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-below-receptors.json --z 0.005 --x -2:2:1 --y 3:3:1)

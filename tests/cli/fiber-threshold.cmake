@@ -56,3 +56,26 @@ tp_cli_test(fiber-threshold refuses-sd-work-over-bound refuses 2 --says "--stren
 # stdin is read once: --config - with --stimulus - (or --skin -) is refused up front (item 10).
 tp_cli_test(fiber-threshold refuses-config-and-stimulus-stdin refuses 2 --says "--config - and --stimulus - both read stdin"
   --stdin ${IN}/sai-stimulus.json -- fiber-threshold --config - --stimulus -)
+
+# In-range layered input the Hankel rule cannot evaluate (a 5 um top layer, fibres 0.02 mm
+# deep, up to 550 mm from an electrode) is refused before any work, in every program that
+# evaluates fibres (issue 20, item 6, as a class): fiber-threshold's simulated fibres, the
+# threshold search, the AF optimisation's samples (af-field: af-field.cmake).
+set(FAR ${IN}/layered-far-shallow.json --skin ${IN}/skin-thin-5um.json)
+tp_cli_test(fiber-threshold refuses-layered-far-shallow refuses 2 --says "receptor SAI's simulated fibre at depth 0.02 mm" --
+  fiber-threshold --config ${FAR})
+tp_cli_test(fiber-threshold refuses-objective-layered-far-shallow refuses 2 --says "receptor SAI's fibres at depth 0.02 mm" --
+  optimize-weights --mode SAI --objective threshold --config ${FAR})
+tp_cli_test(fiber-threshold refuses-optimize-layered-far-shallow refuses 2 --says "would need a Hankel rule" --
+  optimize-weights --mode PC --config ${FAR})
+# A buried point3d source nearer to a receptor's fibres than the smallest depth (0.01 mm) is
+# refused by every program (the AF bound of docs/document-format.md holds everywhere); a
+# simulated fibre keeps one internode (refuses-source-on-fibre-path).
+tp_cli_test(fiber-threshold refuses-optimize-source-near-fibres refuses 2 --says "0.005 mm from receptor SAI's fibres" --
+  optimize-weights --mode SAI --config ${IN}/point3d-source-near-sai.json)
+tp_cli_test(fiber-threshold refuses-source-near-fibres refuses 2 --says "nearer than the smallest depth" --
+  fiber-threshold --config ${IN}/point3d-source-near-sai.json)
+# The threshold search's whole work is bounded too (1e12), before any simulation, and the
+# message names the setting to lower first.
+tp_cli_test(fiber-threshold refuses-search-work-over-bound refuses 2 --says "bound of 1e+12 (fewer --max-evaluations" --
+  optimize-weights --mode SAI --objective threshold --max-evaluations 10000 --offsets 64)

@@ -267,3 +267,32 @@ TEST_CASE("skin files: the built-ins parse, bad ones are refused naming the fiel
           "semi-infinite");
   refused(R"({"valid_to_mm": 3, "layers": [{"resistivity_ohm_m": 1, "colour": 2}]})", "colour");
 }
+
+TEST_CASE(
+    "layered: check_reach refuses what the Hankel rule cannot evaluate, over a depth "
+    "range, and what it accepts evaluates",
+    "[model][layered]") {
+  // tests/cli/inputs/skin-thin-5um.json: a 5 um top layer, the hardest case in range.
+  const auto c = layered({{0.005, 1500.0}, {0.595, 10.0}, {1.4, 2.3}, {0.0, 45.0}});
+  // 550 mm from an electrode: a shallow point would need a rule of over 5e5 panels.
+  CHECK_THROWS_WITH(c->check_reach(550.0, 0.02, 0.02, "a grid row"),
+                    Catch::Contains("a grid row at depth 0.02 mm, up to 550 mm") &&
+                        Catch::Contains("Hankel rule"));
+  // A range is refused when any depth in it would be, however deep its ends are.
+  CHECK_THROWS_AS(c->check_reach(550.0, 0.02, 1.0, "fibres"), Error);
+  CHECK_THROWS_AS(c->check_reach(550.0, 0.015, 3.0, "fibres"), Error);
+  CHECK_NOTHROW(c->check_reach(550.0, 0.7, 1.0, "fibres"));
+  CHECK_NOTHROW(c->check_reach(550.0, 1.0, 1.0, "fibres"));
+  CHECK_THROWS_AS(c->check_reach(10.0, 0.0, 1.0, "fibres"), Error);  // depth must be > 0
+  // Accepted: every depth of the range evaluates, potentials and second derivatives.
+  CHECK_NOTHROW(c->check_reach(20.0, 0.02, 0.7, "fibres"));
+  for (const double y : {0.02, 0.1, 0.6, 0.7}) {
+    for (const double x : {0.0, 20.0}) {
+      double xx = 0, yy = 0, psi = 0;
+      INFO("(" << x << ", " << y << ")");
+      REQUIRE_NOTHROW(c->unit_second_derivatives(x, y, &xx, &yy));
+      REQUIRE_NOTHROW(c->unit_potentials(x, y, &psi));
+      CHECK((std::isfinite(xx) && std::isfinite(yy) && std::isfinite(psi)));
+    }
+  }
+}

@@ -8,6 +8,7 @@
 #include "conductor_support.hpp"
 #include "core/error.hpp"
 #include "model/field.hpp"
+#include "model/ranges.hpp"
 
 using namespace tp;
 using namespace tp::test;
@@ -175,4 +176,73 @@ TEST_CASE("point3d refuses a buried source among a receptor's fibres", "[model][
   CHECK_NOTHROW(validate_setup(s));
   s.conductor.model = "nonesuch";
   CHECK_THROWS_AS(validate_setup(s), Error);
+}
+
+TEST_CASE(
+    "a buried point3d source comes no nearer to fibres or grid points than the smallest "
+    "depth, so the AF stays within a surface source's bound",
+    "[model][point3d]") {
+  const double nearest = ranges::depth_mm.lo;  // 0.01 mm
+  Setup s;
+  s.receptors = {{"SAI", Fibre{}, 0.9, 0.9}, {"PC", Fibre{}, 2.0, 2.0}};
+  s.conductor = params("point3d", 0.0, 0.9 + nearest / 2);
+  CHECK_THROWS_WITH(validate_setup(s), Catch::Contains("0.005 mm from receptor SAI's fibres") &&
+                                           Catch::Contains("nearer than the smallest depth"));
+  s.conductor.source_depth_mm = 0.9 - nearest / 2;
+  CHECK_THROWS_AS(validate_setup(s), Error);
+  s.conductor.source_depth_mm = 0.9 + 1e-8;  // the review's case: an AF of 4e24 V/ms
+  CHECK_THROWS_AS(validate_setup(s), Error);
+  for (const double d : {0.9 + nearest, 0.9 - nearest, 2.0 + nearest, 1.45}) {
+    s.conductor.source_depth_mm = d;
+    INFO("source at " << d << " mm");
+    CHECK_NOTHROW(validate_setup(s));
+  }
+  // Out of the fibres' plane by the smallest depth: as far as a surface source can be.
+  s.conductor.source_depth_mm = 0.9;
+  s.conductor.plane_z_mm = nearest / 2;
+  CHECK_THROWS_AS(validate_setup(s), Error);
+  s.conductor.plane_z_mm = nearest;
+  CHECK_NOTHROW(validate_setup(s));
+
+  // Grid points: a source at 3 mm under the electrodes at -1, 0 and 1 mm.
+  Setup g;
+  g.array = ElectrodeArray::uniform(3, 1.0);
+  g.conductor = params("point3d", 0.0, 3.0);
+  const auto c = make_conductor(g.conductor, g.array);
+  auto grid = [&](double x0, double y0) { return std::pair{Axis{x0, x0 + 2, 1}, Axis{y0, y0, 1}}; };
+  for (const auto& [x0, y0] :
+       {std::pair{-1.0, 3.0 - nearest / 2}, std::pair{-1.0, 3.0 + 1e-8},
+        std::pair{-1.0 - nearest / 2, 3.0}, std::pair{-1.0 + 0.006, 3.007}}) {
+    const auto [x, y] = grid(x0, y0);
+    INFO("grid from (" << x0 << ", " << y0 << ")");
+    CHECK_THROWS_WITH(check_grid(g, *c, x, y), Catch::Contains("from a point source"));
+  }
+  for (const auto& [x0, y0] : {std::pair{-1.0, 3.0 - nearest}, std::pair{-1.0 - nearest, 3.0},
+                               std::pair{-1.0 + 0.006, 3.008}}) {
+    const auto [x, y] = grid(x0, y0);
+    INFO("grid from (" << x0 << ", " << y0 << ")");
+    CHECK_NOTHROW(check_grid(g, *c, x, y));
+  }
+  g.conductor.plane_z_mm = nearest / 2;
+  {
+    const auto cz = make_conductor(g.conductor, g.array);
+    const auto [x, y] = grid(-1.0, 3.0);
+    CHECK_THROWS_AS(check_grid(g, *cz, x, y), Error);
+  }
+  // The AF the rule allows is bounded by a surface source's at the smallest depth: the
+  // buried source is half as strong (its image is 2 d away), and a point at distance r from
+  // it sees at most what the surface source gives at depth r.
+  Setup surface = g;
+  surface.conductor = params("point3d", 0.0, 0.0);
+  const auto cs = make_conductor(surface.conductor, surface.array);
+  std::vector<double> xx(3), yy(3), sx(3), sy(3);
+  cs->unit_second_derivatives(-1.0, nearest, sx.data(), sy.data());
+  const double bound = std::max(std::fabs(sx[0]), std::fabs(sy[0]));
+  for (const auto& [x, y] : {std::pair{-1.0, 3.0 - nearest}, std::pair{-1.0, 3.0 + nearest},
+                             std::pair{-1.0 - nearest, 3.0}, std::pair{-1.0 + 0.006, 3.008}}) {
+    c->unit_second_derivatives(x, y, xx.data(), yy.data());
+    INFO("(" << x << ", " << y << "): " << xx[0] << ", " << yy[0] << " against " << bound);
+    CHECK(std::isfinite(xx[0]));
+    CHECK(std::max(std::fabs(xx[0]), std::fabs(yy[0])) <= bound);
+  }
 }
