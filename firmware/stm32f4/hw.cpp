@@ -173,7 +173,13 @@ void Uart::kick() {
   // long line must not delay an edge.
   reg::MaskFrom no_uart(1);
   std::uint8_t b;
-  if (synchronous_) {  // TXE is always set: no read of SR (see hw.hpp)
+  if (synchronous_) {
+    // TXE is always set: no read of SR before each byte (see hw.hpp).  One read a call
+    // all the same: it is what lets QEMU's main loop deliver the host's next bytes while
+    // the firmware spins (without it, keep-alives arrived late enough to trip a 100 ms
+    // watchdog: firmware.pty-device-bounds).
+    const std::uint32_t sr = at(base_ + u::SR);
+    (void)sr;
     while (tx_.pop(b)) at(base_ + u::DR) = b;
     return;
   }

@@ -105,7 +105,8 @@ class ByteRing {
 // (qemu_chr_fe_accept_input -> qemu_notify_event): polling TXE before each byte of the
 // monitor's lines cost ~3 ms of real time per line while the emulated clock stood still,
 // so at 1000 pulses/s the emulated board fell behind real time by 3 to 7 times and missed
-// the host's acknowledgement deadlines (firmware/README.md, "The board and QEMU").
+// the host's acknowledgement deadlines (firmware/README.md, "The board and QEMU").  One
+// read per kick() stays: it lets QEMU's main loop deliver the host's bytes.
 class Uart {
  public:
   void init(std::uint32_t base, std::uint32_t clock_hz, std::uint32_t baud, bool receive,
