@@ -55,35 +55,42 @@ double time_step_ms(const PulseSpec& p) {
   return std::max(1e-4, std::min(0.005, shortest * 1e-3 / 10.0));
 }
 
+namespace {
+// The work of every receptor's search, on a conductor and waveform already made.
+double work_of(const Setup& setup, const FibreModel& model, const Conductor& conductor,
+               const Waveform& w, const ThresholdSettings& settings) {
+  double work = 0.0;
+  for (const Receptor& rec : setup.receptors)
+    work += threshold_work(model, setup, conductor, rec, w, settings);
+  return work;
+}
+}  // namespace
+
 double thresholds_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
                        ThresholdSettings settings) {
   check_pulse(pulse);
   settings.dt_ms = 0.005;
   const auto conductor = make_conductor(setup.conductor, setup.array);
-  const Waveform w = pulse.waveform(settings.delay_ms);
-  double work = 0.0;
-  for (const Receptor& rec : setup.receptors)
-    work += threshold_work(model, setup, *conductor, rec, w, settings);
-  return work;
+  return work_of(setup, model, *conductor, pulse.waveform(settings.delay_ms), settings);
 }
 
 ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>& weights,
                                    const FibreModel& model, const PulseSpec& pulse,
                                    ThresholdSettings settings, PotentialCache* cache) {
   check_pulse(pulse);
+  settings.dt_ms = 0.005;
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const Waveform w = pulse.waveform(settings.delay_ms);
   // Every receptor's fibre first, and the whole work: bad input before any work.
-  check_threshold_work(thresholds_work(setup, model, pulse, settings), kMaxThresholdWork,
+  check_threshold_work(work_of(setup, model, *conductor, w, settings), kMaxThresholdWork,
                        "thresholds");
   ThresholdReport r;
   r.model = model.name();
   r.peak_weight = 0.0;
   for (double x : weights) r.peak_weight = std::max(r.peak_weight, std::fabs(x));
   r.pulse = pulse;
-  settings.dt_ms = 0.005;
   r.settings = settings;
   r.dt_ms = time_step_ms(pulse);
-  const auto conductor = make_conductor(setup.conductor, setup.array);
-  const Waveform w = pulse.waveform(settings.delay_ms);
   for (const Receptor& rec : setup.receptors)
     r.receptors.push_back(
         receptor_threshold(model, setup, *conductor, weights, rec, w, settings, cache));

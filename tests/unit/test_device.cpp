@@ -69,6 +69,14 @@ PulseConfig config8() {
   return c;
 }
 
+// An output of the session kToken: configure c (seq 1), codes 10 and -10 (seq 2), start
+// at start_us (seq 3).  Returns the start's result.
+Result start_output(DeviceCore& core, std::uint64_t start_us, const PulseConfig& c = config8()) {
+  send(core, 1, Msg::configure, configure(c), 0);
+  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
+  return send(core, 3, Msg::start, token(), start_us);
+}
+
 }  // namespace
 
 TEST_CASE("CRC-16/CCITT-FALSE check value", "[device][frame]") {
@@ -222,9 +230,7 @@ TEST_CASE("the watchdog stops output when the session's keep-alives stop",
   Capabilities caps;
   caps.watchdog_ms = 300;
   DeviceCore core(caps);
-  send(core, 1, Msg::configure, configure(config8()), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, token(), 1000);
+  start_output(core, 1000);
   std::vector<std::uint64_t> t;
   auto sink = [&](const DeliveredPulse& p) { t.push_back(p.t_us); };
   for (std::uint64_t now = 1000; now <= 200000; now += 1000) core.advance(now, sink);
@@ -247,9 +253,7 @@ TEST_CASE("a late frame cannot revive an expired session, and late pulses never 
   Capabilities caps;
   caps.watchdog_ms = 300;
   DeviceCore core(caps);
-  send(core, 1, Msg::configure, configure(config8()), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, token(), 0);
+  start_output(core, 0);
   int n = 0;
   core.advance(100000, [&](const DeliveredPulse&) { ++n; });
   CHECK(n == 21);  // 0, 5, ..., 100 ms
@@ -278,9 +282,7 @@ TEST_CASE("only the session that started the output keeps it alive",
   Capabilities caps;
   caps.watchdog_ms = 300;
   DeviceCore core(caps);
-  send(core, 1, Msg::configure, configure(config8()), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  REQUIRE(send(core, 3, Msg::start, token(), 0) == Result::ok);
+  REQUIRE(start_output(core, 0) == Result::ok);
   // A second host every 20 ms: identify, status, its own configure (refused: running), a
   // keep-alive and weights with another token, a frame with no token.  None may feed the
   // watchdog: the output stops 300 ms after the owner's last frame (t = 0).
@@ -406,9 +408,7 @@ TEST_CASE("the device stops by itself after max_pulses", "[device][core]") {
   DeviceCore core(Capabilities{});
   PulseConfig c = config8();
   c.max_pulses = 7;
-  send(core, 1, Msg::configure, configure(c), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, token(), 0);
+  start_output(core, 0, c);
   int n = 0;
   for (std::uint64_t now = 0; now < 100000; now += 1000) {
     send(core, static_cast<std::uint8_t>(4 + now / 1000), Msg::keepalive, token(), now);
@@ -434,9 +434,7 @@ TEST_CASE("a repeated frame answered from the cache does not feed the watchdog",
   Capabilities caps;
   caps.watchdog_ms = 300;
   DeviceCore core(caps);
-  send(core, 1, Msg::configure, configure(config8()), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, token(), 0);
+  start_output(core, 0);
   CHECK(send(core, 4, Msg::keepalive, token(), 100000) == Result::ok);  // deadline 0.4 s
   // The same keep-alive, byte for byte, every 50 ms: answered, but the output stops at
   // 0.4 s all the same.
@@ -451,9 +449,7 @@ TEST_CASE("a repeated frame answered from the cache does not feed the watchdog",
   CHECK(last < 400000);
   // A new keep-alive (the next sequence number) feeds it, as before.
   DeviceCore other(caps);
-  send(other, 1, Msg::configure, configure(config8()), 0);
-  send(other, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(other, 3, Msg::start, token(), 0);
+  start_output(other, 0);
   for (std::uint64_t now = 100000, seq = 4; now <= 1000000; now += 100000, ++seq) {
     CHECK(send(other, static_cast<std::uint8_t>(seq), Msg::keepalive, token(), now) == Result::ok);
     other.advance(now, [](const DeliveredPulse&) {});
@@ -466,9 +462,7 @@ TEST_CASE("older frames of the session, replayed in turn, do not feed the watchd
   Capabilities caps;
   caps.watchdog_ms = 300;
   DeviceCore core(caps);
-  send(core, 1, Msg::configure, configure(config8()), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, token(), 0);
+  start_output(core, 0);
   CHECK(send(core, 4, Msg::keepalive, token(), 50000) == Result::ok);
   CHECK(send(core, 5, Msg::keepalive, token(), 100000) == Result::ok);  // deadline 0.4 s
   // Keep-alives 4 and 5 replayed in turn every 20 ms (neither is the last frame, so the
@@ -526,9 +520,7 @@ TEST_CASE("pulses a device could not deliver are not counted", "[device][core][t
   DeviceCore core(Capabilities{});
   PulseConfig c = config8();
   c.max_pulses = 10;
-  send(core, 1, Msg::configure, configure(c), 0);
-  send(core, 2, Msg::set_weights, weights({10, -10, 0, 0, 0, 0, 0, 0}), 0);
-  send(core, 3, Msg::start, token(), 1000);
+  start_output(core, 1000, c);
   std::uint64_t start = 0;
   int emitted = 0;
   for (std::uint64_t now = 1000; now <= 60000; now += 1000) {
