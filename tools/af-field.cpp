@@ -1,8 +1,10 @@
-// af-field: the activating function of a weighted line-electrode array, on a grid (CSV)
-// or summarised per receptor with the three mode ratios (JSON).
+// af-field: the activating function of a weighted electrode array, on a grid (CSV), over a
+// plane at one depth under a 2-D array (CSV), or summarised per receptor with the three
+// mode ratios (JSON).
 //
 //   af-field --electrodes 8 --pitch 1 --weights 0,0,-1,2,-1,0,0,0 > field.csv
 //   optimize-weights --mode SAI | af-field --config - --summary
+//   af-field --grid 8x8 --pitch 2 --plane-depth 0.9 > plane.csv
 
 #include <cstdio>
 #include <string>
@@ -16,13 +18,14 @@
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Activating function (AF) of a line-electrode array on the skin (Kajimoto et al., "
-      "Eq. 14-25).\nx runs along the skin, y is depth (mm, y > 0); a positive weight is "
-      "cathodic; AF > 0 depolarises.\nCSV columns: x_mm,y_mm,af_h,af_v (V/ms, myelinated "
-      "10 um fibres, horizontal and vertical).",
+      "Activating function (AF) of an electrode array on the skin (Kajimoto et al., "
+      "Eq. 14-25).\nx runs along the skin, y is depth (mm, y > 0), z across (a 2-D array's "
+      "rows); a positive weight is cathodic; AF > 0 depolarises.\nCSV columns: "
+      "x_mm,y_mm,af_h,af_v (V/ms, myelinated 10 um fibres, horizontal along x and vertical); "
+      "with --plane-depth, x_mm,z_mm,af_h,af_v.",
       "af-field"};
   tp::cli::ArrayOptions array;
-  std::string weights, x_spec, y_spec, amplitude;
+  std::string weights, x_spec, y_spec, z_spec, plane_depth, amplitude;
   tp::cli::ModelOptions model;
   bool summary = false;
   auto* o_config = tp::cli::add_array_options(
@@ -43,6 +46,14 @@ int main(int argc, char** argv) {
       ->type_name("MIN:MAX:STEP");
   app.add_option("--y", y_spec, "Grid in depth MIN:MAX:STEP, mm, within 0.01 to 20 [0.2:3:0.05]")
       ->type_name("MIN:MAX:STEP");
+  app.add_option("--plane-depth", plane_depth,
+                 "3-D models: the AF over the x-z plane at this depth, mm, 0.01 to 20 (CSV "
+                 "x_mm,z_mm,af_h,af_v) instead of the x-y grid")
+      ->type_name("MM");
+  app.add_option("--z-grid", z_spec,
+                 "With --plane-depth: grid across MIN:MAX:STEP, mm, within +-500 [the pads' "
+                 "centres +-5 mm, step 0.1]")
+      ->type_name("MIN:MAX:STEP");
   app.add_flag("--summary", summary, "Print each receptor's largest AF and the mode ratios (JSON)");
 
   return tp::cli::run(app, argc, argv, [&] {
@@ -52,7 +63,7 @@ int main(int argc, char** argv) {
     if (!doc.weights) {
       // Default pattern: one cathode at the electrode nearest the centre.
       doc.weights = std::vector<double>(doc.setup.array.size(), 0.0);
-      (*doc.weights)[(doc.setup.array.size() - 1) / 2] = 1.0;
+      (*doc.weights)[doc.setup.array.centre_index()] = 1.0;
     }
     if (doc.weights->size() != doc.setup.array.size())
       tp::bad_input("--weights: expected " + std::to_string(doc.setup.array.size()) +
@@ -66,8 +77,28 @@ int main(int argc, char** argv) {
     std::vector<double> currents_mA;
     for (double w : *doc.weights) currents_mA.push_back(w * amp);
 
-    if (summary && (!x_spec.empty() || !y_spec.empty()))
-      tp::bad_input("--summary: --x and --y do not apply");
+    if (summary && (!x_spec.empty() || !y_spec.empty() || !plane_depth.empty()))
+      tp::bad_input("--summary: --x, --y and --plane-depth do not apply");
+    if (!z_spec.empty() && plane_depth.empty())
+      tp::bad_input("--z-grid: applies with --plane-depth only");
+    if (!plane_depth.empty()) {
+      if (!y_spec.empty()) tp::bad_input("--y: does not apply with --plane-depth (one depth)");
+      const double depth = tp::parse_finite(plane_depth, "--plane-depth");
+      tp::ranges::check(depth, tp::ranges::depth_mm, "--plane-depth");
+      const tp::Axis x =
+          x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
+      const tp::Axis z =
+          z_spec.empty() ? tp::default_z_axis(doc.setup.array) : tp::parse_axis(z_spec, "--z-grid");
+      tp::validate_plane(x, z, depth);
+      tp::check_model_depth(doc.setup, depth, "--plane-depth");
+      const tp::Field field(doc.setup, currents_mA);
+      if (!field.conductor().three_d())
+        tp::bad_input("--plane-depth: " + doc.setup.conductor.model +
+                      " is a 2-D model; a plane across needs point3d, rect3d or layered");
+      tp::check_plane(doc.setup, field.conductor(), x, z, depth);  // before the first row
+      tp::write_af_plane(stdout, field, x, z, depth);
+      return;
+    }
     const tp::Axis x =
         x_spec.empty() ? tp::default_x_axis(doc.setup.array) : tp::parse_axis(x_spec, "--x");
     const tp::Axis y = y_spec.empty() ? tp::default_y_axis() : tp::parse_axis(y_spec, "--y");

@@ -99,6 +99,9 @@ int main(int argc, char** argv) {
     tp::Document doc = tp::cli::load_document(source, 1);
     if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     tp::cli::apply_model_options(doc, conductor);
+    if (doc.setup.array.two_d())
+      tp::bad_input("array: " + doc.setup.array.describe() +
+                    " is 2-D; fibres are simulated under 1-D arrays only");
     if (!doc.weights)
       tp::bad_input("weights: the document has none (optimize-weights writes them; or --weights)");
     if (doc.weights->size() != doc.setup.array.size())

@@ -16,6 +16,7 @@
 #include "io/csv.hpp"
 #include "io/document.hpp"
 #include "io/number.hpp"
+#include "model/ranges.hpp"
 #include "pulse/stimulus.hpp"
 
 int main(int argc, char** argv) {
@@ -53,6 +54,11 @@ int main(int argc, char** argv) {
   return tp::cli::run(app, argc, argv, [&] {
     const tp::Document doc = tp::document_from_json(tp::read_json(input, "weights document"));
     if (!doc.weights) tp::bad_input("weights document: no 'weights'");
+    if (doc.setup.array.size() > static_cast<std::size_t>(tp::ranges::max_channels))
+      tp::bad_input("weights document: " + doc.setup.array.describe() + ", " +
+                    std::to_string(doc.setup.array.size()) +
+                    " channels; a stimulator drives at most " +
+                    std::to_string(tp::ranges::max_channels));
     tp::Stimulus s;
     const double amp = tp::parse_finite(amplitude, "--amplitude");
     if (!(amp > 0.0 && amp <= tp::StimulusLimits{}.max_current_mA))

@@ -89,6 +89,9 @@ int main(int argc, char** argv) {
     tp::cli::apply_model_options(doc, model);
     if (doc.setup.array.size() < 2)
       tp::bad_input("array: optimisation needs at least 2 electrodes");
+    if (doc.setup.array.two_d())
+      tp::bad_input("array: " + doc.setup.array.describe() +
+                    " is 2-D; the optimiser designs for 1-D arrays only so far");
     tp::OptimizeOptions opt;
     if (!max_current.empty()) doc.max_current_mA = tp::parse_finite(max_current, "--max-current");
     tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");

@@ -12,18 +12,76 @@ namespace tp::cli {
 CLI::Option* add_array_options(CLI::App& app, ArrayOptions& o, const std::string& config_help) {
   auto* config = app.add_option("--config", o.config, config_help)->type_name("FILE");
   auto* n = app.add_option("--electrodes", o.electrodes,
-                           "Number of electrodes of a uniform array, 1 to 64 [8]")
+                           "Number of electrodes of a uniform array, 1 to 256 [8]")
                 ->type_name("N");
   auto* pitch =
-      app.add_option("--pitch", o.pitch, "Electrode pitch, mm, 0.01 to 100 [1]")->type_name("MM");
-  config->excludes(n)->excludes(pitch);
+      app.add_option("--pitch", o.pitch, "Electrode pitch (a grid's along x), mm, 0.01 to 100 [1]")
+          ->type_name("MM");
+  auto* grid = app.add_option("--grid", o.grid,
+                              "A 2-D grid of COLUMNSxROWS pads (columns along x, rows along z, "
+                              "at most 256 pads), centred on (0, 0); the rect3d model unless "
+                              "--model says otherwise")
+                   ->type_name("CxR");
+  auto* row_pitch =
+      app.add_option("--row-pitch", o.row_pitch, "A grid's pitch along z, mm [--pitch]")
+          ->type_name("MM");
+  auto* pad =
+      app.add_option("--pad", o.pad, "A grid's pads, WIDTHxLENGTH (x by z), mm [half the pitches]")
+          ->type_name("WxL");
+  config->excludes(n)->excludes(pitch)->excludes(grid)->excludes(row_pitch)->excludes(pad);
+  n->excludes(grid)->excludes(row_pitch)->excludes(pad);
   return config;
 }
+
+namespace {
+
+// "AxB" into two strings; bad input naming the flag otherwise.
+std::pair<std::string, std::string> split_x(const std::string& text, const std::string& flag,
+                                            const std::string& form) {
+  const std::size_t at = text.find('x');
+  if (at == std::string::npos || at == 0 || at + 1 == text.size() ||
+      text.find('x', at + 1) != std::string::npos)
+    bad_input(flag + ": expected " + form + ", got '" + text + "'");
+  return {text.substr(0, at), text.substr(at + 1)};
+}
+
+}  // namespace
 
 Document load_document(const ArrayOptions& o, int min_electrodes) {
   if (!o.config.empty()) return document_from_json(read_json(o.config, "--config"));
   Document doc;
-  doc.setup.array = array_from_flags(o.electrodes, o.pitch, min_electrodes);
+  if (o.grid.empty()) {
+    if (!o.row_pitch.empty()) bad_input("--row-pitch: applies to --grid only");
+    if (!o.pad.empty()) bad_input("--pad: applies to --grid only");
+    doc.setup.array = array_from_flags(o.electrodes, o.pitch, min_electrodes);
+    return doc;
+  }
+  const auto [cols, rows] = split_x(o.grid, "--grid", "COLUMNSxROWS, e.g. 8x8");
+  const long c = parse_integer(cols, "--grid columns"), r = parse_integer(rows, "--grid rows");
+  for (const long v : {c, r})
+    if (v < 1 || v > ranges::max_grid_side)
+      bad_input("--grid: " + std::to_string(v) + " outside [1, " +
+                std::to_string(ranges::max_grid_side) + "]");
+  if (c * r > ranges::max_electrodes)
+    bad_input("--grid: " + std::to_string(c * r) + " pads, at most " +
+              std::to_string(ranges::max_electrodes));
+  if (c * r < min_electrodes)
+    bad_input("--grid: need at least " + std::to_string(min_electrodes) + " pads");
+  const double p = o.pitch.empty() ? 1.0 : parse_finite(o.pitch, "--pitch");
+  ranges::check(p, ranges::pitch_mm, "--pitch");
+  const double rp = o.row_pitch.empty() ? p : parse_finite(o.row_pitch, "--row-pitch");
+  ranges::check(rp, ranges::pitch_mm, "--row-pitch");
+  double w = 0.5 * p, l = 0.5 * rp;
+  if (!o.pad.empty()) {
+    const auto [ws, ls] = split_x(o.pad, "--pad", "WIDTHxLENGTH in mm, e.g. 1x1");
+    w = parse_finite(ws, "--pad width");
+    l = parse_finite(ls, "--pad length");
+    if (!(w > 0.0)) bad_input("--pad: the width must be > 0 mm");
+    ranges::check(w, ranges::width_mm, "--pad width");
+    ranges::check(l, ranges::length_mm, "--pad length");
+  }
+  doc.setup.array = ElectrodeArray::grid_of(static_cast<int>(c), static_cast<int>(r), p, rp, w, l);
+  doc.setup.conductor.model = "rect3d";
   return doc;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The array options shared by the programs that describe an electrode array: either a
-// document (--config FILE, - for stdin) or a uniform array (--electrodes N --pitch MM).
+// document (--config FILE, - for stdin), a uniform array (--electrodes N --pitch MM), or a
+// 2-D grid of pads (--grid CxR --pitch MM [--row-pitch MM] [--pad WxL]).
 
 #include <string>
 
@@ -11,14 +12,16 @@
 namespace tp::cli {
 
 struct ArrayOptions {
-  std::string config, electrodes, pitch;
+  std::string config, electrodes, pitch, grid, row_pitch, pad;
 };
 
-// Declares --config, --electrodes and --pitch (the first excludes the others); returns the
-// --config option so that a program can exclude more of its own flags from it.
+// Declares --config, --electrodes, --pitch, --grid, --row-pitch and --pad (--config
+// excludes the others, --electrodes excludes --grid); returns the --config option so that
+// a program can exclude more of its own flags from it.
 CLI::Option* add_array_options(CLI::App& app, ArrayOptions& o, const std::string& config_help);
 
-// The document from --config, or a uniform array (default 8 electrodes at 1 mm).
+// The document from --config, a uniform array (default 8 electrodes at 1 mm), or a grid
+// (the rect3d model).
 Document load_document(const ArrayOptions& o, int min_electrodes);
 
 // The conductor model flags shared by the programs that compute fields: --model and --z

@@ -25,8 +25,59 @@ std::vector<double> finite_list(const Json& j, const std::string& what) {
   return out;
 }
 
+// A 2-D array: {"grid": {...}} or {"pads": [...]}, with the pads' width_mm and length_mm.
+ElectrodeArray array_2d_from_json(const Json& j) {
+  reject_unknown(j, {"electrodes", "grid", "pads", "width_mm", "length_mm"}, "array");
+  if (j.contains("grid") && j.contains("pads")) bad_input("array: give 'grid' or 'pads', not both");
+  for (const char* key : {"width_mm", "length_mm"})
+    if (!j.contains(key))
+      bad_input(std::string("array: a 2-D array needs its pads' '") + key + "'");
+  const double width = json_finite(j["width_mm"], "array.width_mm");
+  const double length = json_finite(j["length_mm"], "array.length_mm");
+  ranges::check(width, ranges::width_mm, "array.width_mm");
+  ranges::check(length, ranges::length_mm, "array.length_mm");
+  ElectrodeArray a;
+  if (j.contains("grid")) {
+    const Json& g = j["grid"];
+    if (!g.is_object()) bad_input("array.grid: expected an object");
+    reject_unknown(g, {"columns", "rows", "pitch_mm", "row_pitch_mm"}, "array.grid");
+    for (const char* key : {"columns", "rows", "pitch_mm"})
+      if (!g.contains(key)) bad_input(std::string("array.grid: missing '") + key + "'");
+    const int columns = json_int(g["columns"], "array.grid.columns");
+    const int rows = json_int(g["rows"], "array.grid.rows");
+    const double pitch = json_finite(g["pitch_mm"], "array.grid.pitch_mm");
+    const double row_pitch = g.contains("row_pitch_mm")
+                                 ? json_finite(g["row_pitch_mm"], "array.grid.row_pitch_mm")
+                                 : pitch;
+    a = ElectrodeArray::grid_of(columns, rows, pitch, row_pitch, width, length);
+  } else {
+    const Json& list = j["pads"];
+    if (!list.is_array() || list.empty()) bad_input("array.pads: expected a non-empty array");
+    if (list.size() > static_cast<std::size_t>(ranges::max_electrodes))
+      bad_input("array.pads: " + std::to_string(list.size()) + " pads, at most " +
+                std::to_string(ranges::max_electrodes));
+    std::vector<double> x, z;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string at = "array.pads[" + std::to_string(i) + "]";
+      const Json& p = list[i];
+      if (!p.is_object()) bad_input(at + ": expected an object {\"x_mm\": X, \"z_mm\": Z}");
+      reject_unknown(p, {"x_mm", "z_mm"}, at);
+      if (!p.contains("x_mm") || !p.contains("z_mm")) bad_input(at + ": needs 'x_mm' and 'z_mm'");
+      x.push_back(json_finite(p["x_mm"], at + ".x_mm"));
+      z.push_back(json_finite(p["z_mm"], at + ".z_mm"));
+    }
+    a = ElectrodeArray::pads(std::move(x), std::move(z), width, length);
+  }
+  if (j.contains("electrodes") &&
+      json_int(j["electrodes"], "array.electrodes") != static_cast<int>(a.size()))
+    bad_input("array: 'electrodes' disagrees with the number of pads (" + std::to_string(a.size()) +
+              ")");
+  return a;
+}
+
 ElectrodeArray array_from_json(const Json& j) {
   if (!j.is_object()) bad_input("array: expected an object");
+  if (j.contains("grid") || j.contains("pads")) return array_2d_from_json(j);
   reject_unknown(j, {"electrodes", "pitch_mm", "positions_mm", "width_mm", "length_mm"}, "array");
   ElectrodeArray a;
   const double width = j.contains("width_mm") ? json_finite(j["width_mm"], "array.width_mm") : 0.5;
@@ -42,7 +93,9 @@ ElectrodeArray array_from_json(const Json& j) {
     if (j.contains("pitch_mm")) a.pitch_mm = json_finite(j["pitch_mm"], "array.pitch_mm");
   } else {
     if (!j.contains("electrodes") || !j.contains("pitch_mm"))
-      bad_input("array: give 'positions_mm', or 'electrodes' and 'pitch_mm'");
+      bad_input(
+          "array: give 'positions_mm', or 'electrodes' and 'pitch_mm' (or a 2-D 'grid' or "
+          "'pads')");
     a = ElectrodeArray::uniform(json_int(j["electrodes"], "array.electrodes"),
                                 json_finite(j["pitch_mm"], "array.pitch_mm"), width, length);
   }
@@ -86,6 +139,8 @@ Document document_from_json(const Json& j) {
   }
   if (!j.contains("array")) bad_input("document: missing 'array'");
   d.setup.array = array_from_json(j["array"]);
+  // A 2-D array needs a 3-D model: rect3d unless the document names one.
+  if (d.setup.array.two_d()) d.setup.conductor.model = "rect3d";
   if (j.contains("model")) {
     const Json& m = j["model"];
     if (!m.is_object()) bad_input("model: expected an object");
@@ -177,8 +232,22 @@ ElectrodeArray array_from_flags(const std::string& electrodes, const std::string
 Json array_to_json(const ElectrodeArray& a) {
   Json j;
   j["electrodes"] = a.size();
-  if (a.pitch_mm) j["pitch_mm"] = *a.pitch_mm;
-  j["positions_mm"] = a.positions_mm;
+  if (a.grid()) {
+    Json g;
+    g["columns"] = a.columns;
+    g["rows"] = a.rows;
+    g["pitch_mm"] = *a.pitch_mm;
+    g["row_pitch_mm"] = a.row_pitch_mm;
+    j["grid"] = g;
+  } else if (a.two_d()) {
+    Json list = Json::array();
+    for (std::size_t i = 0; i < a.size(); ++i)
+      list.push_back(Json{{"x_mm", a.positions_mm[i]}, {"z_mm", a.z_mm[i]}});
+    j["pads"] = list;
+  } else {
+    if (a.pitch_mm) j["pitch_mm"] = *a.pitch_mm;
+    j["positions_mm"] = a.positions_mm;
+  }
   j["width_mm"] = a.width_mm;
   j["length_mm"] = a.length_mm;
   return j;

@@ -45,6 +45,43 @@ void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis
   csv.flush();
 }
 
+void validate_plane(const Axis& x, const Axis& z, double y_mm) {
+  ranges::check(y_mm, ranges::depth_mm, "--plane-depth");
+  ranges::check(x.min, ranges::position_mm, "--x MIN");
+  ranges::check(x.max, ranges::position_mm, "--x MAX");
+  ranges::check(z.min, ranges::position_mm, "--z-grid MIN");
+  ranges::check(z.max, ranges::position_mm, "--z-grid MAX");
+  const double points = static_cast<double>(x.count()) * static_cast<double>(z.count());
+  if (points > ranges::max_grid_points)
+    bad_input("grid: " + number_text(points) + " points, more than " +
+              number_text(ranges::max_grid_points));
+}
+
+void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axis& z, double y_mm) {
+  validate_plane(x, z, y_mm);
+  const Fibre fibre{Orientation::horizontal, constants::reference_diameter_um, true};
+  const FibreAxis along_x{}, vertical{true, 0.0, 0.0};
+  CsvWriter csv(out, 1 << 20);
+  csv.header({"x_mm", "z_mm", "af_h", "af_v"});
+  const std::size_t nx = x.count(), nz = z.count();
+  double row[4];
+  for (std::size_t j = 0; j < nz; ++j) {
+    row[1] = z.at(j);
+    for (std::size_t i = 0; i < nx; ++i) {
+      row[0] = x.at(i);
+      row[2] = field.af_3d(fibre, along_x, row[0], y_mm, row[1]);
+      row[3] = field.af_3d(fibre, vertical, row[0], y_mm, row[1]);
+      csv.row(row, 4);
+    }
+  }
+  csv.flush();
+}
+
+Axis default_z_axis(const ElectrodeArray& a) {
+  return Axis{std::max(ranges::position_mm.lo, std::floor(a.z_min_mm() - 5.0)),
+              std::min(ranges::position_mm.hi, std::ceil(a.z_max_mm() + 5.0)), 0.1};
+}
+
 Axis default_x_axis(const ElectrodeArray& a) {
   return Axis{std::max(ranges::position_mm.lo, std::floor(a.x_min_mm() - 5.0)),
               std::min(ranges::position_mm.hi, std::ceil(a.x_max_mm() + 5.0)), 0.1};
@@ -68,6 +105,7 @@ Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA,
     e["max_af"] = p.af;
     e["x_mm"] = p.x_mm;
     e["y_mm"] = p.y_mm;
+    if (setup.array.two_d()) e["z_mm"] = p.z_mm;
     e["orientation"] = to_string(r.fibre.orientation);
     e["diameter_um"] = r.fibre.diameter_um;
     e["fibre_factor_mm2_per_ms"] = fibre_factor_mm2_per_ms(r.fibre);
@@ -95,7 +133,9 @@ Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool 
   Json peaks = Json::object();
   for (std::size_t i = 0; i < r.summary.peaks.size(); ++i) {
     const Peak& p = r.summary.peaks[i].second;
-    peaks[r.summary.peaks[i].first] = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
+    Json e = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
+    if (doc.setup.array.two_d()) e["z_mm"] = p.z_mm;
+    peaks[r.summary.peaks[i].first] = e;
   }
   j["receptors_at_limit"] = peaks;
   Json solver;

@@ -17,9 +17,16 @@ namespace tp {
 void validate_grid(const Axis& x, const Axis& y);
 void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y);
 
-// Default grid: the array +-5 mm at 0.1 mm, depths 0.2 to 3 mm at 0.05 mm.
+// Columns x_mm,z_mm,af_h,af_v: the AF over the plane at depth y_mm (3-D models), af_h of
+// horizontal fibres along x, af_v of vertical ones, z outer, x inner.
+void validate_plane(const Axis& x, const Axis& z, double y_mm);
+void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axis& z, double y_mm);
+
+// Default grid: the array +-5 mm at 0.1 mm, depths 0.2 to 3 mm at 0.05 mm; along z, the
+// pads' centres +-5 mm at 0.1 mm.
 Axis default_x_axis(const ElectrodeArray& a);
 Axis default_y_axis();
+Axis default_z_axis(const ElectrodeArray& a);
 
 // {"af_unit", "currents_mA", "receptors": {NAME: {max_af, x_mm, y_mm, ...}}, "ratios": {...}}
 Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA, const Summary& s);

@@ -25,8 +25,20 @@ const Skin& effective_skin(const ConductorParams& p) {
   return p.skin.layers.empty() ? builtin_skin("fingertip") : p.skin;
 }
 
+void Conductor::unit_d2_along(double, double, double, const FibreAxis&, double*) const {
+  failure(std::string(name()) + ": no 3-D evaluation");
+}
+void Conductor::unit_potentials_3d(double, double, double, double*) const {
+  failure(std::string(name()) + ": no 3-D evaluation");
+}
+
 std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
                                           const ElectrodeArray& array) {
+  if (array.two_d() && (params.model == "line2d" || params.model == "strip2d"))
+    bad_input("model.conductor: " + params.model +
+              " is a 2-D model (electrodes infinitely long "
+              "along z) and takes no 2-D array (" +
+              array.describe() + "); use point3d, rect3d or layered");
   const double rho = params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m
                                                     : constants::tissue_resistivity_ohm_m;
   if (params.model == "line2d") return make_line2d(array, rho);

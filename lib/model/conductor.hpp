@@ -17,6 +17,13 @@
 
 namespace tp {
 
+// The direction of a fibre, for the 3-D evaluation: vertical (along y, into the skin) or
+// horizontal at an azimuth in the skin plane, (cos, 0, sin) of the angle from x toward z.
+struct FibreAxis {
+  bool vertical = false;
+  double cos_az = 1.0, sin_az = 0.0;
+};
+
 struct ConductorParams {
   std::string model = "line2d";    // one of conductor_models()
   double resistivity_ohm_m = 0.0;  // 0: constants::tissue_resistivity_ohm_m
@@ -49,6 +56,21 @@ class Conductor {
   virtual void check_reach(double /*max_offset_mm*/, double /*y_min_mm*/, double /*y_max_mm*/,
                            const std::string& /*what*/) const {}
 
+  // The 3-D models: for 1 mA cathodic on pad i alone, the second derivative of Psi along a
+  // fibre's axis, in V/mm^2, at (x_mm, y_mm, z_mm) with y_mm > 0, into out[i].  Pads lie at
+  // (positions_mm[i], 0, z_of(i)): a 1-D array's at z = 0 (plane_z_mm is not used here).
+  // Only the models with three_d() give it (make_conductor refuses a 2-D array for others).
+  virtual bool three_d() const { return false; }
+  virtual void unit_d2_along(double /*x_mm*/, double /*y_mm*/, double /*z_mm*/,
+                             const FibreAxis& /*axis*/, double* /*out*/) const;
+  // Psi (V) at (x_mm, y_mm, z_mm) for 1 mA cathodic on each pad alone (the checks).
+  virtual void unit_potentials_3d(double /*x_mm*/, double /*y_mm*/, double /*z_mm*/,
+                                  double* /*psi*/) const;
+
+  // Depths (mm) where the conductor's resistivity changes (the layered model's interfaces):
+  // Psi is harmonic in space between them.
+  virtual std::vector<double> interfaces_mm() const { return {}; }
+
   // True when Psi is harmonic in the (x, y) plane, so that the AF of either orientation
   // is harmonic too (Eq. 28-30) and obeys the maximum principle.
   virtual bool planar_harmonic() const = 0;
@@ -70,6 +92,8 @@ std::unique_ptr<Conductor> make_rect3d(const ElectrodeArray& array, double rho_o
                                        double plane_z_mm);
 // rect3d's d2Psi/dz2 for electrode i (the tests' Laplace check); c must be a rect3d.
 double rect3d_unit_zz(const Conductor& c, std::size_t i, double x_mm, double y_mm);
+// The same at a 3-D point (pads of a 2-D array at their own z).
+double rect3d_unit_zz_3d(const Conductor& c, std::size_t i, double x_mm, double y_mm, double z_mm);
 // The layered model (model/layered_rect.cpp): rectangles on a layered half-space.
 std::unique_ptr<Conductor> make_layered(const ElectrodeArray& array,
                                         const std::vector<Layer>& layers, double plane_z_mm);

@@ -35,18 +35,24 @@ constexpr double kRounding = 1e-9;
 
 void validate_setup(const Setup& setup) {
   make_conductor(setup.conductor, setup.array);  // the name, and the model's own checks
-  for (const Receptor& r : setup.receptors)
+  for (const Receptor& r : setup.receptors) {
     check_model_depth(setup, r.depth_max_mm, "receptor " + r.name + ": depth");
+    if (r.azimuth_deg != 0.0 && !setup.array.two_d())
+      bad_input("receptor " + r.name +
+                ": azimuth_deg applies under a 2-D array (grid or pads); "
+                "a 1-D array's fibres run along x");
+  }
   const ConductorParams& c = setup.conductor;
   if (c.model == "point3d" && c.source_depth_mm > 0.0) {
-    // The sources lie at depth d under the electrodes in the plane z = 0; every receptor's
-    // fibres at every x across the array, over its depths, in the plane z = plane_z_mm.
+    // The sources lie at depth d under the electrodes; every receptor's fibres at every x
+    // across the array, over its depths, in the plane z = plane_z_mm (1-D) or over every z
+    // of the pads (2-D).
     const double d = c.source_depth_mm;
     for (const Receptor& r : setup.receptors) {
       const double gap = d < r.depth_min_mm   ? r.depth_min_mm - d
                          : d > r.depth_max_mm ? d - r.depth_max_mm
                                               : 0.0;
-      const double distance_mm = std::hypot(gap, c.plane_z_mm);
+      const double distance_mm = setup.array.two_d() ? gap : std::hypot(gap, c.plane_z_mm);
       if (distance_mm < kNearest_mm * (1.0 - kRounding))
         bad_input("model.source_depth_mm: " + number_text(d) + " mm is " +
                   number_text(distance_mm) + " mm from receptor " + r.name + "'s fibres (" +
@@ -59,11 +65,22 @@ void validate_setup(const Setup& setup) {
   }
 }
 
+namespace {
+
+// The farthest a point of [x0, x1] x [z0, z1] lies from a pad centre, laterally.
+double lateral_reach_mm(const ElectrodeArray& a, double x0, double x1, double z0, double z1) {
+  const double dx = std::max(std::fabs(x1 - a.x_min_mm()), std::fabs(a.x_max_mm() - x0));
+  if (!a.two_d()) return dx;
+  const double dz = std::max(std::fabs(z1 - a.z_min_mm()), std::fabs(a.z_max_mm() - z0));
+  return std::hypot(dx, dz);
+}
+
+}  // namespace
+
 void check_fibre_reach(const Setup& setup, const Conductor& conductor) {
   for (const Receptor& r : setup.receptors) {
     const Region g = fibre_region(setup, r);
-    const double reach_mm = std::max(std::fabs(g.x1_mm - setup.array.x_min_mm()),
-                                     std::fabs(setup.array.x_max_mm() - g.x0_mm));
+    const double reach_mm = lateral_reach_mm(setup.array, g.x0_mm, g.x1_mm, g.z0_mm, g.z1_mm);
     conductor.check_reach(reach_mm, g.y0_mm, g.y1_mm, "receptor " + r.name + "'s fibres");
   }
 }
@@ -71,23 +88,25 @@ void check_fibre_reach(const Setup& setup, const Conductor& conductor) {
 void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& y) {
   const std::size_t ny = y.count(), nx = x.count();
   // The farthest any point is from an electrode, along x.
-  const double reach_mm = std::max(std::fabs(x.at(nx - 1) - setup.array.x_min_mm()),
-                                   std::fabs(setup.array.x_max_mm() - x.at(0)));
+  const double reach_mm = lateral_reach_mm(setup.array, x.at(0), x.at(nx - 1),
+                                           setup.conductor.plane_z_mm, setup.conductor.plane_z_mm);
   for (std::size_t j = 0; j < ny; ++j)
     conductor.check_reach(reach_mm, y.at(j), y.at(j), "a grid row");
   const ConductorParams& c = setup.conductor;
   if (c.model != "point3d" || !(c.source_depth_mm > 0.0)) return;
   const double d = c.source_depth_mm;
   const double near_mm = kNearest_mm * (1.0 - kRounding);
-  if (!(std::fabs(c.plane_z_mm) < near_mm)) return;
   // The rows near the source's depth (y is increasing), then the columns near an electrode:
-  // a point nearer than kNearest_mm to a source (x_e, d, 0).
-  for (std::size_t j = 0; j < ny; ++j) {
-    const double yj = y.at(j);
-    const double off2 = (yj - d) * (yj - d) + c.plane_z_mm * c.plane_z_mm;
-    if (!(off2 < near_mm * near_mm)) continue;
-    const double half_mm = std::sqrt(near_mm * near_mm - off2);  // |x - x_e| below this
-    for (const double xe : setup.array.positions_mm) {
+  // a point nearer than kNearest_mm to a source (x_e, d, z_e), the grid in z = plane_z_mm.
+  for (std::size_t e = 0; e < setup.array.size(); ++e) {
+    const double xe = setup.array.positions_mm[e];
+    const double dz = c.plane_z_mm - setup.array.z_of(e);
+    if (!(std::fabs(dz) < near_mm)) continue;
+    for (std::size_t j = 0; j < ny; ++j) {
+      const double yj = y.at(j);
+      const double off2 = (yj - d) * (yj - d) + dz * dz;
+      if (!(off2 < near_mm * near_mm)) continue;
+      const double half_mm = std::sqrt(near_mm * near_mm - off2);  // |x - x_e| below this
       // The columns within half_mm of xe: x is increasing with a positive step.
       const double first = std::ceil((xe - half_mm - x.min) / x.step);
       for (double i = std::max(0.0, first - 1.0); i < static_cast<double>(nx); ++i) {
@@ -106,9 +125,54 @@ void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, c
   }
 }
 
+void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& z,
+                 double y_mm) {
+  const std::size_t nx = x.count(), nz = z.count();
+  conductor.check_reach(lateral_reach_mm(setup.array, x.at(0), x.at(nx - 1), z.at(0), z.at(nz - 1)),
+                        y_mm, y_mm, "the plane");
+  const ConductorParams& c = setup.conductor;
+  if (c.model != "point3d" || !(c.source_depth_mm > 0.0)) return;
+  const double near_mm = kNearest_mm * (1.0 - kRounding);
+  const double dy = y_mm - c.source_depth_mm;
+  if (!(std::fabs(dy) < near_mm)) return;
+  // The grid point nearest each source: the nearest along x and along z.
+  auto nearest = [](const Axis& a, std::size_t n, double v) {
+    const double i = std::clamp(std::round((v - a.min) / a.step), 0.0, static_cast<double>(n - 1));
+    return a.at(static_cast<std::size_t>(i));
+  };
+  for (std::size_t e = 0; e < setup.array.size(); ++e) {
+    const double xe = setup.array.positions_mm[e], ze = setup.array.z_of(e);
+    const double xi = nearest(x, nx, xe), zi = nearest(z, nz, ze);
+    const double dist = std::sqrt((xi - xe) * (xi - xe) + dy * dy + (zi - ze) * (zi - ze));
+    if (dist < near_mm)
+      bad_input("grid point (" + number_text(xi) + ", " + number_text(zi) + ") mm at depth " +
+                number_text(y_mm) + " mm is " + number_text(dist) +
+                " mm from a point source (model.source_depth_mm " + number_text(c.source_depth_mm) +
+                " mm under the pad at (" + number_text(xe) + ", " + number_text(ze) +
+                ") mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
+                " mm), where the field is singular or beyond its documented bound: move the "
+                "plane or the source");
+  }
+}
+
 Region fibre_region(const Setup& setup, const Receptor& r) {
-  return {setup.array.x_min_mm() - setup.lateral_margin_mm,
-          setup.array.x_max_mm() + setup.lateral_margin_mm, r.depth_min_mm, r.depth_max_mm};
+  const ElectrodeArray& a = setup.array;
+  if (a.two_d()) {
+    // Horizontal fibres over the pads plus the margin, in x and z; vertical ones ascend
+    // under the pads' area.
+    const bool vertical = r.fibre.orientation == Orientation::vertical;
+    const double mx = vertical ? 0.5 * a.width_mm : setup.lateral_margin_mm;
+    const double mz = vertical ? 0.5 * a.length_mm : setup.lateral_margin_mm;
+    return {a.x_min_mm() - mx, a.x_max_mm() + mx, r.depth_min_mm,
+            r.depth_max_mm,    a.z_min_mm() - mz, a.z_max_mm() + mz};
+  }
+  const double z = setup.conductor.plane_z_mm;
+  return {a.x_min_mm() - setup.lateral_margin_mm,
+          a.x_max_mm() + setup.lateral_margin_mm,
+          r.depth_min_mm,
+          r.depth_max_mm,
+          z,
+          z};
 }
 
 Field::Field(const Setup& setup, std::vector<double> currents_mA)
@@ -147,7 +211,57 @@ double Field::af(const Fibre& fibre, double x_mm, double y_mm) const {
   return fibre_factor_mm2_per_ms(fibre) * d;
 }
 
+double Field::af_3d(const Fibre& fibre, const FibreAxis& axis, double x_mm, double y_mm,
+                    double z_mm) const {
+  double* b = scratch_.data();
+  conductor_->unit_d2_along(x_mm, y_mm, z_mm, axis, b);
+  double d = 0.0;
+  for (std::size_t i = 0; i < currents_.size(); ++i) d += currents_[i] * b[i];
+  return fibre_factor_mm2_per_ms(fibre) * d;
+}
+
+Peak Field::peak_3d(const Receptor& r) const {
+  // The AF of a fibre along a fixed axis is d2Psi/ds2 times a constant: harmonic in space
+  // within each layer of the conductor, so its largest over the box of fibres lies on the
+  // box's faces (maximum principle), and on the planes of the layers' interfaces inside it.
+  const Region reg = fibre_region(setup_, r);
+  const FibreAxis axis = fibre_axis(r);
+  Peak best;
+  bool first = true;
+  // A face: the plane y = const over x and z, sampled at a tenth of its depth (the AF
+  // varies on the scale of the depth).
+  auto plane = [&](double y) {
+    const Max2d m = maximize_2d([&](double x, double z) { return af_3d(r.fibre, axis, x, y, z); },
+                                reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, y / 10.0);
+    if (first || m.value > best.af) best = {m.value, m.s, y, m.t};
+    first = false;
+  };
+  plane(reg.y0_mm);
+  if (reg.y1_mm > reg.y0_mm) {
+    plane(reg.y1_mm);
+    for (const double y : conductor_->interfaces_mm())
+      if (y > reg.y0_mm && y < reg.y1_mm) plane(y);
+    const double step = reg.y0_mm / 10.0;
+    auto side = [&](bool along_x, double fixed) {
+      const Max2d m = maximize_2d(
+          [&](double s, double y) {
+            return along_x ? af_3d(r.fibre, axis, s, y, fixed) : af_3d(r.fibre, axis, fixed, y, s);
+          },
+          along_x ? reg.x0_mm : reg.z0_mm, along_x ? reg.x1_mm : reg.z1_mm, reg.y0_mm, reg.y1_mm,
+          step);
+      const Peak p = along_x ? Peak{m.value, m.s, m.t, fixed} : Peak{m.value, fixed, m.t, m.s};
+      if (p.af > best.af) best = p;
+    };
+    side(true, reg.z0_mm);
+    side(true, reg.z1_mm);
+    side(false, reg.x0_mm);
+    side(false, reg.x1_mm);
+  }
+  return best;
+}
+
 Peak Field::peak(const Receptor& r) const {
+  if (setup_.array.two_d()) return peak_3d(r);
   const Region reg = fibre_region(setup_, r);
   // Sampling step: the AF varies on the scale of the depth, so a 50th of it (at most
   // 0.02 mm) resolves every local maximum before refinement.

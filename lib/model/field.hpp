@@ -39,10 +39,17 @@ void check_model_depth(const Setup& setup, double depth_mm, const std::string& w
 // electrodes (Conductor::check_reach: the layered model's Hankel rule).
 void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& y);
 
+// The same for af-field's plane at depth y_mm, over x by z.
+void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& z,
+                 double y_mm);
+
 // Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
-// single depth line).
+// single depth line) in the plane z = plane_z_mm of a 1-D array; under a 2-D array the box
+// [x0, x1] x [y0, y1] x [z0, z1]: horizontal fibres over the pads' centres plus the margin
+// in x and z, vertical ones over the pads' area.
 struct Region {
   double x0_mm, x1_mm, y0_mm, y1_mm;
+  double z0_mm = 0.0, z1_mm = 0.0;
 };
 Region fibre_region(const Setup& setup, const Receptor& r);
 
@@ -55,6 +62,7 @@ struct Peak {
   double af = 0.0;  // V/ms, largest AF over the receptor's fibres
   double x_mm = 0.0;
   double y_mm = 0.0;
+  double z_mm = 0.0;  // 2-D arrays (a 1-D array's fibres lie in the plane z = plane_z_mm)
 };
 
 class Field {
@@ -69,11 +77,16 @@ class Field {
   void second_derivatives(double x_mm, double y_mm, double& xx, double& yy) const;
   // AF (V/ms) of a fibre at a point: fibre factor times d2Psi/ds2 along the fibre.
   double af(const Fibre& fibre, double x_mm, double y_mm) const;
+  // The same at a 3-D point for a fibre along `axis` (3-D models).
+  double af_3d(const Fibre& fibre, const FibreAxis& axis, double x_mm, double y_mm,
+               double z_mm) const;
 
   // Largest AF over the receptor's fibres, and where it occurs.
   Peak peak(const Receptor& r) const;
 
  private:
+  Peak peak_3d(const Receptor& r) const;  // a 2-D array's: over the box of fibres
+
   const Setup& setup_;
   std::unique_ptr<Conductor> conductor_;
   std::vector<double> currents_;
@@ -99,6 +112,15 @@ std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>
 // sampled local maximum.  Returns (argmax, max).
 template <class F>
 std::pair<double, double> maximize_1d(F&& f, double a, double b, double step);
+
+// Maximises f(s, t) on [s0, s1] x [t0, t1]: a grid at most `step` apart, then every grid
+// point at least as high as its neighbours refined by alternating golden-section searches
+// along s and t.  Returns (s, t, max).
+struct Max2d {
+  double s, t, value;
+};
+template <class F>
+Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step);
 
 }  // namespace tp
 

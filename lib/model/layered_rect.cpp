@@ -522,6 +522,9 @@ class Layered : public Conductor {
  public:
   Layered(const ElectrodeArray& array, const std::vector<Layer>& layers, double plane_z_mm)
       : x_(array.positions_mm), stack_(layers) {
+    if (array.two_d())
+      bad_input("layered: 2-D arrays (" + array.describe() +
+                ") are not supported by this model yet; use point3d or rect3d");
     if (!(array.width_mm > 0.0)) bad_input("layered: array.width_mm must be > 0");
     for (std::size_t k = 0; k < layers.size(); ++k)
       rect_.push_back(make_rect3d(array, stack_.leading_of(k), plane_z_mm));

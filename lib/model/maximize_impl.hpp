@@ -63,4 +63,56 @@ std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
   return best;
 }
 
+template <class F>
+Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step) {
+  const double ns_d = std::ceil((s1 - s0) / step) + 1, nt_d = std::ceil((t1 - t0) / step) + 1;
+  if (!(ns_d * nt_d <= kMaxSamples)) refuse_sample_count("a fibre region's grid", ns_d * nt_d);
+  const auto ns = static_cast<std::size_t>(ns_d), nt = static_cast<std::size_t>(nt_d);
+  const double hs = ns > 1 ? (s1 - s0) / static_cast<double>(ns - 1) : 0.0;
+  const double ht = nt > 1 ? (t1 - t0) / static_cast<double>(nt - 1) : 0.0;
+  auto sat = [&](std::size_t i) { return i + 1 == ns ? s1 : s0 + static_cast<double>(i) * hs; };
+  auto tat = [&](std::size_t j) { return j + 1 == nt ? t1 : t0 + static_cast<double>(j) * ht; };
+  std::vector<double> v(ns * nt);
+  for (std::size_t j = 0; j < nt; ++j)
+    for (std::size_t i = 0; i < ns; ++i) v[j * ns + i] = f(sat(i), tat(j));
+  Max2d best{s0, t0, v[0]};
+  for (std::size_t j = 0; j < nt; ++j)
+    for (std::size_t i = 0; i < ns; ++i) {
+      const double c = v[j * ns + i];
+      if (c > best.value) best = {sat(i), tat(j), c};
+      bool peak_here = true;
+      for (int dj = -1; dj <= 1 && peak_here; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          if (!(di || dj)) continue;
+          const long ii = static_cast<long>(i) + di, jj = static_cast<long>(j) + dj;
+          if (ii < 0 || jj < 0 || ii >= static_cast<long>(ns) || jj >= static_cast<long>(nt))
+            continue;
+          if (v[static_cast<std::size_t>(jj) * ns + static_cast<std::size_t>(ii)] > c) {
+            peak_here = false;
+            break;
+          }
+        }
+      if (!peak_here) continue;
+      double s = sat(i), t = tat(j), val = c;
+      // Golden-section searches along a line through the point, within a grid step.
+      auto along = [&](double& x, double lo, double hi, double cell, auto&& g) {
+        if (!(cell > 0.0)) return;
+        const auto [xn, vn] =
+            maximize_1d(g, std::max(lo, x - cell), std::min(hi, x + cell), cell / 4);
+        if (vn >= val) {
+          x = xn;
+          val = vn;
+        }
+      };
+      for (int round = 0; round < 40; ++round) {
+        const double sp = s, tp = t;
+        along(s, s0, s1, hs, [&](double sv) { return f(sv, t); });
+        along(t, t0, t1, ht, [&](double tv) { return f(s, tv); });
+        if (std::fabs(s - sp) < 1e-9 && std::fabs(t - tp) < 1e-9) break;
+      }
+      if (val > best.value) best = {s, t, val};
+    }
+  return best;
+}
+
 }  // namespace tp

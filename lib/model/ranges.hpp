@@ -34,6 +34,8 @@ inline constexpr Range diameter_um{0.1, 30.0, "um"};
 // and point3d's source depth (0: on the surface; buried sources for fibre benchmarks).
 inline constexpr Range plane_z_mm{-500.0, 500.0, "mm"};
 inline constexpr Range source_depth_mm{0.0, 20.0, "mm"};
+// A horizontal fibre's direction in the skin plane under a 2-D array (0: along x).
+inline constexpr Range azimuth_deg{-180.0, 180.0, "deg"};
 // How far the fibres run beyond the outer electrodes.
 inline constexpr Range lateral_margin_mm{0.0, 50.0, "mm"};
 // The design document's current limit per electrode (the paper's 2 mA; the stimulus
@@ -43,8 +45,13 @@ inline constexpr Range max_current_mA{0.001, 2.0, "mA"};
 inline constexpr Range amplitude_mA{1e-6, 100.0, "mA"};
 // A weight, before it is multiplied by the amplitude.
 inline constexpr Range weight{-1000.0, 1000.0, ""};
-// Electrodes of an array (a set_weights frame carries 64 channels).
-inline constexpr int max_electrodes = 64;
+// Electrodes (pads) of an array, for design: the field, the optimiser, a bank of pixels.
+inline constexpr int max_electrodes = 256;
+// Channels a stimulus may drive: what a device can (a set_weights frame carries 64
+// channels); make-pulse and stimctl refuse a document with more pads than this.
+inline constexpr int max_channels = 64;
+// A 2-D grid's columns and rows (columns x rows is at most max_electrodes).
+inline constexpr int max_grid_side = 256;
 // af-field's grid: at most this many rows.
 inline constexpr double max_grid_points = 1e8;
 

@@ -18,8 +18,8 @@ namespace {
 Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) {
   const std::string where = "receptors[" + std::to_string(index) + "]";
   if (!j.is_object()) bad_input(where + ": expected an object");
-  static const std::set<std::string> known = {"name",        "orientation", "depth_mm",
-                                              "diameter_um", "myelinated",  "note"};
+  static const std::set<std::string> known = {
+      "name", "orientation", "depth_mm", "diameter_um", "myelinated", "azimuth_deg", "note"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!known.count(it.key())) bad_input(where + ": unknown key '" + it.key() + "'");
   Receptor r;
@@ -64,10 +64,23 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
     if (!j["myelinated"].is_boolean()) bad_input(at + ": 'myelinated' must be true or false");
     r.fibre.myelinated = j["myelinated"].get<bool>();
   }
+  if (j.contains("azimuth_deg")) {
+    if (r.fibre.orientation != Orientation::horizontal)
+      bad_input(at + ": 'azimuth_deg' applies to horizontal fibres only");
+    r.azimuth_deg = json_finite(j["azimuth_deg"], at + " azimuth_deg");
+    ranges::check(r.azimuth_deg, ranges::azimuth_deg, at + " azimuth_deg");
+  }
   return r;
 }
 
 }  // namespace
+
+FibreAxis fibre_axis(const Receptor& r) {
+  if (r.fibre.orientation == Orientation::vertical) return FibreAxis{true, 0.0, 0.0};
+  if (r.azimuth_deg == 0.0) return FibreAxis{};
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  return FibreAxis{false, std::cos(r.azimuth_deg * kDeg), std::sin(r.azimuth_deg * kDeg)};
+}
 
 const char* to_string(Orientation o) {
   return o == Orientation::horizontal ? "horizontal" : "vertical";
@@ -103,6 +116,7 @@ nlohmann::ordered_json receptors_to_json(const std::vector<Receptor>& receptors)
       e["depth_mm"] = {r.depth_min_mm, r.depth_max_mm};
     e["diameter_um"] = r.fibre.diameter_um;
     e["myelinated"] = r.fibre.myelinated;
+    if (r.azimuth_deg != 0.0) e["azimuth_deg"] = r.azimuth_deg;
     list.push_back(std::move(e));
   }
   return list;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "model/conductor.hpp"
 #include "model/fibre.hpp"
 
 namespace tp {
@@ -15,7 +16,13 @@ struct Receptor {
   Fibre fibre;              // orientation, diameter, myelination
   double depth_min_mm = 0;  // horizontal: fibres at every depth in [min, max];
   double depth_max_mm = 0;  // vertical: the segment from the top (min) down to max
+  // Horizontal fibres under a 2-D array: the angle in the skin plane from x (the finger's
+  // long axis) toward z, degrees in [-180, 180] (0: along x).
+  double azimuth_deg = 0;
 };
+
+// The axis a receptor's fibres run along (conductor.hpp).
+FibreAxis fibre_axis(const Receptor& r);
 
 // Parses {"receptors": [...]} or a bare array (format in docs/document-format.md).
 std::vector<Receptor> receptors_from_json(const nlohmann::ordered_json& j);

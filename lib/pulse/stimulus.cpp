@@ -5,12 +5,17 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/ranges.hpp"
 
 namespace tp {
 
 void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
   const PulseShape& p = s.shape;
   if (s.currents_mA.empty()) bad_input("stimulus: no channels");
+  if (s.currents_mA.size() > static_cast<std::size_t>(ranges::max_channels))
+    bad_input("stimulus: " + std::to_string(s.currents_mA.size()) +
+              " channels, more than a stimulator drives (at most " +
+              std::to_string(ranges::max_channels) + ")");
   auto range = [](double v, double lo, double hi, const std::string& what,
                   const std::string& unit) {
     if (!std::isfinite(v) || v < lo || v > hi)

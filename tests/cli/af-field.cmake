@@ -90,3 +90,30 @@ tp_cli_test(af-field refuses-grid-near-source refuses 2 --says "grid point (-1, 
   af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-below-receptors.json --x -2:2:1 --y 2.995:2.995:1)
 tp_cli_test(af-field refuses-grid-near-source-off-plane refuses 2 --says "is 0.005 mm from a point source" --
   af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/point3d-source-below-receptors.json --z 0.005 --x -2:2:1 --y 3:3:1)
+
+# 2-D arrays (issue 21): a grid's summary and its plane map; the 2-D models and bad layouts
+# refused.
+tp_cli_test(af-field golden-grid-summary golden af-field/grid-summary.json --rtol 1e-6 --
+  af-field --grid 4x3 --pitch 2 --row-pitch 1.5 --pad 1x1
+  --weights 0.3,-1,0.2,0.5,0.1,1,-0.7,0.4,-0.2,0.6,-0.9,0.8 --summary)
+tp_cli_test(af-field golden-grid-plane golden af-field/grid-plane.csv --
+  af-field --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pads-point3d.json --plane-depth 0.9
+  --x -3:3:0.5 --z-grid -2:2:0.5)
+tp_cli_test(af-field refuses-grid-line2d refuses 2 --says "takes no 2-D array" --
+  af-field --grid 2x2 --model line2d --summary)
+tp_cli_test(af-field refuses-grid-layered refuses 2 -- af-field --grid 2x2 --model layered --summary)
+tp_cli_test(af-field refuses-grid-too-many refuses 2 --says "at most 256" -- af-field --grid 16x17)
+tp_cli_test(af-field refuses-grid-form refuses 2 -- af-field --grid 8)
+tp_cli_test(af-field refuses-grid-zero refuses 2 -- af-field --grid 0x3)
+tp_cli_test(af-field refuses-grid-and-electrodes refuses 2 -- af-field --grid 2x2 --electrodes 4)
+tp_cli_test(af-field refuses-grid-overlap refuses 2 --says "overlap" -- af-field --grid 2x2 --pad 1.5x0.5)
+tp_cli_test(af-field refuses-pad-without-grid refuses 2 -- af-field --pad 1x1)
+tp_cli_test(af-field refuses-pads-overlap refuses 2 --says "overlap"
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pads-overlap.json -- af-field --config - --summary)
+tp_cli_test(af-field refuses-plane-under-line2d refuses 2 -- af-field --plane-depth 0.9)
+tp_cli_test(af-field refuses-plane-depth-range refuses 2 -- af-field --grid 2x2 --plane-depth 0)
+tp_cli_test(af-field refuses-z-grid-alone refuses 2 -- af-field --grid 2x2 --z-grid 0:1:0.5)
+tp_cli_test(af-field refuses-plane-with-summary refuses 2 -- af-field --grid 2x2 --plane-depth 1 --summary)
+tp_cli_test(af-field refuses-plane-on-source refuses 2 --says "point source"
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pads-point3d.json -- af-field --config -
+  --model point3d --plane-depth 0.5 --x -3:3:0.5 --z-grid -2:2:0.5)

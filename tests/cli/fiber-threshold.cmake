@@ -79,3 +79,4 @@ tp_cli_test(fiber-threshold refuses-source-near-fibres refuses 2 --says "nearer 
 # message names the setting to lower first.
 tp_cli_test(fiber-threshold refuses-search-work-over-bound refuses 2 --says "bound of 1e+12 (fewer --max-evaluations" --
   optimize-weights --mode SAI --objective threshold --max-evaluations 10000 --offsets 64)
+tp_cli_test(fiber-threshold refuses-2d-array refuses 2 --says "1-D arrays only" -- fiber-threshold --grid 2x2 --weights 1,-1,0,0)

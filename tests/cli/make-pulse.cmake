@@ -23,3 +23,7 @@ tp_cli_test(make-pulse golden-json golden make-pulse/sai-1mA-200Hz.json --stdin 
 tp_cli_test(make-pulse golden-asymmetric-csv golden make-pulse/sai-asymmetric.csv --stdin ${W} --
   make-pulse --amplitude 1.5 --frequency 100 --width 200 --balance-width 800 --interphase 50 --count 2 --format csv)
 tp_cli_test(make-pulse plot script ${CMAKE_CURRENT_SOURCE_DIR}/make-pulse/plot.sh)
+
+# A stimulator drives at most 64 channels: a 2-D design with more pads is refused.
+tp_cli_test(make-pulse refuses-more-than-64-pads refuses 2 --says "at most 64"
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/grid-9x8.json -- make-pulse --amplitude 1)
