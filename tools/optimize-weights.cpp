@@ -17,6 +17,7 @@
 #include "io/document.hpp"
 #include "io/reports.hpp"
 #include "model/ranges.hpp"
+#include "opt/focus.hpp"
 #include "opt/minimax.hpp"
 
 int main(int argc, char** argv) {
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   std::string objective = "af";
   tp::cli::FibreOptions fibre;
   int max_evaluations = 120;
+  std::string at, radius, spill;
   app.add_option("--mode", mode,
                  "Target receptor: RA, SAI or PC (any name in the receptor table); several, "
                  "comma-separated, with --format csv: one row each")
@@ -80,6 +82,21 @@ int main(int argc, char** argv) {
                    "on 2 cores for the paper's array]")
       ->check(CLI::Range(10, 10000))
       ->type_name("N");
+  auto* o_at =
+      app.add_option(
+             "--at", at,
+             "A pixel: the target's largest AF at this place on the skin, X (a 1-D array) or "
+             "X,Z (a 2-D array), mm, within the array's extent plus one pitch; the target's AF "
+             "beyond --radius stays at most --spill of its peak")
+          ->type_name("X[,Z]");
+  app.add_option("--radius", radius, "With --at: the pixel's radius, mm [one pitch]")
+      ->type_name("MM")
+      ->needs(o_at);
+  app.add_option("--spill", spill,
+                 "With --at: the target's largest AF beyond the radius over its peak, in (0, 1] "
+                 "[0.3]")
+      ->type_name("S")
+      ->needs(o_at);
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");
@@ -89,9 +106,9 @@ int main(int argc, char** argv) {
     tp::cli::apply_model_options(doc, model);
     if (doc.setup.array.size() < 2)
       tp::bad_input("array: optimisation needs at least 2 electrodes");
-    if (doc.setup.array.two_d())
+    if (doc.setup.array.two_d() && at.empty())
       tp::bad_input("array: " + doc.setup.array.describe() +
-                    " is 2-D; the optimiser designs for 1-D arrays only so far");
+                    " is 2-D: give a pixel's place, --at X,Z");
     tp::OptimizeOptions opt;
     if (!max_current.empty()) doc.max_current_mA = tp::parse_finite(max_current, "--max-current");
     tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
@@ -131,6 +148,42 @@ int main(int argc, char** argv) {
       tp::bad_input("--min-target-af: applies to the AF objective only");
     if (certify && format != "json")
       tp::bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
+    tp::FocusOptions focus;
+    if (!at.empty()) {
+      const std::vector<double> xz = tp::parse_list(at, "--at");
+      const bool two_d = doc.setup.array.two_d();
+      if (xz.size() != (two_d ? 2u : 1u))
+        tp::bad_input("--at: expected " +
+                      std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" +
+                      at + "'");
+      focus.x_mm = xz[0];
+      focus.z_mm = two_d ? xz[1] : 0.0;
+      if (!radius.empty()) {
+        focus.radius_mm = tp::parse_finite(radius, "--radius");
+        if (!(focus.radius_mm > 0.0)) tp::bad_input("--radius: must be > 0 mm, got " + radius);
+      }
+      if (!spill.empty()) focus.spill = tp::parse_finite(spill, "--spill");
+      focus.max_current_mA = opt.max_current_mA;
+      tp::check_focus(doc.setup, focus);
+      if (by_threshold)
+        tp::bad_input("--at: designs by the AF objective only, not --objective threshold");
+      if (certify) tp::bad_input("--certify: with --at is not available yet");
+      if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --at");
+      if (format != "json" || modes.size() > 1) tp::bad_input("--at: one mode, JSON output");
+      if (app.count("--pattern-starts") || app.count("--random-starts"))
+        tp::bad_input(
+            "--pattern-starts, --random-starts: do not apply with --at (the focus is "
+            "solved by linear programming)");
+      const tp::FocusResult r = tp::optimize_focus(doc.setup, modes[0], focus);
+      const std::string text = tp::dump_json(tp::focus_result_to_json(doc, r, focus, timing));
+      std::fprintf(stderr,
+                   "optimize-weights: %s pixel at %s, ratio %.6g, spill %.3g (at most %.3g beyond "
+                   "%.3g mm), target AF %.4g V/ms at %.3g mA, %d rounds, %.3f s\n",
+                   modes[0].c_str(), at.c_str(), r.ratio, r.spill, focus.spill, r.radius_mm,
+                   r.target_max_af, opt.max_current_mA, r.rounds, r.time_s);
+      tp::cli::write_stdout(text);
+      return;
+    }
     if (header_only) {
       if (format != "csv") tp::bad_input("--header-only: needs --format csv");
       tp::cli::write_stdout(tp::optimize_csv_header(doc.setup));

@@ -7,6 +7,7 @@
 #include "io/document.hpp"
 #include "model/constants.hpp"
 #include "model/ranges.hpp"
+#include "opt/focus.hpp"
 #include "opt/minimax.hpp"
 
 namespace tp {
@@ -145,6 +146,48 @@ Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool 
   solver["iterations"] = r.iterations;
   solver["evaluations"] = r.evaluations;
   solver["lp_solves"] = r.lp_solves;
+  if (with_time) solver["time_s"] = r.time_s;
+  j["solver"] = solver;
+  return j;
+}
+
+Json focus_result_to_json(const Document& doc, const FocusResult& r, const FocusOptions& o,
+                          bool with_time) {
+  Document out = doc;
+  out.weights = r.weights;
+  out.extra = Json::object();
+  Json j = document_to_json(out);
+  const bool two_d = doc.setup.array.two_d();
+  j["mode"] = r.mode;
+  j["ratio"] = r.ratio;
+  j["af_unit"] = "V/ms";
+  j["currents_mA"] = r.currents_mA;
+  j["target_max_af"] = r.target_max_af;
+  Json focus;
+  focus["x_mm"] = o.x_mm;
+  if (two_d) focus["z_mm"] = o.z_mm;
+  focus["radius_mm"] = r.radius_mm;
+  focus["spill_max"] = o.spill;
+  focus["spill"] = r.spill;
+  focus["pitch_mm"] = r.pitch_mm;
+  focus["depth_mm"] = r.target_depth_mm;
+  j["focus"] = focus;
+  Json peaks = Json::object();
+  for (std::size_t i = 0; i < r.summary.peaks.size(); ++i) {
+    const Peak& p = r.summary.peaks[i].second;
+    Json e = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
+    if (two_d) e["z_mm"] = p.z_mm;
+    peaks[r.summary.peaks[i].first] = e;
+  }
+  j["receptors_at_limit"] = peaks;
+  Json solver;
+  solver["method"] = "LP at the focus (GLPK), then the least Sum w^2 within " +
+                     number_text(o.tolerance) +
+                     " of its optimum (NNLS), checked on the continuous fibres";
+  solver["sampled_optimum"] = r.sampled_optimum;
+  solver["samples"] = r.samples;
+  solver["lp_solves"] = r.lp_solves;
+  solver["rounds"] = r.rounds;
   if (with_time) solver["time_s"] = r.time_s;
   j["solver"] = solver;
   return j;

@@ -38,6 +38,13 @@ struct OptimizeResult;
 Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool with_time,
                              const std::optional<double>& certified);
 
+// optimize-weights --at: the document with the focal weights, the mode, the ratio, the
+// focus (place, radius, spill bound and spill reached, the target's peak) and the solver.
+struct FocusOptions;
+struct FocusResult;
+Json focus_result_to_json(const Document& doc, const FocusResult& r, const FocusOptions& o,
+                          bool with_time);
+
 // One CSV row per result: electrodes,pitch_mm,mode,ratio,target_max_af,max_af_<R>...,w0,w1,...
 std::string optimize_csv_header(const Setup& setup);  // the header line, with its newline
 std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r);

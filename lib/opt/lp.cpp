@@ -77,8 +77,10 @@ void build(glp_prob* lp, int nz, int n_box, double bound, const std::vector<int>
   glp_load_matrix(lp, static_cast<int>(ia.size()) - 1, ia.data(), ja.data(), ar.data());
 }
 
-// Appends off-target rows (each nz coefficients, then -1 for t), "<= 0".
-void add_rows(glp_prob* lp, int nz, int count, const double* rows) {
+// Appends rows (each nz coefficients): an off-target row with -1 for t, "<= 0"; a capped
+// row without t, "<= its cap" (t_coef 0).
+void add_rows(glp_prob* lp, int nz, int count, const double* rows, const double* t_coef,
+              const double* bound) {
   const int first = glp_add_rows(lp, count);
   std::vector<int> ind(static_cast<std::size_t>(nz) + 2);
   std::vector<double> val(static_cast<std::size_t>(nz) + 2);
@@ -86,9 +88,9 @@ void add_rows(glp_prob* lp, int nz, int count, const double* rows) {
   for (int r = 0; r < count; ++r) {
     for (int j = 0; j < nz; ++j)
       val[static_cast<std::size_t>(j) + 1] = rows[static_cast<std::size_t>(r) * nz + j];
-    val[static_cast<std::size_t>(nz) + 1] = -1.0;
-    glp_set_mat_row(lp, first + r, nz + 1, ind.data(), val.data());
-    glp_set_row_bnds(lp, first + r, GLP_UP, 0.0, 0.0);
+    val[static_cast<std::size_t>(nz) + 1] = t_coef[r];
+    glp_set_mat_row(lp, first + r, t_coef[r] != 0.0 ? nz + 1 : nz, ind.data(), val.data());
+    glp_set_row_bnds(lp, first + r, GLP_UP, 0.0, bound[r]);
   }
 }
 
@@ -139,16 +141,31 @@ void provoke_glpk_error() {
   glp_delete_prob(lp);
 }
 
-TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound)
+TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound,
+                   const Eigen::MatrixXd& capped_rows, const Eigen::VectorXd& caps)
     : nz_(static_cast<int>(off_rows.cols())) {
-  if (!off_rows.allFinite() || !basis.allFinite() || !std::isfinite(weight_bound))
+  if (!off_rows.allFinite() || !basis.allFinite() || !std::isfinite(weight_bound) ||
+      !capped_rows.allFinite() || !caps.allFinite())
     failure("linear programme: non-finite coefficients (a model value out of range)");
+  if (capped_rows.rows() != caps.size() ||
+      (capped_rows.rows() > 0 && capped_rows.cols() != off_rows.cols()))
+    failure("linear programme: capped rows and caps disagree");
   // The ratio is scale invariant: divide every AF row by the largest entry so that GLPK
   // works with numbers near 1 whatever the resistivity, diameters or currents
-  // (see solve() for how z and the bound follow).
-  const double m = off_rows.cwiseAbs().maxCoeff();
+  // (see solve() for how z and the bound follow; a capped row a z <= c becomes
+  // (a / s) (s z) <= c, its cap unchanged).
+  double m = off_rows.size() ? off_rows.cwiseAbs().maxCoeff() : 0.0;
+  if (capped_rows.size()) m = std::max(m, capped_rows.cwiseAbs().maxCoeff());
   scale_ = m > 0 ? m : 1.0;
-  off_ = std::move(off_rows);
+  n_off_ = off_rows.rows();
+  if (capped_rows.rows() == 0) {
+    off_ = std::move(off_rows);
+  } else {
+    off_.resize(off_rows.rows() + capped_rows.rows(), off_rows.cols());
+    off_.topRows(off_rows.rows()) = off_rows;
+    off_.bottomRows(capped_rows.rows()) = capped_rows;
+  }
+  caps_ = caps;
   off_ /= scale_;
   in_lp_.assign(static_cast<std::size_t>(off_.rows()), false);
   const bool box = weight_bound > 0.0;
@@ -189,16 +206,18 @@ TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, doubl
 
 void TargetLp::add(const std::vector<Eigen::Index>& rows) {
   if (rows.empty()) return;
-  std::vector<double> buf;
+  std::vector<double> buf, t_coef, bound;
   buf.reserve(rows.size() * static_cast<std::size_t>(nz_));
   for (Eigen::Index i : rows) {
     in_lp_[static_cast<std::size_t>(i)] = true;
     for (int j = 0; j < nz_; ++j) buf.push_back(off_(i, j));
+    t_coef.push_back(i < n_off_ ? -1.0 : 0.0);
+    bound.push_back(i < n_off_ ? 0.0 : caps_(i - n_off_));
   }
   Guard g;
   glp_prob* lp = lp_;
   const int nz = nz_, count = static_cast<int>(rows.size());
-  if (!guarded(g, [&] { add_rows(lp, nz, count, buf.data()); })) {
+  if (!guarded(g, [&] { add_rows(lp, nz, count, buf.data(), t_coef.data(), bound.data()); })) {
     lp_ = nullptr;
     glpk_failed(g, "adding constraints");
   }
@@ -238,19 +257,21 @@ std::optional<LpSolution> TargetLp::solve(const Eigen::VectorXd& target_row) {
     }
     std::vector<Eigen::Index> more;
     if (out.outcome == Outcome::optimal) {
-      const Eigen::VectorXd v = off_ * z;
+      // The excess of each row over its bound: t for an off-target row, its cap otherwise.
+      Eigen::VectorXd v = off_ * z;
+      v.head(n_off_).array() -= out.value;
+      v.tail(n - n_off_) -= caps_;
       const double tol = 1e-10 * std::max(1.0, std::fabs(out.value));
       std::vector<std::pair<double, Eigen::Index>> violated;
       // Samples run along the fibres in order: add the peaks of the violation only, not
       // their neighbours, which the next solve satisfies with them.
       for (Eigen::Index i = 0; i < n; ++i)
-        if (v(i) - out.value > tol && !in_lp_[static_cast<std::size_t>(i)] &&
-            (i == 0 || v(i) >= v(i - 1)) && (i + 1 == n || v(i) >= v(i + 1)))
-          violated.emplace_back(v(i) - out.value, i);
+        if (v(i) > tol && !in_lp_[static_cast<std::size_t>(i)] && (i == 0 || v(i) >= v(i - 1)) &&
+            (i + 1 == n || v(i) >= v(i + 1)))
+          violated.emplace_back(v(i), i);
       if (violated.empty())  // plateaus: fall back to every violated sample
         for (Eigen::Index i = 0; i < n; ++i)
-          if (v(i) - out.value > tol && !in_lp_[static_cast<std::size_t>(i)])
-            violated.emplace_back(v(i) - out.value, i);
+          if (v(i) > tol && !in_lp_[static_cast<std::size_t>(i)]) violated.emplace_back(v(i), i);
       if (violated.empty()) {
         LpSolution s;
         s.value = out.value;  // t is unchanged by the scaling

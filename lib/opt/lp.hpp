@@ -5,6 +5,8 @@
 //     subject to   off_rows z - t <= 0         every off-target sample stays below t
 //                  target_row . z  = 1         the target point's AF is 1
 //                  -c <= (B z)_i <= c           optional: bound each weight (efficiency)
+//                  capped_rows z <= caps       optional: samples held below a fixed value
+//                                              (a focus: the target's own AF away from it)
 //
 // Its value is the best ratio achievable when the target fires at that point.  Solving it
 // for many target points reuses one GLPK problem and warm-starts from the last basis.
@@ -35,8 +37,11 @@ void provoke_glpk_error();
 class TargetLp {
  public:
   // basis and weight_bound: when weight_bound > 0, |(basis z)_i| <= weight_bound.
-  // off_rows is kept (scaled): move it in when the caller is done with it.
-  TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound);
+  // off_rows is kept (scaled): move it in when the caller is done with it.  capped_rows
+  // (with as many columns) and caps: rows held at or below a fixed value each.
+  TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound,
+           const Eigen::MatrixXd& capped_rows = Eigen::MatrixXd(),
+           const Eigen::VectorXd& caps = Eigen::VectorXd());
   ~TargetLp();
   TargetLp(const TargetLp&) = delete;
   TargetLp& operator=(const TargetLp&) = delete;
@@ -49,7 +54,9 @@ class TargetLp {
   void add(const std::vector<Eigen::Index>& rows);  // off-target rows into the LP
 
   glp_prob* lp_ = nullptr;
-  Eigen::MatrixXd off_;      // every off-target row, scaled
+  Eigen::MatrixXd off_;      // every row, scaled: the off-target ones, then the capped ones
+  Eigen::Index n_off_ = 0;   // how many are off-target rows (<= t); the rest are capped
+  Eigen::VectorXd caps_;     // the capped rows' bounds
   std::vector<bool> in_lp_;  // which rows the LP holds
   std::size_t rows_in_lp_ = 0;
   int nz_;                    // number of z variables

@@ -57,3 +57,28 @@ tp_cli_test(optimize-weights refuses-threshold-unknown-fibre refuses 2 -- optimi
 tp_cli_test(optimize-weights refuses-header-only-json refuses 2 -- optimize-weights --mode SAI --header-only)
 tp_cli_test(optimize-weights refuses-header-only-no-header refuses 2 -- optimize-weights --mode SAI --format csv --header-only --no-header)
 tp_cli_test(optimize-weights refuses-header-only-mode refuses 2 -- optimize-weights --mode SAI,XY --format csv --header-only)
+
+# A pixel (--at, issue 21): a focal pattern's document, the focus that no pattern can
+# satisfy (exit 1, naming the least spill reachable), and the focus's bad input.
+tp_cli_test(optimize-weights golden-focus-pc golden optimize-weights/focus-pc-0.json --rtol 1e-6 --
+  optimize-weights --mode PC --at 0)
+tp_cli_test(optimize-weights golden-focus-grid-sai golden optimize-weights/focus-grid-sai.json --rtol 1e-6 --
+  optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0)
+tp_cli_test(optimize-weights refuses-focus-between-electrodes refuses 1 --says "least spill reachable" --
+  optimize-weights --mode SAI --at 0)
+tp_cli_test(optimize-weights refuses-focus-outside refuses 2 --says "outside the array" --
+  optimize-weights --mode SAI --at 4.6)
+tp_cli_test(optimize-weights refuses-focus-grid-outside refuses 2 --says "outside the array" --
+  optimize-weights --mode SAI --grid 3x3 --pitch 2 --at 0,4.1)
+tp_cli_test(optimize-weights refuses-focus-count refuses 2 -- optimize-weights --mode SAI --at 0,0)
+tp_cli_test(optimize-weights refuses-focus-grid-count refuses 2 -- optimize-weights --mode SAI --grid 3x3 --at 0)
+tp_cli_test(optimize-weights refuses-focus-nan refuses 2 -- optimize-weights --mode SAI --at nan)
+tp_cli_test(optimize-weights refuses-spill-zero refuses 2 -- optimize-weights --mode SAI --at -0.5 --spill 0)
+tp_cli_test(optimize-weights refuses-spill-above-one refuses 2 -- optimize-weights --mode SAI --at -0.5 --spill 1.5)
+tp_cli_test(optimize-weights refuses-radius-zero refuses 2 -- optimize-weights --mode SAI --at -0.5 --radius 0)
+tp_cli_test(optimize-weights refuses-radius-negative refuses 2 -- optimize-weights --mode SAI --at -0.5 --radius=-1)
+tp_cli_test(optimize-weights refuses-spill-without-at refuses 2 -- optimize-weights --mode SAI --spill 0.5)
+tp_cli_test(optimize-weights refuses-grid-without-at refuses 2 --says "--at" -- optimize-weights --mode SAI --grid 3x3)
+tp_cli_test(optimize-weights refuses-focus-csv refuses 2 -- optimize-weights --mode SAI --at -0.5 --format csv)
+tp_cli_test(optimize-weights refuses-focus-certify refuses 2 -- optimize-weights --mode SAI --at -0.5 --certify)
+tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 -- optimize-weights --mode SAI --at -0.5 --objective threshold)

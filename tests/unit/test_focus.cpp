@@ -1,0 +1,188 @@
+// Focal patterns (issue 21, items 3 and 4): the least-distance solver against closed forms,
+// and every pattern checked by the test's own evaluation of the field on a fine grid (the
+// peak's place, the spill bound, the ratio), and symmetric foci giving symmetric weights.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "core/error.hpp"
+#include "model/field.hpp"
+#include "opt/focus.hpp"
+#include "opt/ldp.hpp"
+
+using namespace tp;
+
+TEST_CASE("least distance: the projection onto a half-space and a wedge, and infeasibility",
+          "[focus][ldp]") {
+  // min |x| subject to a . x >= b (b > 0): x = a b / |a|^2.
+  Eigen::MatrixXd g(1, 3);
+  g << 1.0, 2.0, -2.0;
+  Eigen::VectorXd h(1);
+  h << 3.0;
+  const auto x = least_distance(g, h);
+  REQUIRE(x);
+  CHECK((*x - g.row(0).transpose() * (3.0 / 9.0)).norm() < 1e-14);
+  // A wedge x1 >= 1, x2 >= 2 (and a slack constraint x1 + x2 >= -5): (1, 2).
+  Eigen::MatrixXd w(3, 2);
+  w << 1, 0, 0, 1, 1, 1;
+  Eigen::VectorXd hw(3);
+  hw << 1, 2, -5;
+  const auto y = least_distance(w, hw);
+  REQUIRE(y);
+  CHECK(std::fabs((*y)(0) - 1.0) < 1e-13);
+  CHECK(std::fabs((*y)(1) - 2.0) < 1e-13);
+  // x >= 1 and -x >= 0 cannot both hold.
+  Eigen::MatrixXd c(2, 1);
+  c << 1, -1;
+  Eigen::VectorXd hc(2);
+  hc << 1, 0;
+  CHECK_FALSE(least_distance(c, hc));
+  // Against a brute-force search over every active set of a random 4 x 3 problem.
+  Eigen::MatrixXd e(4, 3);
+  e << 0.3, -1.2, 0.5, 1.1, 0.2, -0.7, -0.4, 0.9, 1.3, 0.8, 0.1, 0.2;
+  Eigen::VectorXd f(4);
+  f << 1.0, -0.5, 0.7, 0.2;
+  const Eigen::VectorXd u = nnls(e, f);
+  double best = INFINITY;
+  for (int mask = 0; mask < 8; ++mask) {
+    std::vector<int> cols;
+    for (int j = 0; j < 3; ++j)
+      if (mask & (1 << j)) cols.push_back(j);
+    Eigen::MatrixXd ep(4, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      ep.col(static_cast<Eigen::Index>(k)) = e.col(cols[k]);
+    Eigen::VectorXd s =
+        cols.empty() ? Eigen::VectorXd() : Eigen::VectorXd(ep.colPivHouseholderQr().solve(f));
+    if ((s.array() < 0).any()) continue;
+    best = std::min(best, (ep * s - f).norm());
+  }
+  CHECK((u.array() >= 0).all());
+  CHECK((e * u - f).norm() == Approx(best).epsilon(1e-12));
+}
+
+namespace {
+
+struct Check {
+  double peak_af, peak_x, peak_z, spill, ratio;
+};
+
+// The test's own evaluation: every receptor's AF on a grid `h` apart over its fibres (the
+// depths of its region every h too), the target's peak, its largest AF beyond the radius
+// over that peak, and the mode's ratio.
+Check independent(const Setup& s, const std::vector<double>& currents, std::size_t target,
+                  const FocusOptions& o, double radius, double h) {
+  const Field f(s, currents);
+  const bool two_d = s.array.two_d();
+  Check c{-INFINITY, 0, 0, -INFINITY, 0};
+  double off = -INFINITY;
+  for (std::size_t r = 0; r < s.receptors.size(); ++r) {
+    const Receptor& rec = s.receptors[r];
+    const Region g = fibre_region(s, rec);
+    const double hy =
+        g.y1_mm > g.y0_mm ? (g.y1_mm - g.y0_mm) / std::ceil((g.y1_mm - g.y0_mm) / h) : 1;
+    for (double y = g.y0_mm; y <= g.y1_mm + 1e-9; y += hy)
+      for (double z = g.z0_mm; z <= g.z1_mm + 1e-9; z += (two_d ? h : 1.0))
+        for (double x = g.x0_mm; x <= g.x1_mm + 1e-9; x += h) {
+          const double v =
+              two_d ? f.af_3d(rec.fibre, fibre_axis(rec), x, y, z) : f.af(rec.fibre, x, y);
+          if (r != target) {
+            off = std::max(off, v);
+            continue;
+          }
+          if (v > c.peak_af) c = {v, x, z, c.spill, 0};
+          const double d = two_d ? std::hypot(x - o.x_mm, z - o.z_mm) : std::fabs(x - o.x_mm);
+          if (d > radius) c.spill = std::max(c.spill, v);
+        }
+  }
+  c.spill /= c.peak_af;
+  c.ratio = off / c.peak_af;
+  return c;
+}
+
+void confirm(const Setup& s, const std::string& mode, const FocusOptions& o, double h) {
+  const FocusResult r = optimize_focus(s, mode, o);
+  const std::size_t t = receptor_index(s, mode);
+  const Check c = independent(s, r.currents_mA, t, o, r.radius_mm, h);
+  INFO(mode << " ratio " << r.ratio << " vs " << c.ratio << ", spill " << r.spill << " vs "
+            << c.spill << ", peak at " << c.peak_x << ", " << c.peak_z);
+  const double d = s.array.two_d() ? std::hypot(c.peak_x - o.x_mm, c.peak_z - o.z_mm)
+                                   : std::fabs(c.peak_x - o.x_mm);
+  CHECK(d <= r.pitch_mm / 4 + h);
+  CHECK(c.spill <= o.spill * 1.005);
+  CHECK(r.spill <= o.spill * 1.005);
+  CHECK(std::fabs(c.ratio - r.ratio) <= 0.005 * std::fabs(r.ratio));
+  CHECK(std::fabs(c.peak_af - r.target_max_af) <= 0.005 * r.target_max_af);
+  double sum = 0, big = 0;
+  for (double w : r.weights) {
+    sum += w;
+    big = std::max(big, std::fabs(w));
+  }
+  CHECK(std::fabs(sum) < 1e-12);
+  CHECK(big == 1.0);
+}
+
+}  // namespace
+
+TEST_CASE("focal patterns on the paper's array, confirmed by an independent fine grid", "[focus]") {
+  Setup s;  // the paper's 8 x 1 mm array, line2d
+  FocusOptions o;
+  o.x_mm = -0.5;  // under electrode 4
+  for (const char* mode : {"RA", "SAI", "PC"}) confirm(s, mode, o, 0.01);
+  s.conductor.model = "rect3d";
+  for (const char* mode : {"RA", "SAI", "PC"}) confirm(s, mode, o, 0.02);
+}
+
+TEST_CASE("a symmetric focus gives symmetric weights (1-D and 2-D)", "[focus]") {
+  Setup s;
+  FocusOptions o;
+  o.x_mm = 0.0;  // the paper's array's centre, between electrodes 4 and 5: PC is feasible
+  const FocusResult r = optimize_focus(s, "PC", o);
+  for (std::size_t i = 0; i < 8; ++i) CHECK(std::fabs(r.weights[i] - r.weights[7 - i]) < 1e-6);
+  // RA and SAI cannot peak between two electrodes 1 mm apart under line2d: a runtime
+  // failure naming the least spill reachable.
+  for (const char* mode : {"RA", "SAI"}) {
+    try {
+      optimize_focus(s, mode, o);
+      FAIL(mode << " accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::failure);
+      CHECK_THAT(e.what(), Catch::Contains("least spill reachable"));
+    }
+  }
+  Setup g;
+  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
+  g.conductor.model = "rect3d";
+  g.lateral_margin_mm = 3.0;
+  FocusOptions c;
+  for (const char* mode : {"SAI", "PC"}) {
+    const FocusResult q = optimize_focus(g, mode, c);
+    auto w = [&](int row, int col) { return q.weights[static_cast<std::size_t>(row * 3 + col)]; };
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) {
+        CHECK(std::fabs(w(row, col) - w(row, 2 - col)) < 1e-6);  // x -> -x
+        CHECK(std::fabs(w(row, col) - w(2 - row, col)) < 1e-6);  // z -> -z
+      }
+    confirm(g, mode, c, 0.05);
+  }
+}
+
+TEST_CASE("a focus is checked before any work", "[focus]") {
+  Setup s;
+  auto refuses = [&](FocusOptions o) {
+    CHECK_THROWS_MATCHES(
+        optimize_focus(s, "SAI", o), Error,
+        Catch::Predicate<Error>([](const Error& e) { return e.code() == ExitCode::bad_input; }));
+  };
+  FocusOptions o;
+  o.x_mm = 4.6;  // beyond 3.5 + one pitch
+  refuses(o);
+  o = FocusOptions{};
+  o.spill = 0.0;
+  refuses(o);
+  o.spill = 1.5;
+  refuses(o);
+  o = FocusOptions{};
+  o.radius_mm = -1.0;
+  refuses(o);
+}
