@@ -81,8 +81,14 @@ int main(int argc, char** argv) {
       tp::bad_input("--summary: --x, --y and --plane-depth do not apply");
     if (!z_spec.empty() && plane_depth.empty())
       tp::bad_input("--z-grid: applies with --plane-depth only");
+    if (summary && doc.setup.array.two_d())
+      tp::cli::refuse_plane_z(doc, model,
+                              "to --summary under a 2-D array (its fibres fill every z; the "
+                              "plane places af-field's x-y section only)");
     if (!plane_depth.empty()) {
       if (!y_spec.empty()) tp::bad_input("--y: does not apply with --plane-depth (one depth)");
+      tp::cli::refuse_plane_z(doc, model,
+                              "with --plane-depth (a plane at one depth, over every z)");
       const double depth = tp::parse_finite(plane_depth, "--plane-depth");
       tp::ranges::check(depth, tp::ranges::depth_mm, "--plane-depth");
       const tp::Axis x =
@@ -90,11 +96,13 @@ int main(int argc, char** argv) {
       const tp::Axis z =
           z_spec.empty() ? tp::default_z_axis(doc.setup.array) : tp::parse_axis(z_spec, "--z-grid");
       tp::validate_plane(x, z, depth);
+      tp::check_grid_work(static_cast<double>(x.count()) * static_cast<double>(z.count()),
+                          doc.setup.array.size());
       tp::check_model_depth(doc.setup, depth, "--plane-depth");
       const tp::Field field(doc.setup, currents_mA);
       if (!field.conductor().three_d())
         tp::bad_input("--plane-depth: " + doc.setup.conductor.model +
-                      " is a 2-D model; a plane across needs point3d, rect3d or layered");
+                      " does not evaluate points off the fibres' plane; use point3d or rect3d");
       tp::check_plane(doc.setup, field.conductor(), x, z, depth);  // before the first row
       tp::write_af_plane(stdout, field, x, z, depth);
       return;
@@ -104,6 +112,8 @@ int main(int argc, char** argv) {
     const tp::Axis y = y_spec.empty() ? tp::default_y_axis() : tp::parse_axis(y_spec, "--y");
     if (!summary) {  // every check before the first row is written
       tp::validate_grid(x, y);
+      tp::check_grid_work(static_cast<double>(x.count()) * static_cast<double>(y.count()),
+                          doc.setup.array.size());
       tp::check_model_depth(doc.setup, y.at(y.count() - 1), "--y: the deepest row,");
     }
     const tp::Field field(doc.setup, currents_mA);

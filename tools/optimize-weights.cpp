@@ -106,6 +106,10 @@ int main(int argc, char** argv) {
     tp::cli::apply_model_options(doc, model);
     if (doc.setup.array.size() < 2)
       tp::bad_input("array: optimisation needs at least 2 electrodes");
+    if (doc.setup.array.two_d())
+      tp::cli::refuse_plane_z(doc, model,
+                              "under a 2-D array (its fibres fill every z; the plane places "
+                              "af-field's x-y section only)");
     if (doc.setup.array.two_d() && at.empty())
       tp::bad_input("array: " + doc.setup.array.describe() +
                     " is 2-D: give a pixel's place, --at X,Z");

@@ -12,7 +12,7 @@ namespace tp::cli {
 CLI::Option* add_array_options(CLI::App& app, ArrayOptions& o, const std::string& config_help) {
   auto* config = app.add_option("--config", o.config, config_help)->type_name("FILE");
   auto* n = app.add_option("--electrodes", o.electrodes,
-                           "Number of electrodes of a uniform array, 1 to 256 [8]")
+                           "Number of electrodes of a uniform array, 1 to 64 [8]")
                 ->type_name("N");
   auto* pitch =
       app.add_option("--pitch", o.pitch, "Electrode pitch (a grid's along x), mm, 0.01 to 100 [1]")
@@ -80,6 +80,10 @@ Document load_document(const ArrayOptions& o, int min_electrodes) {
     ranges::check(w, ranges::width_mm, "--pad width");
     ranges::check(l, ranges::length_mm, "--pad length");
   }
+  if (o.pad.empty()) {  // the default pads must be in range too, named as such
+    ranges::check(w, ranges::width_mm, "--pad width (default half the --pitch)");
+    ranges::check(l, ranges::length_mm, "--pad length (default half the --row-pitch)");
+  }
   doc.setup.array = ElectrodeArray::grid_of(static_cast<int>(c), static_cast<int>(r), p, rp, w, l);
   doc.setup.conductor.model = "rect3d";
   return doc;
@@ -123,6 +127,13 @@ void apply_model_options(Document& doc, const ModelOptions& o) {
     doc.setup.conductor.skin = load_skin(o.skin, "--skin");
   }
   validate_setup(doc.setup);
+}
+
+void refuse_plane_z(const Document& doc, const ModelOptions& o, const std::string& why) {
+  if (!o.plane_z.empty()) bad_input("--z: does not apply " + why);
+  if (std::find(doc.model_settings.begin(), doc.model_settings.end(), "plane_z_mm") !=
+      doc.model_settings.end())
+    bad_input("model.plane_z_mm: does not apply " + why);
 }
 
 }  // namespace tp::cli

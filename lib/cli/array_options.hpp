@@ -33,5 +33,8 @@ struct ModelOptions {
 void add_model_options(CLI::App& app, ModelOptions& o);
 // Applies the flags to doc and checks the model against the receptors (bad input, exit 2).
 void apply_model_options(Document& doc, const ModelOptions& o);
+// Refuses (bad input) a fibre plane (--z, or the document's model.plane_z_mm) where it
+// would be ignored, saying `why`.
+void refuse_plane_z(const Document& doc, const ModelOptions& o, const std::string& why);
 
 }  // namespace tp::cli

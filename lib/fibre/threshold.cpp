@@ -301,6 +301,9 @@ const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& 
 
 std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                         const Receptor& r, const ThresholdSettings& s) {
+  if (setup.array.two_d())
+    bad_input("array: " + setup.array.describe() +
+              " is 2-D; fibres are simulated under 1-D arrays only");
   const double d = r.fibre.diameter_um;
   if (!r.fibre.myelinated)
     bad_input("receptor " + r.name + ": the fibre models are myelinated (myelinated: false)");

@@ -221,8 +221,8 @@ ElectrodeArray array_from_flags(const std::string& electrodes, const std::string
   if (n < min_electrodes)
     bad_input("--electrodes: need at least " + std::to_string(min_electrodes) + ", got " +
               electrodes);
-  if (n > ranges::max_electrodes)
-    bad_input("--electrodes: at most " + std::to_string(ranges::max_electrodes) + ", got " +
+  if (n > ranges::max_line_electrodes)
+    bad_input("--electrodes: at most " + std::to_string(ranges::max_line_electrodes) + ", got " +
               electrodes);
   const double p = pitch.empty() ? 1.0 : parse_finite(pitch, "--pitch");
   ranges::check(p, ranges::pitch_mm, "--pitch");

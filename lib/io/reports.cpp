@@ -78,6 +78,15 @@ void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axi
   csv.flush();
 }
 
+void check_grid_work(double points, std::size_t pads) {
+  constexpr double kMaxWork = 6.4e9;
+  const double work = points * static_cast<double>(pads);
+  if (!(work <= kMaxWork))
+    bad_input("grid: " + number_text(points) + " points x " + std::to_string(pads) +
+              " pads = " + number_text(work) + " pad evaluations, more than " +
+              number_text(kMaxWork) + " (a coarser or smaller grid)");
+}
+
 Axis default_z_axis(const ElectrodeArray& a) {
   return Axis{std::max(ranges::position_mm.lo, std::floor(a.z_min_mm() - 5.0)),
               std::min(ranges::position_mm.hi, std::ceil(a.z_max_mm() + 5.0)), 0.1};

@@ -22,6 +22,10 @@ void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis
 void validate_plane(const Axis& x, const Axis& z, double y_mm);
 void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axis& z, double y_mm);
 
+// Bad input when a grid of `points` over `pads` electrodes would take more than 6.4e9 pad
+// evaluations (1e8 points of a 64-electrode array): hours of output.
+void check_grid_work(double points, std::size_t pads);
+
 // Default grid: the array +-5 mm at 0.1 mm, depths 0.2 to 3 mm at 0.05 mm; along z, the
 // pads' centres +-5 mm at 0.1 mm.
 Axis default_x_axis(const ElectrodeArray& a);

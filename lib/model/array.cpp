@@ -13,17 +13,22 @@ namespace tp {
 namespace {
 
 void check_count(double count, const std::string& what) {
-  if (!(count >= 1 && count <= ranges::max_electrodes))
+  if (!(count >= 1 && count <= ranges::max_line_electrodes))
     bad_input(what + ": " + number_text(count) + " outside [1, " +
-              std::to_string(ranges::max_electrodes) + "]");
+              std::to_string(ranges::max_line_electrodes) + "]");
 }
 
 }  // namespace
 
 std::string ElectrodeArray::describe() const {
   const std::string n = std::to_string(size());
-  if (grid())
-    return "a " + std::to_string(columns) + " x " + std::to_string(rows) + " grid of pads";
+  if (grid()) {
+    // "an" before the numbers spoken with a vowel first (8, 11, 18, 80 to 89).
+    const bool an =
+        columns == 8 || columns == 11 || columns == 18 || (columns >= 80 && columns <= 89);
+    return (an ? "an " : "a ") + std::to_string(columns) + " x " + std::to_string(rows) +
+           " grid of pads";
+  }
   if (two_d()) return n + (size() == 1 ? " pad" : " pads");
   return n + (size() == 1 ? " electrode" : " electrodes");
 }
@@ -89,9 +94,10 @@ ElectrodeArray ElectrodeArray::pads(std::vector<double> x_mm, std::vector<double
 void ElectrodeArray::validate() const {
   const char* what = two_d() ? "pads" : "electrodes";
   if (positions_mm.empty()) bad_input(std::string("array: no ") + what);
-  if (positions_mm.size() > static_cast<std::size_t>(ranges::max_electrodes))
+  const int most = two_d() ? ranges::max_electrodes : ranges::max_line_electrodes;
+  if (positions_mm.size() > static_cast<std::size_t>(most))
     bad_input("array: " + std::to_string(positions_mm.size()) + " " + what + ", at most " +
-              std::to_string(ranges::max_electrodes));
+              std::to_string(most) + (two_d() ? "" : " (a 1-D array; a 2-D array up to 256 pads)"));
   if (two_d() && z_mm.size() != positions_mm.size())
     failure("array: " + std::to_string(z_mm.size()) + " z positions for " +
             std::to_string(positions_mm.size()) + " pads");
@@ -106,12 +112,12 @@ void ElectrodeArray::validate() const {
   ranges::check(length_mm, ranges::length_mm, "array.length_mm");
   if (two_d()) {
     // Rectangles overlap when they are closer than their size along both axes; pads that
-    // touch along an edge do not.
+    // touch along an edge do not (to 1e-9 relative: a grid's centres are rounded).
     if (!(width_mm > 0.0)) bad_input("array.width_mm: a 2-D array's pads need a width > 0 mm");
     for (std::size_t i = 0; i < size(); ++i)
       for (std::size_t j = i + 1; j < size(); ++j)
-        if (std::fabs(positions_mm[i] - positions_mm[j]) < width_mm &&
-            std::fabs(z_mm[i] - z_mm[j]) < length_mm)
+        if (std::fabs(positions_mm[i] - positions_mm[j]) < width_mm * (1.0 - 1e-9) &&
+            std::fabs(z_mm[i] - z_mm[j]) < length_mm * (1.0 - 1e-9))
           bad_input("array: pads " + std::to_string(i) + " (" + number_text(positions_mm[i]) +
                     ", " + number_text(z_mm[i]) + ") and " + std::to_string(j) + " (" +
                     number_text(positions_mm[j]) + ", " + number_text(z_mm[j]) + ") mm overlap (" +

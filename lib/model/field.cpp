@@ -11,7 +11,9 @@ namespace tp {
 
 void refuse_sample_count(const char* what, double count) {
   bad_input(std::string(what) + ": " + number_text(count) + " samples, more than the cap of " +
-            number_text(kMaxSamples) + " (a depth, margin or array span out of range)");
+            number_text(kMaxSamples) +
+            " (fibres too shallow for the region's extent: deeper fibres, a smaller margin or a "
+            "smaller array)");
 }
 
 void check_model_depth(const Setup& setup, double depth_mm, const std::string& what) {
@@ -226,6 +228,21 @@ Peak Field::peak_3d(const Receptor& r) const {
   // box's faces (maximum principle), and on the planes of the layers' interfaces inside it.
   const Region reg = fibre_region(setup_, r);
   const FibreAxis axis = fibre_axis(r);
+  // The work, before any: each face's grid times the pads.
+  {
+    const double h = reg.y0_mm / 10.0;
+    const double plane =
+        (std::ceil((reg.x1_mm - reg.x0_mm) / h) + 1) * (std::ceil((reg.z1_mm - reg.z0_mm) / h) + 1);
+    const double work =
+        plane * (reg.y1_mm > reg.y0_mm ? 2.0 : 1.0) * static_cast<double>(setup_.array.size());
+    if (!(work <= kMaxFieldWork))
+      bad_input("receptor " + r.name + "'s fibres: an estimated " + number_text(work) +
+                " pad evaluations to find their largest AF, more than the bound of " +
+                number_text(kMaxFieldWork) + " (fibres " + number_text(reg.y0_mm) +
+                " mm deep over " + number_text(reg.x1_mm - reg.x0_mm) + " x " +
+                number_text(reg.z1_mm - reg.z0_mm) + " mm under " + setup_.array.describe() +
+                ": deeper fibres, a smaller margin or fewer pads)");
+  }
   Peak best;
   bool first = true;
   // A face: the plane y = const over x and z, sampled at a tenth of its depth (the AF

@@ -58,6 +58,10 @@ Region fibre_region(const Setup& setup, const Receptor& r);
 // electrode): summarize() and the optimisation problem (make_mode_problem) call it.
 void check_fibre_reach(const Setup& setup, const Conductor& conductor);
 
+// The most pad evaluations one receptor's search under a 2-D array may take (about 20 s
+// of rect3d on one core); more is bad input, named before any work.
+inline constexpr double kMaxFieldWork = 2e9;
+
 struct Peak {
   double af = 0.0;  // V/ms, largest AF over the receptor's fibres
   double x_mm = 0.0;

@@ -80,18 +80,24 @@ Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step
     for (std::size_t i = 0; i < ns; ++i) {
       const double c = v[j * ns + i];
       if (c > best.value) best = {sat(i), tat(j), c};
-      bool peak_here = true;
+      if (!(c > -INFINITY)) continue;  // a masked point (-inf) is no maximum to refine
+      // A local maximum: no neighbour higher, and one lower (a plateau, as of all-zero
+      // weights, has nothing to refine: its value is the grid's).
+      bool peak_here = true, above_one = false;
       for (int dj = -1; dj <= 1 && peak_here; ++dj)
         for (int di = -1; di <= 1; ++di) {
           if (!(di || dj)) continue;
           const long ii = static_cast<long>(i) + di, jj = static_cast<long>(j) + dj;
           if (ii < 0 || jj < 0 || ii >= static_cast<long>(ns) || jj >= static_cast<long>(nt))
             continue;
-          if (v[static_cast<std::size_t>(jj) * ns + static_cast<std::size_t>(ii)] > c) {
+          const double n = v[static_cast<std::size_t>(jj) * ns + static_cast<std::size_t>(ii)];
+          if (n > c) {
             peak_here = false;
             break;
           }
+          if (n < c) above_one = true;
         }
+      if (!above_one) continue;
       if (!peak_here) continue;
       double s = sat(i), t = tat(j), val = c;
       // Golden-section searches along a line through the point, within a grid step.
@@ -99,7 +105,7 @@ Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step
         if (!(cell > 0.0)) return;
         const auto [xn, vn] =
             maximize_1d(g, std::max(lo, x - cell), std::min(hi, x + cell), cell / 4);
-        if (vn >= val) {
+        if (vn > val) {
           x = xn;
           val = vn;
         }

@@ -45,8 +45,10 @@ inline constexpr Range max_current_mA{0.001, 2.0, "mA"};
 inline constexpr Range amplitude_mA{1e-6, 100.0, "mA"};
 // A weight, before it is multiplied by the amplitude.
 inline constexpr Range weight{-1000.0, 1000.0, ""};
-// Electrodes (pads) of an array, for design: the field, the optimiser, a bank of pixels.
+// Pads of a 2-D array, for design: the field, the optimiser, a bank of pixels.
 inline constexpr int max_electrodes = 256;
+// Electrodes of a 1-D array (the unconstrained optimiser's work grows fast with them).
+inline constexpr int max_line_electrodes = 64;
 // Channels a stimulus may drive: what a device can (a set_weights frame carries 64
 // channels); make-pulse and stimctl refuse a document with more pads than this.
 inline constexpr int max_channels = 64;

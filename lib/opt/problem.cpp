@@ -91,6 +91,8 @@ ModeProblem make_mode_problem(const Setup& setup, const std::string& mode, doubl
                               bool target_rows) {
   if (setup.array.size() < 2) bad_input("optimisation needs at least 2 electrodes");
   if (setup.receptors.size() < 2) bad_input("optimisation needs at least 2 receptors");
+  if (setup.array.two_d())
+    bad_input("array: " + setup.array.describe() + " is 2-D: give a pixel's place (--at X,Z)");
   ModeProblem p;
   p.mode = mode;
   p.target = receptor_index(setup, mode);

@@ -117,3 +117,13 @@ tp_cli_test(af-field refuses-plane-with-summary refuses 2 -- af-field --grid 2x2
 tp_cli_test(af-field refuses-plane-on-source refuses 2 --says "point source"
   --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pads-point3d.json -- af-field --config -
   --model point3d --plane-depth 0.5 --x -3:3:0.5 --z-grid -2:2:0.5)
+tp_cli_test(af-field golden-grid-zero-weights golden af-field/grid-zero-summary.json --
+  af-field --grid 8x1 --weights 0,0,0,0,0,0,0,0 --summary)
+tp_cli_test(af-field refuses-z-with-grid-summary refuses 2 --says "--z: does not apply" --
+  af-field --grid 2x2 --z 3 --summary)
+tp_cli_test(af-field refuses-z-with-plane refuses 2 --says "--z: does not apply" --
+  af-field --model rect3d --z 1 --plane-depth 1)
+tp_cli_test(af-field refuses-grid-work refuses 2 --says "pad evaluations" --
+  af-field --grid 16x16 --pitch 18 --summary)
+tp_cli_test(af-field refuses-plane-work refuses 2 --says "pad evaluations" --
+  af-field --grid 16x16 --pitch 2 --plane-depth 1 --x -500:500:0.02 --z-grid -500:500:1)

@@ -88,7 +88,10 @@ TEST_CASE("2-D arrays refuse overlapping pads, too many pads and the 2-D models"
       CHECK_THAT(e.what(), Catch::Contains(says));
     }
   };
-  // Touching along an edge is allowed; closer is not.
+  // Touching along an edge is allowed, also where a grid's centres are rounded (0.3 mm);
+  // closer is not.
+  for (const double p : {0.1, 0.15, 0.3, 0.7, 1.1, 2.3})
+    CHECK_NOTHROW(ElectrodeArray::grid_of(8, 8, p, p, p, p));
   CHECK_NOTHROW(document_from_json(Json::parse(R"({"array": {"pads": [{"x_mm": 0, "z_mm": 0},
       {"x_mm": 1, "z_mm": 0.5}], "width_mm": 1, "length_mm": 1}})")));
   refuses(R"({"array": {"pads": [{"x_mm": 0, "z_mm": 0}, {"x_mm": 0.9, "z_mm": 0.5}],
@@ -254,4 +257,31 @@ TEST_CASE("a 2-D array's receptor peak: a lone cathode's SAI peak lies under it"
       best = std::max(best, f.af_3d(r.fibre, fibre_axis(r), x, 0.9, z));
   CHECK(sai.af >= best);
   CHECK(sai.af <= best * (1 + 1e-3));
+}
+
+TEST_CASE("a 2-D array's peak over a box of fibres (a depth range) lies on its faces",
+          "[array2d][rect3d]") {
+  // A horizontal receptor over a depth range and a slanted one: the faces' search against
+  // the test's own scan of the whole box.
+  Setup s;
+  s.array = ElectrodeArray::grid_of(4, 3, 2.0, 1.5, 1.0, 1.0);
+  s.conductor = params("rect3d");
+  s.lateral_margin_mm = 2.0;
+  s.receptors[2].depth_min_mm = 1.2;  // PC over 1.2 to 2.0 mm
+  s.receptors[1].azimuth_deg = 35.0;  // SAI slanted
+  const std::vector<double> currents = {0.3, -1, 0.2, 0.5, 0.1, 1, -0.7, 0.4, -0.2, 0.6, -0.9, 0.8};
+  const Summary sum = summarize(s, currents);
+  const Field f(s, currents);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Receptor& r = s.receptors[k];
+    const Region g = fibre_region(s, r);
+    double best = -INFINITY;
+    for (double y = g.y0_mm; y <= g.y1_mm + 1e-9; y += 0.1)
+      for (double z = g.z0_mm; z <= g.z1_mm + 1e-9; z += 0.05)
+        for (double x = g.x0_mm; x <= g.x1_mm + 1e-9; x += 0.05)
+          best = std::max(best, f.af_3d(r.fibre, fibre_axis(r), x, y, z));
+    INFO(r.name);
+    CHECK(sum.peaks[k].second.af >= best);
+    CHECK(sum.peaks[k].second.af <= best * (1 + 2e-3));
+  }
 }
