@@ -12,70 +12,79 @@
 
 namespace tp {
 
-void validate_grid(const Axis& x, const Axis& y) {
-  if (!(y.min > 0.0)) bad_input("--y: depths must be > 0 mm (the skin surface is y = 0)");
-  ranges::check(y.min, ranges::depth_mm, "--y MIN");
-  ranges::check(y.max, ranges::depth_mm, "--y MAX");
-  ranges::check(x.min, ranges::position_mm, "--x MIN");
-  ranges::check(x.max, ranges::position_mm, "--x MAX");
-  const double points = static_cast<double>(x.count()) * static_cast<double>(y.count());
+namespace {
+
+// An axis along the skin (MIN and MAX within the positions' range), and the grid's size.
+void check_lateral(const Axis& a, const std::string& flag) {
+  ranges::check(a.min, ranges::position_mm, flag + " MIN");
+  ranges::check(a.max, ranges::position_mm, flag + " MAX");
+}
+void check_points(const Axis& a, const Axis& b) {
+  const double points = static_cast<double>(a.count()) * static_cast<double>(b.count());
   if (points > ranges::max_grid_points)
     bad_input("grid: " + number_text(points) + " points, more than " +
               number_text(ranges::max_grid_points));
 }
 
-void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y) {
-  validate_grid(x, y);
-  const double k = fibre_factor_mm2_per_ms(
-      Fibre{Orientation::horizontal, constants::reference_diameter_um, true});
+}  // namespace
+
+void validate_grid(const Axis& x, const Axis& y) {
+  if (!(y.min > 0.0)) bad_input("--y: depths must be > 0 mm (the skin surface is y = 0)");
+  ranges::check(y.min, ranges::depth_mm, "--y MIN");
+  ranges::check(y.max, ranges::depth_mm, "--y MAX");
+  check_lateral(x, "--x");
+  check_points(x, y);
+}
+
+namespace {
+
+// Rows (a, b, af_h, af_v) over the grid a (inner) by b (outer): values(a, b, af_h, af_v).
+template <class F>
+void write_map(std::FILE* out, const char* b_name, const Axis& a, const Axis& b, F&& values) {
   CsvWriter csv(out, 1 << 20);
-  csv.header({"x_mm", "y_mm", "af_h", "af_v"});
-  const std::size_t nx = x.count(), ny = y.count();
+  csv.header({"x_mm", b_name, "af_h", "af_v"});
+  const std::size_t na = a.count(), nb = b.count();
   double row[4];
-  for (std::size_t j = 0; j < ny; ++j) {
-    row[1] = y.at(j);
-    for (std::size_t i = 0; i < nx; ++i) {
-      row[0] = x.at(i);
-      double xx = 0.0, yy = 0.0;
-      field.second_derivatives(row[0], row[1], xx, yy);
-      row[2] = k * xx;
-      row[3] = k * yy;
+  for (std::size_t j = 0; j < nb; ++j) {
+    row[1] = b.at(j);
+    for (std::size_t i = 0; i < na; ++i) {
+      row[0] = a.at(i);
+      values(row[0], row[1], row[2], row[3]);
       csv.row(row, 4);
     }
   }
   csv.flush();
 }
 
+}  // namespace
+
+void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y) {
+  validate_grid(x, y);
+  const double k = fibre_factor_mm2_per_ms(
+      Fibre{Orientation::horizontal, constants::reference_diameter_um, true});
+  write_map(out, "y_mm", x, y, [&](double xv, double yv, double& h, double& v) {
+    double xx = 0.0, yy = 0.0;
+    field.second_derivatives(xv, yv, xx, yy);
+    h = k * xx;
+    v = k * yy;
+  });
+}
+
 void validate_plane(const Axis& x, const Axis& z, double y_mm) {
   ranges::check(y_mm, ranges::depth_mm, "--plane-depth");
-  ranges::check(x.min, ranges::position_mm, "--x MIN");
-  ranges::check(x.max, ranges::position_mm, "--x MAX");
-  ranges::check(z.min, ranges::position_mm, "--z-grid MIN");
-  ranges::check(z.max, ranges::position_mm, "--z-grid MAX");
-  const double points = static_cast<double>(x.count()) * static_cast<double>(z.count());
-  if (points > ranges::max_grid_points)
-    bad_input("grid: " + number_text(points) + " points, more than " +
-              number_text(ranges::max_grid_points));
+  check_lateral(x, "--x");
+  check_lateral(z, "--z-grid");
+  check_points(x, z);
 }
 
 void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axis& z, double y_mm) {
   validate_plane(x, z, y_mm);
   const Fibre fibre{Orientation::horizontal, constants::reference_diameter_um, true};
   const FibreAxis along_x{}, vertical{true, 0.0, 0.0};
-  CsvWriter csv(out, 1 << 20);
-  csv.header({"x_mm", "z_mm", "af_h", "af_v"});
-  const std::size_t nx = x.count(), nz = z.count();
-  double row[4];
-  for (std::size_t j = 0; j < nz; ++j) {
-    row[1] = z.at(j);
-    for (std::size_t i = 0; i < nx; ++i) {
-      row[0] = x.at(i);
-      row[2] = field.af_3d(fibre, along_x, row[0], y_mm, row[1]);
-      row[3] = field.af_3d(fibre, vertical, row[0], y_mm, row[1]);
-      csv.row(row, 4);
-    }
-  }
-  csv.flush();
+  write_map(out, "z_mm", x, z, [&](double xv, double zv, double& h, double& v) {
+    h = field.af_3d(fibre, along_x, xv, y_mm, zv);
+    v = field.af_3d(fibre, vertical, xv, y_mm, zv);
+  });
 }
 
 void check_grid_work(double points, std::size_t pads) {
@@ -128,6 +137,21 @@ Json summary_to_json(const Setup& setup, const std::vector<double>& currents_mA,
   return j;
 }
 
+namespace {
+
+// Each receptor's largest AF and where: {NAME: {max_af, x_mm, y_mm[, z_mm]}}.
+Json peaks_json(const Setup& setup, const Summary& summary) {
+  Json peaks = Json::object();
+  for (const auto& [name, p] : summary.peaks) {
+    Json e = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
+    if (setup.array.two_d()) e["z_mm"] = p.z_mm;
+    peaks[name] = e;
+  }
+  return peaks;
+}
+
+}  // namespace
+
 Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool with_time,
                              const std::optional<double>& certified) {
   Document out = doc;
@@ -140,14 +164,7 @@ Json optimize_result_to_json(const Document& doc, const OptimizeResult& r, bool 
   j["af_unit"] = "V/ms";
   j["currents_mA"] = r.currents_mA;
   j["target_max_af"] = r.target_max_af;
-  Json peaks = Json::object();
-  for (std::size_t i = 0; i < r.summary.peaks.size(); ++i) {
-    const Peak& p = r.summary.peaks[i].second;
-    Json e = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
-    if (doc.setup.array.two_d()) e["z_mm"] = p.z_mm;
-    peaks[r.summary.peaks[i].first] = e;
-  }
-  j["receptors_at_limit"] = peaks;
+  j["receptors_at_limit"] = peaks_json(doc.setup, r.summary);
   Json solver;
   solver["method"] = "p-norm surrogate (L-BFGS, Ceres) with continuation, LP polish (GLPK)";
   solver["starts"] = r.starts;
@@ -181,14 +198,7 @@ Json focus_result_to_json(const Document& doc, const FocusResult& r, const Focus
   focus["pitch_mm"] = r.pitch_mm;
   focus["depth_mm"] = r.target_depth_mm;
   j["focus"] = focus;
-  Json peaks = Json::object();
-  for (std::size_t i = 0; i < r.summary.peaks.size(); ++i) {
-    const Peak& p = r.summary.peaks[i].second;
-    Json e = Json{{"max_af", p.af}, {"x_mm", p.x_mm}, {"y_mm", p.y_mm}};
-    if (two_d) e["z_mm"] = p.z_mm;
-    peaks[r.summary.peaks[i].first] = e;
-  }
-  j["receptors_at_limit"] = peaks;
+  j["receptors_at_limit"] = peaks_json(doc.setup, r.summary);
   Json solver;
   solver["method"] = "LP at the focus (GLPK), then the least Sum w^2 within " +
                      number_text(o.tolerance) +
