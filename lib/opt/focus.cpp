@@ -244,16 +244,23 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
 
   // The samples: every other receptor's (<= t), the target's own away from the focus
   // (capped at 1 or at the spill).
+  // The samples beyond the radius are capped at spill_cap: the spill, lowered by the
+  // excess the check finds between them (below), so that the bound holds on the
+  // continuous fibres and not only at the samples.
   std::vector<Sample> off, capped;
   std::vector<double> caps;
+  std::vector<char> beyond;  // per capped sample: beyond the radius
+  double spill_cap = opt.spill;
   auto add_target_sample = [&](const Sample& p) {
     const double d = lateral(opt, two_d, p.x, p.z);
     if (d > res.radius_mm) {
       capped.push_back(p);
-      caps.push_back(opt.spill);
+      caps.push_back(spill_cap);
+      beyond.push_back(1);
     } else if (d > quarter) {
       capped.push_back(p);
       caps.push_back(1.0);
+      beyond.push_back(0);
     }
   };
   for (std::size_t r = 0; r < setup.receptors.size(); ++r) {
@@ -333,7 +340,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       std::vector<Sample> far, near;
       std::vector<double> near_caps;
       for (std::size_t i = 0; i < capped.size(); ++i) {
-        if (caps[i] < 1.0) {
+        if (beyond[i]) {
           far.push_back(capped[i]);
         } else {
           near.push_back(capped[i]);
@@ -458,9 +465,15 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       add_target.push_back(
           {tp_.x_mm, tp_.y_mm, two_d ? tp_.z_mm : setup.conductor.plane_z_mm, target});
     const Peak far = max_beyond(setup, field, tr, opt, res.radius_mm);
-    if (far.af > opt.spill * target_af * (1 + kCheckSpill))
+    if (far.af > opt.spill * target_af * (1 + kCheckSpill)) {
       add_target.push_back(
           {far.x_mm, far.y_mm, two_d ? far.z_mm : setup.conductor.plane_z_mm, target});
+      // Many lobes may sit at the cap, each exceeding it between samples by about as much:
+      // lower the cap by the excess found.
+      spill_cap *= opt.spill * target_af / far.af;
+      for (std::size_t i = 0; i < caps.size(); ++i)
+        if (beyond[i]) caps[i] = spill_cap;
+    }
     res.summary = sum;
     res.target_max_af = target_af;
     res.spill = std::max(0.0, far.af) / target_af;

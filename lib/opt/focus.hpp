@@ -14,7 +14,8 @@
 // (opt/ldp.hpp): unique, so symmetric when the problem is.  It is then checked on the
 // continuous fibres (model/field.hpp): where a true maximum breaks a bound by more than
 // the check's tolerance, that point (and its mirror images under the array's symmetries
-// that fix the focus) joins the samples and the problem is solved again.
+// that fix the focus) joins the samples and the problem is solved again; a spill beyond
+// its bound also lowers the cap of every sample beyond the radius by the excess found.
 
 #include <string>
 #include <vector>
