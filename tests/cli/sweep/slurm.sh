@@ -137,8 +137,10 @@ for case in "INT 130 interrupted group" "HUP 129 hung_up_(SIGHUP) alone"; do
   # (env --default-signal: a background job of a script starts with SIGINT ignored.)
   setsid env --default-signal=INT "$sweep" --engine slurm "${args[@]}" > out.csv 2> err.txt &
   pid=$!
-  for _ in $(seq 200); do [[ -n $(squeue -h -o %i 2> /dev/null) ]] && break; sleep 0.05; done
-  [[ -n $(squeue -h -o %i) ]] || fail "no job was queued: $(cat err.txt)"
+  # Both jobs queued (the array, then the merge job that depends on it): a signal between
+  # the two submissions cancels the one there is, and says so.
+  for _ in $(seq 200); do [[ -n $(squeue -h -n tp-sweep-merge -o %i 2> /dev/null) ]] && break; sleep 0.05; done
+  [[ -n $(squeue -h -n tp-sweep-merge -o %i) ]] || fail "no merge job was queued: $(cat err.txt)"
   if [[ $whom == group ]]; then kill -"$sig" -- -"$pid"; else kill -"$sig" "$pid"; fi
   rc=0; wait "$pid" || rc=$?
   [[ $rc -eq $code && ! -s out.csv ]] && grep -E "^sweep-spacing: ${word//[()]/.}; cancelled jobs [0-9]+ and [0-9]+\$" err.txt > /dev/null \
