@@ -180,6 +180,11 @@ int main(int argc, char** argv) {
             "solved by linear programming)");
       const tp::FocusResult r = tp::optimize_focus(doc.setup, modes[0], focus);
       const std::string text = tp::dump_json(tp::focus_result_to_json(doc, r, focus, timing));
+      if (!r.least_norm)
+        std::fputs(
+            "optimize-weights: warning: the least-Sum-w^2 step did not converge; these "
+            "are the LP's weights, optimal but not the unique least-power ones\n",
+            stderr);
       std::fprintf(stderr,
                    "optimize-weights: %s pixel at %s, ratio %.6g, spill %.3g (at most %.3g beyond "
                    "%.3g mm), target AF %.4g V/ms at %.3g mA, %d rounds, %.3f s\n",

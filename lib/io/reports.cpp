@@ -207,6 +207,7 @@ Json focus_result_to_json(const Document& doc, const FocusResult& r, const Focus
   solver["samples"] = r.samples;
   solver["lp_solves"] = r.lp_solves;
   solver["rounds"] = r.rounds;
+  solver["least_norm"] = r.least_norm;
   if (with_time) solver["time_s"] = r.time_s;
   j["solver"] = solver;
   return j;

@@ -52,9 +52,22 @@ void line(double a, double b, double step, F&& f) {
 // along x); a 2-D array's box on its faces (the maximum principle, model/field.cpp).
 void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out) {
   const Region g = fibre_region(s, s.receptors[r]);
-  const double count_guard = static_cast<double>(out.size());
-  if (!(count_guard < kMaxSamples)) refuse_sample_count("the focus problem", count_guard);
+  // The problem's matrices hold samples x pads: refuse before allocating beyond the cap.
+  const double cap = kMaxProblemEntries / static_cast<double>(s.array.size());
+  auto guard = [&](double more) {
+    const double total = static_cast<double>(out.size()) + more;
+    if (!(total <= cap))
+      bad_input("focus problem: " + number_text(total) + " samples of the fibres x " +
+                std::to_string(s.array.size()) + " pads, more than the cap of " +
+                number_text(kMaxProblemEntries) + " entries (receptor " + s.receptors[r].name +
+                "'s fibres from " + number_text(g.y0_mm) + " mm deep over " +
+                number_text(g.x1_mm - g.x0_mm) + " mm" +
+                (s.array.two_d() ? " x " + number_text(g.z1_mm - g.z0_mm) + " mm" : "") +
+                ": deeper fibres, a smaller margin or fewer pads)");
+  };
   if (!s.array.two_d()) {
+    const double h0 = step_at(g.y0_mm);
+    guard((std::ceil((g.y1_mm - g.y0_mm) / h0) + 1) * (std::ceil((g.x1_mm - g.x0_mm) / h0) + 1));
     line(g.y0_mm, g.y1_mm, step_at(g.y0_mm), [&](double y) {
       line(g.x0_mm, g.x1_mm, step_at(y), [&](double x) { out.push_back({x, y, g.z0_mm, r}); });
     });
@@ -62,8 +75,7 @@ void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out) {
   }
   auto plane = [&](double y) {
     const double h = step_at(y);
-    const double cells = std::ceil((g.x1_mm - g.x0_mm) / h) * std::ceil((g.z1_mm - g.z0_mm) / h);
-    if (!(cells < kMaxSamples)) refuse_sample_count("a fibre region's samples", cells);
+    guard((std::ceil((g.x1_mm - g.x0_mm) / h) + 1) * (std::ceil((g.z1_mm - g.z0_mm) / h) + 1));
     line(g.z0_mm, g.z1_mm, h, [&](double z) {
       line(g.x0_mm, g.x1_mm, h, [&](double x) { out.push_back({x, y, z, r}); });
     });
@@ -72,6 +84,8 @@ void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out) {
   if (!(g.y1_mm > g.y0_mm)) return;
   plane(g.y1_mm);
   const double h = step_at(g.y0_mm);
+  guard((std::ceil((g.y1_mm - g.y0_mm) / h) + 1) * 2 *
+        (std::ceil((g.x1_mm - g.x0_mm) / h) + std::ceil((g.z1_mm - g.z0_mm) / h) + 2));
   line(g.y0_mm, g.y1_mm, h, [&](double y) {
     line(g.x0_mm, g.x1_mm, h, [&](double x) {
       out.push_back({x, y, g.z0_mm, r});
@@ -221,7 +235,10 @@ void check_focus(const Setup& s, const FocusOptions& o) {
   if (!(o.spill > 0.0 && o.spill <= 1.0))
     bad_input("--spill: " + number_text(o.spill) + " outside (0, 1]");
   if (!(o.radius_mm >= 0.0 && o.radius_mm <= 1000.0))
-    bad_input("--radius: " + number_text(o.radius_mm) + " mm outside (0, 1000] mm");
+    bad_input("--radius: " + number_text(o.radius_mm) + " mm outside (0, 1000] mm (0: one pitch)");
+  if (o.radius_mm > 0.0 && !(o.radius_mm > p / 4))
+    bad_input("--radius: " + number_text(o.radius_mm) + " mm is not beyond a quarter pitch (" +
+              number_text(p / 4) + " mm), where the target's peak may lie");
 }
 
 FocusResult optimize_focus(const Setup& setup, const std::string& mode, const FocusOptions& opt) {
@@ -281,7 +298,8 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
             if (x >= g.x0_mm && x <= g.x1_mm) own.push_back({x, y, g.z0_mm, r});
           return;
         }
-        const double n = std::ceil(2 * kPi * rr / step_at(y));
+        // A multiple of 4, so that the ring is closed under the mirrors x and z.
+        const double n = 4 * std::ceil(2 * kPi * rr / step_at(y) / 4);
         if (!(n < kMaxSamples)) refuse_sample_count("a focus circle", n);
         for (double k = 0; k < n; ++k) {
           const double th = 2 * kPi * k / n;
@@ -334,6 +352,15 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
         res.target_depth_mm = y;
       }
     }
+    if (!best && res.rounds > 1) {
+      // The caps were lowered by the check, and no weights meet them: the spill reached
+      // on the continuous fibres is the last round's.
+      failure("no weights put receptor " + mode + "'s largest AF at the focus (" +
+              number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") +
+              ") mm with a spill of at most " + number_text(opt.spill) + " beyond " +
+              number_text(res.radius_mm) + " mm on the continuous fibres: the least reached is " +
+              number_text(res.spill) + " (with --spill " + number_text(res.spill) + ")");
+    }
     if (!best) {
       // The least spill any weights reach with the peak at the focus: the same problem
       // with the target's samples beyond the radius as the off-target rows.
@@ -360,8 +387,11 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
               number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") +
               ") mm with a spill of at most " + number_text(opt.spill) + " beyond " +
               number_text(res.radius_mm) + " mm: " +
-              (std::isfinite(least) ? "the least spill reachable is " + number_text(least)
-                                    : std::string("no weights put its peak there at all")));
+              (!std::isfinite(least) ? std::string("no weights put its peak there at all")
+               : least > 1.0 ? "no spill up to 1 is possible (the least on the samples is " +
+                                   number_text(least) + ": the peak itself cannot sit there)"
+                             : "the least spill reachable is " + number_text(least) +
+                                   " (on the samples: a lower bound)"));
     }
     res.sampled_optimum = best->value;
 
@@ -408,16 +438,23 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
         }
     }
     Eigen::VectorXd z = best->z;
+    // The least-distance programme is solved in units of |z0| with unit rows, so that its
+    // tests do not depend on the AF's scale (resistivity, diameters).
+    const double zs = z0.norm();
+    res.least_norm = false;
     for (int pass = 0;; ++pass) {
       Eigen::MatrixXd g(static_cast<Eigen::Index>(work.size()), nz - 1);
       Eigen::VectorXd h(static_cast<Eigen::Index>(work.size()));
       for (std::size_t k = 0; k < work.size(); ++k) {
         const Eigen::RowVectorXd a = row_at(work[k]);
-        g.row(static_cast<Eigen::Index>(k)) = -(a * q);
-        h(static_cast<Eigen::Index>(k)) = a.dot(z0) - bound(work[k]);
+        const Eigen::RowVectorXd aq = -(a * q);
+        const double norm = std::max(aq.norm(), 1e-300);
+        g.row(static_cast<Eigen::Index>(k)) = aq / norm;
+        h(static_cast<Eigen::Index>(k)) = (a.dot(z0) - bound(work[k])) / (norm * zs);
       }
-      const auto v = least_distance(g, h);
+      auto v = least_distance(g, h);
       if (!v) break;  // rounding made the relaxed set look empty: keep the LP's answer
+      *v *= zs;
       const Eigen::VectorXd zc = z0 + q * *v;
       const Eigen::VectorXd ex = excess(zc);
       const double tol = 1e-9 * std::max(1.0, std::fabs(best->value));
@@ -425,7 +462,10 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       for (Eigen::Index i = 0; i < n_all; ++i)
         if (ex(i) > tol && !in_work[static_cast<std::size_t>(i)]) violated.emplace_back(ex(i), i);
       if (violated.empty() || pass > 50) {
-        if (violated.empty()) z = zc;
+        if (violated.empty()) {
+          z = zc;
+          res.least_norm = true;
+        }
         break;
       }
       const std::size_t k = std::min<std::size_t>(64, violated.size());
@@ -465,21 +505,36 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       add_target.push_back(
           {tp_.x_mm, tp_.y_mm, two_d ? tp_.z_mm : setup.conductor.plane_z_mm, target});
     const Peak far = max_beyond(setup, field, tr, opt, res.radius_mm);
-    if (far.af > opt.spill * target_af * (1 + kCheckSpill)) {
-      add_target.push_back(
-          {far.x_mm, far.y_mm, two_d ? far.z_mm : setup.conductor.plane_z_mm, target});
+    if (far.af > opt.spill * target_af) {
       // Many lobes may sit at the cap, each exceeding it between samples by about as much:
-      // lower the cap by the excess found.
+      // lower the cap by any excess found, and add the point when it is more than the
+      // check's tolerance.
+      if (far.af > opt.spill * target_af * (1 + kCheckSpill))
+        add_target.push_back(
+            {far.x_mm, far.y_mm, two_d ? far.z_mm : setup.conductor.plane_z_mm, target});
       spill_cap *= opt.spill * target_af / far.af;
       for (std::size_t i = 0; i < caps.size(); ++i)
         if (beyond[i]) caps[i] = spill_cap;
     }
+    const bool spill_over = far.af > opt.spill * target_af;
     res.summary = sum;
     res.target_max_af = target_af;
     res.spill = std::max(0.0, far.af) / target_af;
     const auto ratio = mode_ratio(sum.peaks, mode);
     res.ratio = ratio ? *ratio : kInf;
-    if ((add_off.empty() && add_target.empty()) || res.rounds >= kMaxRounds) break;
+    const bool peak_away = lateral(opt, two_d, tp_.x_mm, tp_.z_mm) > quarter;
+    if ((add_off.empty() && add_target.empty() && !spill_over) || res.rounds >= kMaxRounds) {
+      // Never a silent violation: the bounds hold on the continuous fibres (the spill to
+      // the check's tolerance) or the program says they cannot be met.
+      if (peak_away || res.spill > opt.spill * (1 + kCheckSpill))
+        failure("receptor " + mode + "'s pixel at (" + number_text(opt.x_mm) +
+                (two_d ? ", " + number_text(opt.z_mm) : "") + ") mm: after " +
+                std::to_string(res.rounds) + " rounds its peak lies at (" + number_text(tp_.x_mm) +
+                (two_d ? ", " + number_text(tp_.z_mm) : "") + ") mm and its spill is " +
+                number_text(res.spill) + " (at most " + number_text(opt.spill) +
+                " asked); a larger --spill or --radius");
+      break;
+    }
     // Add the offending points with their mirror images.
     auto with_mirrors = [&](const Sample& p, auto&& add) {
       add(p);

@@ -44,6 +44,7 @@ struct FocusResult {
   double pitch_mm = 0.0, radius_mm = 0.0;
   double target_depth_mm = 0.0;  // p*'s depth
   int lp_solves = 0, rounds = 0;
+  bool least_norm = false;  // the least Sum w^2 was found (else the LP's vertex, said so)
   std::size_t samples = 0;
   double time_s = 0.0;
 };

@@ -64,7 +64,7 @@ tp_cli_test(optimize-weights golden-focus-pc golden optimize-weights/focus-pc-0.
   optimize-weights --mode PC --at 0)
 tp_cli_test(optimize-weights golden-focus-grid-sai golden optimize-weights/focus-grid-sai.json --rtol 1e-6 --
   optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0)
-tp_cli_test(optimize-weights refuses-focus-between-electrodes refuses 1 --says "least spill reachable" --
+tp_cli_test(optimize-weights refuses-focus-between-electrodes refuses 1 --says "no spill up to 1 is possible" --
   optimize-weights --mode SAI --at 0)
 tp_cli_test(optimize-weights refuses-focus-outside refuses 2 --says "outside the array" --
   optimize-weights --mode SAI --at 4.6)
@@ -82,3 +82,7 @@ tp_cli_test(optimize-weights refuses-grid-without-at refuses 2 --says "--at" -- 
 tp_cli_test(optimize-weights refuses-focus-csv refuses 2 -- optimize-weights --mode SAI --at -0.5 --format csv)
 tp_cli_test(optimize-weights refuses-focus-certify refuses 2 -- optimize-weights --mode SAI --at -0.5 --certify)
 tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 -- optimize-weights --mode SAI --at -0.5 --objective threshold)
+tp_cli_test(optimize-weights refuses-focus-spill-unreachable refuses 1 --says "the least spill reachable is" --
+  optimize-weights --mode SAI --at 0 --model rect3d)
+tp_cli_test(optimize-weights refuses-radius-within-quarter-pitch refuses 2 --says "quarter pitch" --
+  optimize-weights --mode SAI --at -0.5 --radius 0.2)

@@ -147,8 +147,29 @@ TEST_CASE("a symmetric focus gives symmetric weights (1-D and 2-D)", "[focus]") 
       FAIL(mode << " accepted");
     } catch (const Error& e) {
       CHECK(e.code() == ExitCode::failure);
-      CHECK_THAT(e.what(), Catch::Contains("least spill reachable"));
+      CHECK_THAT(e.what(), Catch::Contains("no spill up to 1 is possible"));
     }
+  }
+  // A ring of samples closed under the mirrors (5 x 5, PC, whose step gave 51 before).
+  {
+    Setup f;
+    f.array = ElectrodeArray::grid_of(5, 5, 2.0, 2.0, 1.0, 1.0);
+    f.conductor.model = "rect3d";
+    f.lateral_margin_mm = 2.0;
+    const FocusResult q = optimize_focus(f, "PC", FocusOptions{});
+    for (int row = 0; row < 5; ++row)
+      for (int col = 0; col < 5; ++col)
+        CHECK(std::fabs(q.weights[static_cast<std::size_t>(row * 5 + col)] -
+                        q.weights[static_cast<std::size_t>(row * 5 + 4 - col)]) < 1e-6);
+  }
+  // The least Sum w^2 does not depend on the AF's scale: a resistivity of 0.01 ohm m (the
+  // AF 300 times smaller) gives the same weights.
+  {
+    Setup f;
+    f.conductor.resistivity_ohm_m = 0.01;
+    const FocusResult q = optimize_focus(f, "PC", o);
+    CHECK(q.least_norm);
+    for (std::size_t i = 0; i < 8; ++i) CHECK(std::fabs(q.weights[i] - r.weights[i]) < 1e-6);
   }
   Setup g;
   g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
