@@ -254,6 +254,12 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
   res.pitch_mm = nominal_pitch_mm(setup.array);
   res.radius_mm = opt.radius_mm > 0.0 ? opt.radius_mm : res.pitch_mm;
   const double quarter = res.pitch_mm / 4.0;
+  // The focus, and the start of the messages that say no weights satisfy it.
+  const std::string place =
+      "(" + number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") + ") mm";
+  const std::string no_weights = "no weights put receptor " + mode + "'s largest AF at the focus " +
+                                 place + " with a spill of at most " + number_text(opt.spill) +
+                                 " beyond " + number_text(res.radius_mm) + " mm";
   const auto conductor = make_conductor(setup.conductor, setup.array);
   check_fibre_reach(setup, *conductor);
   const Eigen::MatrixXd basis = zero_sum_basis(setup.array.size());
@@ -355,10 +361,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
     if (!best && res.rounds > 1) {
       // The caps were lowered by the check, and no weights meet them: the spill reached
       // on the continuous fibres is the last round's.
-      failure("no weights put receptor " + mode + "'s largest AF at the focus (" +
-              number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") +
-              ") mm with a spill of at most " + number_text(opt.spill) + " beyond " +
-              number_text(res.radius_mm) + " mm on the continuous fibres: the least reached is " +
+      failure(no_weights + " on the continuous fibres: the least reached is " +
               number_text(res.spill) + " (with --spill " + number_text(res.spill) + ")");
     }
     if (!best) {
@@ -383,10 +386,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
         for (const double y : depths)
           if (const auto s = aux.solve(focus_row(y))) least = std::min(least, s->value);
       }
-      failure("no weights put receptor " + mode + "'s largest AF at the focus (" +
-              number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") +
-              ") mm with a spill of at most " + number_text(opt.spill) + " beyond " +
-              number_text(res.radius_mm) + " mm: " +
+      failure(no_weights + ": " +
               (!std::isfinite(least) ? std::string("no weights put its peak there at all")
                : least > 1.0 ? "no spill up to 1 is possible (the least on the samples is " +
                                    number_text(least) + ": the peak itself cannot sit there)"
@@ -527,8 +527,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       // Never a silent violation: the bounds hold on the continuous fibres (the spill to
       // the check's tolerance) or the program says they cannot be met.
       if (peak_away || res.spill > opt.spill * (1 + kCheckSpill))
-        failure("receptor " + mode + "'s pixel at (" + number_text(opt.x_mm) +
-                (two_d ? ", " + number_text(opt.z_mm) : "") + ") mm: after " +
+        failure("receptor " + mode + "'s pixel at " + place + ": after " +
                 std::to_string(res.rounds) + " rounds its peak lies at (" + number_text(tp_.x_mm) +
                 (two_d ? ", " + number_text(tp_.z_mm) : "") + ") mm and its spill is " +
                 number_text(res.spill) + " (at most " + number_text(opt.spill) +
