@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli/array_options.hpp"
@@ -17,6 +18,7 @@
 #include "io/document.hpp"
 #include "io/reports.hpp"
 #include "model/ranges.hpp"
+#include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"
 
@@ -35,11 +37,14 @@ int main(int argc, char** argv) {
   std::string objective = "af";
   tp::cli::FibreOptions fibre;
   int max_evaluations = 120;
-  std::string at, radius, spill;
+  std::vector<std::string> at;
+  std::string radius, spill;
+  bool bank = false;
+  int neighbourhood = 0;
   app.add_option("--mode", mode,
                  "Target receptor: RA, SAI or PC (any name in the receptor table); several, "
-                 "comma-separated, with --format csv: one row each")
-      ->required()
+                 "comma-separated, with --format csv: one row each; with --bank, the modes of "
+                 "the bank [every receptor's]")
       ->type_name("MODE");
   tp::cli::add_array_options(app, array,
                              "Document with array, model and receptors (JSON; - for stdin)");
@@ -82,21 +87,24 @@ int main(int argc, char** argv) {
                    "on 2 cores for the paper's array]")
       ->check(CLI::Range(10, 10000))
       ->type_name("N");
-  auto* o_at =
-      app.add_option(
-             "--at", at,
-             "A pixel: the target's largest AF at this place on the skin, X (a 1-D array) or "
-             "X,Z (a 2-D array), mm, within the array's extent plus one pitch; the target's AF "
-             "beyond --radius stays at most --spill of its peak")
-          ->type_name("X[,Z]");
-  app.add_option("--radius", radius, "With --at: the pixel's radius, mm [one pitch]")
-      ->type_name("MM")
-      ->needs(o_at);
+  app.add_option("--at", at,
+                 "A pixel: the target's largest AF at this place on the skin, X (a 1-D array) or "
+                 "X,Z (a 2-D array), mm, within the array's extent plus one pitch; the target's AF "
+                 "beyond --radius stays at most --spill of its peak")
+      ->type_name("X[,Z]");
+  app.add_option("--radius", radius, "A pixel's radius, mm [one pitch]")->type_name("MM");
   app.add_option("--spill", spill,
-                 "With --at: the target's largest AF beyond the radius over its peak, in (0, 1] "
-                 "[0.3]")
-      ->type_name("S")
-      ->needs(o_at);
+                 "A pixel's target's largest AF beyond the radius over its peak, in (0, 1] [0.3]")
+      ->type_name("S");
+  app.add_flag("--bank", bank,
+               "A bank of pixels: every pad centre's (or every --at's, repeated) pattern of "
+               "each mode, as one JSON document; symmetric and translated pixels derived, "
+               "every pattern judged on the whole array");
+  app.add_option("--neighbourhood", neighbourhood,
+                 "With --bank on a grid: each pattern uses the K x K pads around its focus "
+                 "only, 1 to 16 [every pad]")
+      ->type_name("K")
+      ->check(CLI::Range(1, 16));
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");
@@ -110,9 +118,14 @@ int main(int argc, char** argv) {
       tp::cli::refuse_plane_z(doc, model,
                               "under a 2-D array (its fibres fill every z; the plane places "
                               "af-field's x-y section only)");
-    if (doc.setup.array.two_d() && at.empty())
+    if (doc.setup.array.two_d() && at.empty() && !bank)
       tp::bad_input("array: " + doc.setup.array.describe() +
-                    " is 2-D: give a pixel's place, --at X,Z");
+                    " is 2-D: give a pixel's place, --at X,Z (or --bank)");
+    if (mode.empty() && !bank) tp::bad_input("--mode: required (RA, SAI, PC, ...)");
+    if ((!radius.empty() || !spill.empty()) && at.empty() && !bank)
+      tp::bad_input("--radius, --spill: apply to a pixel (--at) or a bank (--bank)");
+    if (app.count("--neighbourhood") && !bank) tp::bad_input("--neighbourhood: with --bank only");
+    if (at.size() > 1 && !bank) tp::bad_input("--at: one place (several: with --bank)");
     tp::OptimizeOptions opt;
     if (!max_current.empty()) doc.max_current_mA = tp::parse_finite(max_current, "--max-current");
     tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
@@ -126,7 +139,7 @@ int main(int argc, char** argv) {
 
     // Several modes (CSV only) share one process: one row each, in the order given.
     std::vector<std::string> modes;
-    for (std::size_t a = 0;;) {
+    for (std::size_t a = 0; !mode.empty();) {
       const std::size_t b = mode.find(',', a);
       modes.push_back(mode.substr(a, b == std::string::npos ? std::string::npos : b - a));
       if (modes.back().empty()) tp::bad_input("--mode: empty name in '" + mode + "'");
@@ -136,14 +149,61 @@ int main(int argc, char** argv) {
       a = b + 1;
     }
     for (const std::string& m : modes) tp::receptor_index(doc.setup, m);  // all before any work
-    if (modes.size() > 1 && format != "csv")
+    if (modes.size() > 1 && format != "csv" && !bank)
       tp::bad_input("--mode: several modes need --format csv (one row each)");
     const bool by_threshold = objective == "threshold";
     for (const char* flag :
          {"--fibre-model", "--stimulus", "--width", "--interphase", "--balance-width",
           "--monophasic", "--offsets", "--tolerance", "--threads", "--max-evaluations"})
-      if (!by_threshold && app.count(flag) > 0)
-        tp::bad_input(std::string(flag) + ": applies to --objective threshold only");
+      if (!by_threshold && app.count(flag) > 0 &&
+          !((bank || !at.empty()) && std::string(flag) == "--threads"))
+        tp::bad_input(std::string(flag) + ": applies to --objective threshold only" +
+                      (std::string(flag) == "--threads" ? ", --at and --bank" : ""));
+    if (bank) {
+      if (by_threshold) tp::bad_input("--bank: designs by the AF objective only");
+      if (certify) tp::bad_input("--certify: with --bank is not available yet");
+      if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --bank");
+      if (format != "json") tp::bad_input("--bank: JSON output only");
+      if (app.count("--pattern-starts") || app.count("--random-starts"))
+        tp::bad_input("--pattern-starts, --random-starts: do not apply with --bank");
+      tp::BankOptions b;
+      b.modes = modes;
+      const bool two_d = doc.setup.array.two_d();
+      for (const std::string& p : at) {
+        const std::vector<double> xz = tp::parse_list(p, "--at");
+        if (xz.size() != (two_d ? 2u : 1u))
+          tp::bad_input("--at: expected " +
+                        std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" +
+                        p + "'");
+        b.at.emplace_back(xz[0], two_d ? xz[1] : 0.0);
+      }
+      if (!radius.empty()) {
+        b.radius_mm = tp::parse_finite(radius, "--radius");
+        if (!(b.radius_mm > 0.0)) tp::bad_input("--radius: must be > 0 mm, got " + radius);
+      }
+      if (!spill.empty()) b.spill = tp::parse_finite(spill, "--spill");
+      b.max_current_mA = opt.max_current_mA;
+      b.neighbourhood = neighbourhood;
+      b.threads = static_cast<unsigned>(app.count("--threads") ? fibre.threads : 0);
+      const tp::Bank result = tp::optimize_bank(doc.setup, b);
+      const std::string text = tp::dump_json(tp::bank_to_json(doc, result, b));
+      std::size_t infeasible = 0, broken = 0;
+      for (const tp::BankPattern& p : result.patterns) {
+        if (!p.feasible)
+          ++infeasible;
+        else if (!p.result.bounds_hold)
+          ++broken;
+      }
+      std::fprintf(stderr,
+                   "optimize-weights: bank of %zu pixels x %zu modes: %d solved, %zu derived, "
+                   "%zu with no pattern, %zu breaking a bound on the whole array\n",
+                   result.pixels.size(),
+                   result.patterns.size() / std::max<std::size_t>(1, result.pixels.size()),
+                   result.solves, result.patterns.size() - static_cast<std::size_t>(result.solves),
+                   infeasible, broken);
+      tp::cli::write_stdout(text);
+      return;
+    }
     if (by_threshold && (format != "json" || modes.size() > 1))
       tp::bad_input("--objective threshold: one mode, JSON output");
     if (by_threshold && certify)
@@ -154,12 +214,12 @@ int main(int argc, char** argv) {
       tp::bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
     tp::FocusOptions focus;
     if (!at.empty()) {
-      const std::vector<double> xz = tp::parse_list(at, "--at");
+      const std::vector<double> xz = tp::parse_list(at[0], "--at");
       const bool two_d = doc.setup.array.two_d();
       if (xz.size() != (two_d ? 2u : 1u))
         tp::bad_input("--at: expected " +
                       std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" +
-                      at + "'");
+                      at[0] + "'");
       focus.x_mm = xz[0];
       focus.z_mm = two_d ? xz[1] : 0.0;
       if (!radius.empty()) {
@@ -168,10 +228,12 @@ int main(int argc, char** argv) {
       }
       if (!spill.empty()) focus.spill = tp::parse_finite(spill, "--spill");
       focus.max_current_mA = opt.max_current_mA;
+      focus.threads = app.count("--threads") ? static_cast<unsigned>(fibre.threads)
+                                             : std::max(1u, std::thread::hardware_concurrency());
       tp::check_focus(doc.setup, focus);
       if (by_threshold)
         tp::bad_input("--at: designs by the AF objective only, not --objective threshold");
-      if (certify) tp::bad_input("--certify: with --at is not available yet");
+      focus.certify = certify;
       if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --at");
       if (format != "json" || modes.size() > 1) tp::bad_input("--at: one mode, JSON output");
       if (app.count("--pattern-starts") || app.count("--random-starts"))
@@ -188,7 +250,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "optimize-weights: %s pixel at %s, ratio %.6g, spill %.3g (at most %.3g beyond "
                    "%.3g mm), target AF %.4g V/ms at %.3g mA, %d rounds, %.3f s\n",
-                   modes[0].c_str(), at.c_str(), r.ratio, r.spill, focus.spill, r.radius_mm,
+                   modes[0].c_str(), at[0].c_str(), r.ratio, r.spill, focus.spill, r.radius_mm,
                    r.target_max_af, opt.max_current_mA, r.rounds, r.time_s);
       tp::cli::write_stdout(text);
       return;

@@ -7,6 +7,7 @@
 #include "io/document.hpp"
 #include "model/constants.hpp"
 #include "model/ranges.hpp"
+#include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"
 
@@ -208,8 +209,90 @@ Json focus_result_to_json(const Document& doc, const FocusResult& r, const Focus
   solver["lp_solves"] = r.lp_solves;
   solver["rounds"] = r.rounds;
   solver["least_norm"] = r.least_norm;
+  if (o.certify) {
+    solver["certified_optimum"] = r.certified_optimum ? Json(*r.certified_optimum) : Json(nullptr);
+    Json at = Json{{"x_mm", r.certified_at.x_mm}, {"y_mm", r.certified_at.y_mm}};
+    if (two_d) at["z_mm"] = r.certified_at.z_mm;
+    solver["certified_at"] = at;
+    solver["certified_points"] = r.certified_points;
+  }
   if (with_time) solver["time_s"] = r.time_s;
   j["solver"] = solver;
+  return j;
+}
+
+Json bank_to_json(const Document& doc, const Bank& bank, const BankOptions& o) {
+  Document out = doc;
+  out.weights.reset();
+  out.extra = Json::object();
+  Json j = document_to_json(out);
+
+  const ElectrodeArray& a = doc.setup.array;
+  const bool two_d = a.two_d();
+  std::vector<std::string> modes;
+  for (std::size_t i = 0; i < bank.patterns.size() && bank.patterns[i].pixel == 0; ++i)
+    modes.push_back(bank.patterns[i].mode);
+  std::size_t derived = 0, infeasible = 0, failing = 0;
+  for (const BankPattern& p : bank.patterns) {
+    if (!p.solved) ++derived;
+    if (!p.feasible)
+      ++infeasible;
+    else if (!p.result.bounds_hold)
+      ++failing;
+  }
+  Json b;
+  b["modes"] = modes;
+  b["pitch_mm"] = nominal_pitch_mm(a);
+  b["radius_mm"] = o.radius_mm > 0.0 ? o.radius_mm : nominal_pitch_mm(a);
+  b["spill_max"] = o.spill;
+  b["neighbourhood"] = o.neighbourhood > 0 ? Json(o.neighbourhood) : Json(nullptr);
+  b["pixels"] = bank.pixels.size();
+  b["patterns"] = bank.patterns.size();
+  b["solved"] = bank.solves;
+  b["derived"] = derived;
+  b["infeasible"] = infeasible;
+  b["bounds_broken"] = failing;
+  b["af_unit"] = "V/ms";
+  j["bank"] = b;
+  Json pixels = Json::array();
+  for (std::size_t px = 0; px < bank.pixels.size(); ++px) {
+    Json e;
+    e["x_mm"] = bank.pixels[px].first;
+    if (two_d) e["z_mm"] = bank.pixels[px].second;
+    e["pad"] = bank.pads[px] >= 0 ? Json(bank.pads[px]) : Json(nullptr);
+    e["patterns"] = Json::object();
+    pixels.push_back(e);
+  }
+  for (const BankPattern& p : bank.patterns) {
+    Json e;
+    if (!p.feasible) {
+      e["feasible"] = false;
+      e["reason"] = p.reason;
+    } else {
+      const FocusResult& r = p.result;
+      e["weights"] = r.weights;
+      e["ratio"] = r.ratio;
+      e["target_max_af"] = r.target_max_af;
+      const Peak& pk = r.summary.peaks[receptor_index(doc.setup, p.mode)].second;
+      Json peak = Json{{"x_mm", pk.x_mm}, {"y_mm", pk.y_mm}};
+      if (two_d) peak["z_mm"] = pk.z_mm;
+      e["peak"] = peak;
+      e["spill"] = r.spill;
+      e["bounds_hold"] = r.bounds_hold;
+    }
+    if (p.solved) {
+      e["derived"] = false;
+    } else {
+      const BankPattern& src = bank.patterns[p.from];
+      Json d;
+      d["pixel"] = src.pixel;
+      d["mirror_x"] = p.mirror_x;
+      d["mirror_z"] = p.mirror_z;
+      e["derived"] = d;
+    }
+    pixels[p.pixel]["patterns"][p.mode] = e;
+  }
+  j["pixels"] = pixels;
   return j;
 }
 

@@ -49,6 +49,14 @@ struct FocusResult;
 Json focus_result_to_json(const Document& doc, const FocusResult& r, const FocusOptions& o,
                           bool with_time);
 
+// optimize-weights --bank: the document without weights, the bank's settings and counts,
+// and per pixel its place, its pad and each mode's pattern (weights, ratio, target AF,
+// peak, spill, whether the bounds hold on the array, and how it was derived) or why no
+// pattern satisfies it.
+struct Bank;
+struct BankOptions;
+Json bank_to_json(const Document& doc, const Bank& bank, const BankOptions& o);
+
 // One CSV row per result: electrodes,pitch_mm,mode,ratio,target_max_af,max_af_<R>...,w0,w1,...
 std::string optimize_csv_header(const Setup& setup);  // the header line, with its newline
 std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r);

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/lattice.hpp"
 #include "model/ranges.hpp"
 
 namespace tp {
@@ -187,6 +188,20 @@ Field::Field(const Setup& setup, std::vector<double> currents_mA)
               std::to_string(currents_.size()));
   for (double c : currents_)
     if (!std::isfinite(c)) bad_input("weights: non-finite value");
+  const ElectrodeArray& a = setup.array;
+  if (a.two_d()) {
+    std::vector<double> x, z;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (currents_[i] != 0.0) {
+        x.push_back(a.positions_mm[i]);
+        z.push_back(a.z_mm[i]);
+        active_currents_.push_back(currents_[i]);
+      }
+    if (!x.empty() && x.size() < a.size())
+      active_conductor_ =
+          make_conductor(setup.conductor,
+                         ElectrodeArray::pads(std::move(x), std::move(z), a.width_mm, a.length_mm));
+  }
 }
 
 void Field::second_derivatives(double x_mm, double y_mm, double& xx, double& yy) const {
@@ -216,10 +231,69 @@ double Field::af(const Fibre& fibre, double x_mm, double y_mm) const {
 double Field::af_3d(const Fibre& fibre, const FibreAxis& axis, double x_mm, double y_mm,
                     double z_mm) const {
   double* b = scratch_.data();
-  conductor_->unit_d2_along(x_mm, y_mm, z_mm, axis, b);
+  const bool sparse = active_conductor_ != nullptr;
+  (sparse ? active_conductor_ : conductor_)->unit_d2_along(x_mm, y_mm, z_mm, axis, b);
+  const std::vector<double>& c = sparse ? active_currents_ : currents_;
   double d = 0.0;
-  for (std::size_t i = 0; i < currents_.size(); ++i) d += currents_[i] * b[i];
+  for (std::size_t i = 0; i < c.size(); ++i) d += c[i] * b[i];
   return fibre_factor_mm2_per_ms(fibre) * d;
+}
+
+GridValues Field::plane_af(const Receptor& r, double y, double step) const {
+  const Region reg = fibre_region(setup_, r);
+  const FibreAxis axis = fibre_axis(r);
+  const auto lat = grid_lattice(setup_.array, reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, step);
+  GridValues g;
+  if (!lat) {
+    // maximize_2d()'s grid.
+    const double ns_d = std::ceil((reg.x1_mm - reg.x0_mm) / step) + 1;
+    const double nt_d = std::ceil((reg.z1_mm - reg.z0_mm) / step) + 1;
+    if (!(ns_d * nt_d <= kMaxSamples)) refuse_sample_count("a fibre region's grid", ns_d * nt_d);
+    const auto ns = static_cast<std::size_t>(ns_d), nt = static_cast<std::size_t>(nt_d);
+    g.hs = ns > 1 ? (reg.x1_mm - reg.x0_mm) / static_cast<double>(ns - 1) : 0.0;
+    g.ht = nt > 1 ? (reg.z1_mm - reg.z0_mm) / static_cast<double>(nt - 1) : 0.0;
+    for (std::size_t i = 0; i < ns; ++i)
+      g.s.push_back(i + 1 == ns ? reg.x1_mm : reg.x0_mm + static_cast<double>(i) * g.hs);
+    for (std::size_t j = 0; j < nt; ++j)
+      g.t.push_back(j + 1 == nt ? reg.z1_mm : reg.z0_mm + static_cast<double>(j) * g.ht);
+    g.v.reserve(ns * nt);
+    for (const double z : g.t)
+      for (const double x : g.s) g.v.push_back(af_3d(r.fibre, axis, x, y, z));
+    return g;
+  }
+  // The lattice's values by correlation of the lone pad's table with the currents; the
+  // region's edges off the lattice evaluated directly.
+  const auto t = pad_table(setup_.conductor, setup_.array, *lat, y, axis);
+  g.hs = lat->hx;
+  g.ht = lat->hz;
+  if (lat->x0_off) g.s.push_back(reg.x0_mm);
+  for (int a = lat->a0; a <= lat->a1; ++a) g.s.push_back(lat->x(a));
+  if (lat->x1_off) g.s.push_back(reg.x1_mm);
+  if (lat->z0_off) g.t.push_back(reg.z0_mm);
+  for (int b = lat->b0; b <= lat->b1; ++b) g.t.push_back(lat->z(b));
+  if (lat->z1_off) g.t.push_back(reg.z1_mm);
+  const double ff = fibre_factor_mm2_per_ms(r.fibre);
+  const ElectrodeArray& arr = setup_.array;
+  const auto ncur = static_cast<std::size_t>(arr.columns) * static_cast<std::size_t>(arr.rows);
+  std::vector<double> k(ncur);
+  g.v.reserve(g.s.size() * g.t.size());
+  for (std::size_t j = 0; j < g.t.size(); ++j) {
+    const bool z_lat = !(lat->z0_off && j == 0) && !(lat->z1_off && j + 1 == g.t.size());
+    for (std::size_t i = 0; i < g.s.size(); ++i) {
+      const bool x_lat = !(lat->x0_off && i == 0) && !(lat->x1_off && i + 1 == g.s.size());
+      if (!(x_lat && z_lat)) {
+        g.v.push_back(af_3d(r.fibre, axis, g.s[i], y, g.t[j]));
+        continue;
+      }
+      const int a = lat->a0 + static_cast<int>(i) - (lat->x0_off ? 1 : 0);
+      const int b = lat->b0 + static_cast<int>(j) - (lat->z0_off ? 1 : 0);
+      t->pads_at(arr, *lat, a, b, k.data());
+      double d = 0.0;
+      for (std::size_t p = 0; p < ncur; ++p) d += currents_[p] * k[p];
+      g.v.push_back(ff * d);
+    }
+  }
+  return g;
 }
 
 Peak Field::peak_3d(const Receptor& r) const {
@@ -248,8 +322,9 @@ Peak Field::peak_3d(const Receptor& r) const {
   // A face: the plane y = const over x and z, sampled at a tenth of its depth (the AF
   // varies on the scale of the depth).
   auto plane = [&](double y) {
-    const Max2d m = maximize_2d([&](double x, double z) { return af_3d(r.fibre, axis, x, y, z); },
-                                reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, y / 10.0);
+    const Max2d m =
+        maximize_2d_grid([&](double x, double z) { return af_3d(r.fibre, axis, x, y, z); },
+                         plane_af(r, y, y / 10.0));
     if (first || m.value > best.af) best = {m.value, m.s, y, m.t};
     first = false;
   };

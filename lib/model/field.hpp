@@ -69,6 +69,13 @@ struct Peak {
   double z_mm = 0.0;  // 2-D arrays (a 1-D array's fibres lie in the plane z = plane_z_mm)
 };
 
+// A function's values on a grid: v[j * s.size() + i] = f(s[i], t[j]), s and t increasing
+// (at least one point each), about hs and ht apart.
+struct GridValues {
+  std::vector<double> s, t, v;
+  double hs = 0.0, ht = 0.0;
+};
+
 class Field {
  public:
   // currents_mA: one per electrode, positive = cathodic.
@@ -88,12 +95,22 @@ class Field {
   // Largest AF over the receptor's fibres, and where it occurs.
   Peak peak(const Receptor& r) const;
 
+  // A 2-D array's: the AF (V/ms) of receptor r's fibres over the plane y = y_mm of its
+  // region, at points at most step_mm apart (s along x, t along z): on a grid, a lattice
+  // its pads' centres lie on, with the region's edges (model/lattice.hpp); else the
+  // uniform grid maximize_2d() samples.
+  GridValues plane_af(const Receptor& r, double y_mm, double step_mm) const;
+
  private:
   Peak peak_3d(const Receptor& r) const;  // a 2-D array's: over the box of fibres
 
   const Setup& setup_;
   std::unique_ptr<Conductor> conductor_;
   std::vector<double> currents_;
+  // A 2-D array's pads that carry current, when some do not (a pattern on a neighbourhood
+  // of pads): af_3d() evaluates those alone.
+  std::unique_ptr<Conductor> active_conductor_;
+  std::vector<double> active_currents_;
   mutable std::vector<double> scratch_;
 };
 
@@ -125,6 +142,11 @@ struct Max2d {
 };
 template <class F>
 Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step);
+
+// The same from f's values on a grid already evaluated (GridValues), each local maximum
+// refined within (hs, ht) of it.
+template <class F>
+Max2d maximize_2d_grid(F&& f, const GridValues& grid);
 
 }  // namespace tp
 

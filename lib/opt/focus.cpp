@@ -4,10 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "io/number.hpp"
+#include "model/lattice.hpp"
 #include "opt/ldp.hpp"
 #include "opt/lp.hpp"
 #include "opt/problem.hpp"
@@ -27,11 +30,19 @@ constexpr int kMaxRounds = 8;
 struct Sample {
   double x, y, z;
   std::size_t receptor;
+  int table = -1;  // a lattice plane's (Lattice): the sample is its point (a, b)
+  int a = 0, b = 0;
+};
+
+// A grid's face plane, sampled on a lattice (model/lattice.hpp).
+struct Lattice {
+  GridLattice g;
+  std::shared_ptr<const PadTable> t;
 };
 
 // Sampling step of a face at depth y: the AF varies on the scale of the depth.
 double step_at(double y) {
-  return std::min(0.25, y / 8.0);
+  return std::min(0.25, y / 4.0);
 }
 
 // n + 1 points from a to b, both ends exact.
@@ -49,8 +60,10 @@ void line(double a, double b, double step, F&& f) {
 }
 
 // Every receptor's fibres, sampled: a 1-D array's region row by row (its depths, and
-// along x); a 2-D array's box on its faces (the maximum principle, model/field.cpp).
-void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out) {
+// along x); a 2-D array's box on its faces (the maximum principle, model/field.cpp), a
+// grid's face planes on a Lattice (its table into `tables`).
+void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out,
+                     std::vector<Lattice>& tables) {
   const Region g = fibre_region(s, s.receptors[r]);
   // The problem's matrices hold samples x pads: refuse before allocating beyond the cap.
   const double cap = kMaxProblemEntries / static_cast<double>(s.array.size());
@@ -73,12 +86,35 @@ void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out) {
     });
     return;
   }
+  const ElectrodeArray& arr = s.array;
   auto plane = [&](double y) {
     const double h = step_at(y);
-    guard((std::ceil((g.x1_mm - g.x0_mm) / h) + 1) * (std::ceil((g.z1_mm - g.z0_mm) / h) + 1));
-    line(g.z0_mm, g.z1_mm, h, [&](double z) {
-      line(g.x0_mm, g.x1_mm, h, [&](double x) { out.push_back({x, y, z, r}); });
-    });
+    guard((std::ceil((g.x1_mm - g.x0_mm) / h) + 3) * (std::ceil((g.z1_mm - g.z0_mm) / h) + 3));
+    auto plain = [&] {
+      line(g.z0_mm, g.z1_mm, h, [&](double z) {
+        line(g.x0_mm, g.x1_mm, h, [&](double x) { out.push_back({x, y, z, r}); });
+      });
+    };
+    const auto lat = grid_lattice(arr, g.x0_mm, g.x1_mm, g.z0_mm, g.z1_mm, h);
+    if (!lat) return plain();
+    const int id = static_cast<int>(tables.size());
+    tables.push_back({*lat, pad_table(s.conductor, arr, *lat, y, fibre_axis(s.receptors[r]))});
+    std::vector<double> xs, zs;  // the lattice's lines, then the region's edges off it
+    for (int b = lat->b0; b <= lat->b1; ++b)
+      for (int a = lat->a0; a <= lat->a1; ++a)
+        out.push_back({lat->x(a), y, lat->z(b), r, id, a, b});
+    for (int a = lat->a0; a <= lat->a1; ++a) xs.push_back(lat->x(a));
+    for (int b = lat->b0; b <= lat->b1; ++b) zs.push_back(lat->z(b));
+    for (const double z : zs) {
+      if (lat->x0_off) out.push_back({g.x0_mm, y, z, r});
+      if (lat->x1_off) out.push_back({g.x1_mm, y, z, r});
+    }
+    if (lat->x0_off) xs.insert(xs.begin(), g.x0_mm);
+    if (lat->x1_off) xs.push_back(g.x1_mm);
+    for (const double x : xs) {
+      if (lat->z0_off) out.push_back({x, y, g.z0_mm, r});
+      if (lat->z1_off) out.push_back({x, y, g.z1_mm, r});
+    }
   };
   plane(g.y0_mm);
   if (!(g.y1_mm > g.y0_mm)) return;
@@ -98,49 +134,55 @@ void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out) {
   });
 }
 
-// The rows (AF per unit z, zero-sum basis) of some samples.
-Eigen::MatrixXd rows_of(const Setup& s, const Conductor& c, const std::vector<Sample>& pts,
-                        const Eigen::MatrixXd& basis) {
+// The rows (AF per unit z, zero-sum basis) of the samples from `first` on, in blocks (the
+// pads' responses, then one product with the basis).
+Eigen::MatrixXd rows_of(const Setup& s, const Conductor& c, const std::vector<Lattice>& tables,
+                        const std::vector<Sample>& pts, const Eigen::MatrixXd& basis,
+                        std::size_t first = 0) {
   const auto n = static_cast<Eigen::Index>(s.array.size());
-  Eigen::MatrixXd out(static_cast<Eigen::Index>(pts.size()), basis.cols());
-  Eigen::RowVectorXd g(n);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    const Sample& p = pts[i];
-    const Receptor& r = s.receptors[p.receptor];
-    if (s.array.two_d()) {
-      c.unit_d2_along(p.x, p.y, p.z, fibre_axis(r), g.data());
-    } else {
-      const bool horizontal = r.fibre.orientation == Orientation::horizontal;
-      c.unit_second_derivatives(p.x, p.y, horizontal ? g.data() : nullptr,
-                                horizontal ? nullptr : g.data());
+  const std::size_t count = pts.size() - std::min(first, pts.size());
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(count), basis.cols());
+  constexpr std::size_t kBlock = 2048;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> g;
+  for (std::size_t start = 0; start < count; start += kBlock) {
+    const std::size_t len = std::min(kBlock, count - start);
+    g.resize(static_cast<Eigen::Index>(len), n);
+    for (std::size_t i = 0; i < len; ++i) {
+      const Sample& p = pts[first + start + i];
+      const Receptor& r = s.receptors[p.receptor];
+      double* row = g.row(static_cast<Eigen::Index>(i)).data();
+      if (p.table >= 0) {
+        const Lattice& l = tables[static_cast<std::size_t>(p.table)];
+        l.t->pads_at(s.array, l.g, p.a, p.b, row);
+      } else if (s.array.two_d()) {
+        c.unit_d2_along(p.x, p.y, p.z, fibre_axis(r), row);
+      } else {
+        const bool horizontal = r.fibre.orientation == Orientation::horizontal;
+        c.unit_second_derivatives(p.x, p.y, horizontal ? row : nullptr, horizontal ? nullptr : row);
+      }
+      g.row(static_cast<Eigen::Index>(i)) *= fibre_factor_mm2_per_ms(r.fibre);
     }
-    out.row(static_cast<Eigen::Index>(i)).noalias() = fibre_factor_mm2_per_ms(r.fibre) * g * basis;
+    out.middleRows(static_cast<Eigen::Index>(start), static_cast<Eigen::Index>(len)).noalias() =
+        g * basis;
   }
   return out;
 }
 
-// The symmetries of the array that fix the focus: reflections x -> 2 x_f - x, z -> 2 z_f
-// - z and both, each kept when it maps the set of pads onto itself.
+// Rows for the samples added since the matrix was last extended.
+void extend_rows(Eigen::MatrixXd& m, const Setup& s, const Conductor& c,
+                 const std::vector<Lattice>& tables, const std::vector<Sample>& pts,
+                 const Eigen::MatrixXd& basis) {
+  const auto done = static_cast<std::size_t>(m.rows());
+  if (done == pts.size()) return;
+  const Eigen::MatrixXd more = rows_of(s, c, tables, pts, basis, done);
+  m.conservativeResize(static_cast<Eigen::Index>(pts.size()), basis.cols());
+  m.bottomRows(more.rows()) = more;
+}
+
+// A reflection through the focus: x -> 2 x_f - x, z -> 2 z_f - z, or both.
 struct Mirror {
   bool x, z;
 };
-std::vector<Mirror> mirrors(const ElectrodeArray& a, double xf, double zf) {
-  std::vector<Mirror> out;
-  for (const Mirror m : {Mirror{true, false}, Mirror{false, true}, Mirror{true, true}}) {
-    if (m.z && !a.two_d()) continue;
-    bool ok = true;
-    for (std::size_t i = 0; i < a.size() && ok; ++i) {
-      const double x = m.x ? 2 * xf - a.positions_mm[i] : a.positions_mm[i];
-      const double z = m.z ? 2 * zf - a.z_of(i) : a.z_of(i);
-      bool found = false;
-      for (std::size_t j = 0; j < a.size() && !found; ++j)
-        found = std::fabs(a.positions_mm[j] - x) < 1e-9 && std::fabs(a.z_of(j) - z) < 1e-9;
-      ok = found;
-    }
-    if (ok) out.push_back(m);
-  }
-  return out;
-}
 
 double lateral(const FocusOptions& o, bool two_d, double x, double z) {
   return two_d ? std::sqrt((x - o.x_mm) * (x - o.x_mm) + (z - o.z_mm) * (z - o.z_mm))
@@ -176,8 +218,11 @@ Peak max_beyond(const Setup& s, const Field& f, const Receptor& r, const FocusOp
     return best;
   }
   auto plane = [&](double y) {
-    const Max2d m = maximize_2d([&](double x, double z) { return af(x, y, z); }, g.x0_mm, g.x1_mm,
-                                g.z0_mm, g.z1_mm, step_at(y) / 2);
+    GridValues v = f.plane_af(r, y, step_at(y) / 2);
+    for (std::size_t j = 0; j < v.t.size(); ++j)
+      for (std::size_t i = 0; i < v.s.size(); ++i)
+        if (!(lateral(o, two_d, v.s[i], v.t[j]) > radius)) v.v[j * v.s.size() + i] = -kInf;
+    const Max2d m = maximize_2d_grid([&](double x, double z) { return af(x, y, z); }, v);
     consider(m.value, m.s, y, m.t);
   };
   plane(g.y0_mm);
@@ -205,6 +250,46 @@ Peak max_beyond(const Setup& s, const Field& f, const Receptor& r, const FocusOp
       -kPi, kPi, g.y0_mm, g.y1_mm, std::min(h, h / std::max(rr, 1e-3)));
   consider(m.value, o.x_mm + rr * std::cos(m.s), m.t, o.z_mm + rr * std::sin(m.s));
   return best;
+}
+
+// Every receptor's largest AF (a Summary) and the target's largest beyond the radius, on
+// opt.threads threads, each task with its own Field.
+std::pair<Summary, Peak> check_pattern(const Setup& s, const std::vector<double>& currents,
+                                       const Receptor& target, const FocusOptions& o,
+                                       double radius) {
+  const std::size_t n = s.receptors.size();
+  std::vector<Peak> peaks(n);
+  Peak far;
+  parallel_for(n + 1, std::max(1u, o.threads), [&](std::size_t i) {
+    const Field f(s, currents);
+    if (i < n)
+      peaks[i] = f.peak(s.receptors[i]);
+    else
+      far = max_beyond(s, f, target, o, radius);
+  });
+  Summary sum;
+  for (std::size_t i = 0; i < n; ++i) sum.peaks.emplace_back(s.receptors[i].name, peaks[i]);
+  for (const auto& r : s.receptors) sum.ratios.emplace_back(r.name, mode_ratio(sum.peaks, r.name));
+  return {sum, far};
+}
+
+// Calls f(s, t) at every grid point above `over` and at least as high as its neighbours.
+template <class F>
+void peaks_above(const GridValues& g, double over, F&& f) {
+  const std::size_t ns = g.s.size(), nt = g.t.size();
+  for (std::size_t j = 0; j < nt; ++j)
+    for (std::size_t i = 0; i < ns; ++i) {
+      const double c = g.v[j * ns + i];
+      if (!(c > over)) continue;
+      bool top = true;
+      for (std::size_t jj = j ? j - 1 : 0; jj <= std::min(nt - 1, j + 1) && top; ++jj)
+        for (std::size_t ii = i ? i - 1 : 0; ii <= std::min(ns - 1, i + 1); ++ii)
+          if (g.v[jj * ns + ii] > c) {
+            top = false;
+            break;
+          }
+      if (top) f(g.s[i], g.t[j]);
+    }
 }
 
 }  // namespace
@@ -263,14 +348,14 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
   const auto conductor = make_conductor(setup.conductor, setup.array);
   check_fibre_reach(setup, *conductor);
   const Eigen::MatrixXd basis = zero_sum_basis(setup.array.size());
-  const std::vector<Mirror> sym = mirrors(setup.array, opt.x_mm, opt.z_mm);
 
   // The samples: every other receptor's (<= t), the target's own away from the focus
   // (capped at 1 or at the spill).
   // The samples beyond the radius are capped at spill_cap: the spill, lowered by the
   // excess the check finds between them (below), so that the bound holds on the
   // continuous fibres and not only at the samples.
-  std::vector<Sample> off, capped;
+  std::vector<Sample> off, capped, inner;  // inner: the target's within a quarter pitch
+  std::vector<Lattice> tables;
   std::vector<double> caps;
   std::vector<char> beyond;  // per capped sample: beyond the radius
   double spill_cap = opt.spill;
@@ -284,15 +369,17 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       capped.push_back(p);
       caps.push_back(1.0);
       beyond.push_back(0);
+    } else {
+      inner.push_back(p);
     }
   };
   for (std::size_t r = 0; r < setup.receptors.size(); ++r) {
     if (r != target) {
-      sample_receptor(setup, r, off);
+      sample_receptor(setup, r, off, tables);
       continue;
     }
     std::vector<Sample> own;
-    sample_receptor(setup, r, own);
+    sample_receptor(setup, r, own, tables);
     // The bounds change at the radius and at a quarter pitch: sample those circles (a 1-D
     // array: those points) just outside, where the constrained AF is largest.
     const Region g = fibre_region(setup, tr);
@@ -336,18 +423,26 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
   auto focus_row = [&](double y) {
     const std::vector<Sample> p = {
         {opt.x_mm, y, two_d ? opt.z_mm : setup.conductor.plane_z_mm, target}};
-    return Eigen::VectorXd(rows_of(setup, *conductor, p, basis).row(0).transpose());
+    return Eigen::VectorXd(rows_of(setup, *conductor, tables, p, basis).row(0).transpose());
   };
 
   Eigen::VectorXd w_best;
+  std::optional<double> best_depth;
+  const std::vector<double> all_depths = depths;
+  std::vector<double> last_caps;  // the caps of the last round's LP
+  // The samples' rows, extended by the samples each round adds.
+  Eigen::MatrixXd a_off(0, basis.cols()), a_cap(0, basis.cols());
   for (res.rounds = 1;; ++res.rounds) {
-    const Eigen::MatrixXd a_off = rows_of(setup, *conductor, off, basis);
-    const Eigen::MatrixXd a_cap = rows_of(setup, *conductor, capped, basis);
+    extend_rows(a_off, setup, *conductor, tables, off, basis);
+    extend_rows(a_cap, setup, *conductor, tables, capped, basis);
     const Eigen::VectorXd b_cap =
         Eigen::Map<const Eigen::VectorXd>(caps.data(), static_cast<Eigen::Index>(caps.size()));
     TargetLp lp(a_off, basis, 0.0, a_cap, b_cap);
     std::optional<LpSolution> best;
     Eigen::VectorXd best_row;
+    // The depth is chosen in the first round; later rounds add samples at the same one.
+    if (res.rounds == 2 && best_depth) depths = {*best_depth};
+    last_caps = caps;
     for (const double y : depths) {
       const Eigen::VectorXd row = focus_row(y);
       ++res.lp_solves;
@@ -356,6 +451,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
         best = sol;
         best_row = row;
         res.target_depth_mm = y;
+        best_depth = y;
       }
     }
     if (!best && res.rounds > 1) {
@@ -379,8 +475,8 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
       }
       double least = kInf;
       if (!far.empty()) {
-        TargetLp aux(rows_of(setup, *conductor, far, basis), basis, 0.0,
-                     rows_of(setup, *conductor, near, basis),
+        TargetLp aux(rows_of(setup, *conductor, tables, far, basis), basis, 0.0,
+                     rows_of(setup, *conductor, tables, near, basis),
                      Eigen::Map<const Eigen::VectorXd>(
                          near_caps.data(), static_cast<Eigen::Index>(near_caps.size())));
         for (const double y : depths)
@@ -437,6 +533,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
           in_work[static_cast<std::size_t>(i)] = true;
         }
     }
+
     Eigen::VectorXd z = best->z;
     // The least-distance programme is solved in units of |z0| with unit rows, so that its
     // tests do not depend on the AF's scale (resistivity, diameters).
@@ -487,7 +584,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
     std::vector<double> currents;
     for (Eigen::Index i = 0; i < w_best.size(); ++i)
       currents.push_back(w_best(i) * opt.max_current_mA);
-    const Summary sum = summarize(setup, currents);
+    const auto [sum, far] = check_pattern(setup, currents, tr, opt, res.radius_mm);
     const Field field(setup, currents);
     const double target_af = sum.peaks[target].second.af;
     // The bounds as the issue states them, on the true maxima: the target's largest AF
@@ -498,13 +595,25 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
     for (std::size_t r = 0; r < setup.receptors.size(); ++r) {
       if (r == target) continue;
       const Peak& p = sum.peaks[r].second;
-      if (p.af > t_bound * target_af * (1 + kCheckOff))
-        add_off.push_back({p.x_mm, p.y_mm, two_d ? p.z_mm : setup.conductor.plane_z_mm, r});
+      const double over = t_bound * target_af * (1 + kCheckOff);
+      if (!(p.af > over)) continue;
+      add_off.push_back({p.x_mm, p.y_mm, two_d ? p.z_mm : setup.conductor.plane_z_mm, r});
+      // The other lobes above the bound on the faces at its depths, found between the
+      // samples at once rather than one per round.
+      if (two_d) {
+        const Region g = fibre_region(setup, setup.receptors[r]);
+        for (const double y : {g.y0_mm, g.y1_mm}) {
+          if (y == g.y1_mm && !(g.y1_mm > g.y0_mm)) break;
+          peaks_above(field.plane_af(setup.receptors[r], y, step_at(y) / 2), over,
+                      [&](double px, double pz) {
+                        add_off.push_back({px, y, pz, r});
+                      });
+        }
+      }
     }
     if (lateral(opt, two_d, tp_.x_mm, tp_.z_mm) > quarter)
       add_target.push_back(
           {tp_.x_mm, tp_.y_mm, two_d ? tp_.z_mm : setup.conductor.plane_z_mm, target});
-    const Peak far = max_beyond(setup, field, tr, opt, res.radius_mm);
     if (far.af > opt.spill * target_af) {
       // Many lobes may sit at the cap, each exceeding it between samples by about as much:
       // lower the cap by any excess found, and add the point when it is more than the
@@ -534,21 +643,82 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
                 " asked); a larger --spill or --radius");
       break;
     }
-    // Add the offending points with their mirror images.
+    // Add the offending points with their mirror images through the focus, those within
+    // the fibres' region: the array's symmetries that fix the focus (the answer's too), and
+    // near the focus, where the pattern is nearly symmetric whatever the array, its next
+    // lobes (else found one per round).
     auto with_mirrors = [&](const Sample& p, auto&& add) {
       add(p);
-      for (const Mirror& m : sym)
-        add(Sample{m.x ? 2 * opt.x_mm - p.x : p.x, p.y, m.z ? 2 * opt.z_mm - p.z : p.z,
-                   p.receptor});
+      const Region g = fibre_region(setup, setup.receptors[p.receptor]);
+      for (const Mirror m : {Mirror{true, false}, Mirror{false, true}, Mirror{true, true}}) {
+        if (m.z && !two_d) continue;
+        const double mx = m.x ? 2 * opt.x_mm - p.x : p.x, mz = m.z ? 2 * opt.z_mm - p.z : p.z;
+        if (mx >= g.x0_mm && mx <= g.x1_mm && (!two_d || (mz >= g.z0_mm && mz <= g.z1_mm)))
+          add(Sample{mx, p.y, mz, p.receptor});
+      }
     };
     for (const Sample& p : add_off) with_mirrors(p, [&](const Sample& s) { off.push_back(s); });
     for (const Sample& p : add_target) with_mirrors(p, add_target_sample);
+  }
+
+  if (opt.certify) {
+    // The best over every place the peak may take: the LP with the last round's rows and
+    // caps, its target at each sample within a quarter pitch of the focus and at p*'s
+    // candidates.  p* is one of them, so the certified optimum is at most t*.
+    TargetLp lp(a_off, basis, 0.0, a_cap,
+                Eigen::Map<const Eigen::VectorXd>(last_caps.data(),
+                                                  static_cast<Eigen::Index>(last_caps.size())));
+    std::vector<Sample> cands = inner;
+    for (const double y : all_depths)
+      cands.push_back({opt.x_mm, y, two_d ? opt.z_mm : setup.conductor.plane_z_mm, target});
+    const Eigen::MatrixXd rows = rows_of(setup, *conductor, tables, cands, basis);
+    for (Eigen::Index i = 0; i < rows.rows(); ++i) {
+      ++res.lp_solves;
+      const auto sol = lp.solve(rows.row(i).transpose());
+      if (sol && (!res.certified_optimum || sol->value < *res.certified_optimum)) {
+        res.certified_optimum = sol->value;
+        const Sample& c = cands[static_cast<std::size_t>(i)];
+        res.certified_at = {sol->value, c.x, c.y, c.z};
+      }
+    }
+    res.certified_points = cands.size();
   }
 
   res.weights.assign(w_best.data(), w_best.data() + w_best.size());
   for (double& v : res.weights)
     if (v == 0.0) v = 0.0;  // no -0 in the output
   for (double v : res.weights) res.currents_mA.push_back(v * opt.max_current_mA);
+  res.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+FocusResult evaluate_focus(const Setup& setup, const std::string& mode, const FocusOptions& opt,
+                           const std::vector<double>& weights) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_focus(setup, opt);
+  const std::size_t target = receptor_index(setup, mode);
+  const bool two_d = setup.array.two_d();
+  FocusResult res;
+  res.mode = mode;
+  res.pitch_mm = nominal_pitch_mm(setup.array);
+  res.radius_mm = opt.radius_mm > 0.0 ? opt.radius_mm : res.pitch_mm;
+  res.weights = weights;
+  for (double v : weights) res.currents_mA.push_back(v * opt.max_current_mA);
+  {
+    const auto c = make_conductor(setup.conductor, setup.array);
+    check_fibre_reach(setup, *c);  // before any work
+  }
+  const auto [sum, far] =
+      check_pattern(setup, res.currents_mA, setup.receptors[target], opt, res.radius_mm);
+  res.summary = sum;
+  const Peak& tp_ = res.summary.peaks[target].second;
+  res.target_max_af = tp_.af;
+  res.target_depth_mm = tp_.y_mm;
+  res.spill = res.target_max_af > 0.0 ? std::max(0.0, far.af) / res.target_max_af : kInf;
+  const auto ratio = mode_ratio(res.summary.peaks, mode);
+  res.ratio = ratio ? *ratio : kInf;
+  res.bounds_hold = lateral(opt, two_d, tp_.x_mm, tp_.z_mm) <= res.pitch_mm / 4.0 &&
+                    res.spill <= opt.spill * (1 + kCheckSpill);
   res.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

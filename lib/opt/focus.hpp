@@ -17,6 +17,7 @@
 // that fix the focus) joins the samples and the problem is solved again; a spill beyond
 // its bound also lowers the cap of every sample beyond the radius by the excess found.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,8 @@ struct FocusOptions {
   double spill = 0.3;             // (0, 1]
   double max_current_mA = 2.0;
   double tolerance = 1e-3;  // least Sum w^2 among weights within this of the best t
+  unsigned threads = 1;     // the checks on the continuous fibres run on these
+  bool certify = false;     // also the best t over every place the peak may take
 };
 
 struct FocusResult {
@@ -45,7 +48,13 @@ struct FocusResult {
   double target_depth_mm = 0.0;  // p*'s depth
   int lp_solves = 0, rounds = 0;
   bool least_norm = false;  // the least Sum w^2 was found (else the LP's vertex, said so)
+  bool bounds_hold = true;  // evaluate_focus(): the peak at the focus, the spill within bound
   std::size_t samples = 0;
+  // certify: the least t of the last round's LP over the target's samples within a quarter
+  // pitch of the focus (and p*'s candidates), where, and how many were solved.
+  std::optional<double> certified_optimum;
+  Peak certified_at;
+  std::size_t certified_points = 0;
   double time_s = 0.0;
 };
 
@@ -60,5 +69,12 @@ void check_focus(const Setup& setup, const FocusOptions& opt);
 // Bad input as check_focus(); a runtime failure (exit 1) when no weights satisfy the
 // focus, naming the least spill reachable.
 FocusResult optimize_focus(const Setup& setup, const std::string& mode, const FocusOptions& opt);
+
+// A given pattern (weights, one per pad) judged as a pixel at the focus on the continuous
+// fibres: every receptor's largest AF, the mode's ratio, the target's spill beyond the
+// radius; bounds_hold when its peak lies within a quarter pitch of the focus and the spill
+// is within the bound (to the check's 1e-3).  The solver's fields stay empty.
+FocusResult evaluate_focus(const Setup& setup, const std::string& mode, const FocusOptions& opt,
+                           const std::vector<double>& weights);
 
 }  // namespace tp

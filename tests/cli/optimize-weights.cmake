@@ -80,9 +80,29 @@ tp_cli_test(optimize-weights refuses-radius-negative refuses 2 -- optimize-weigh
 tp_cli_test(optimize-weights refuses-spill-without-at refuses 2 -- optimize-weights --mode SAI --spill 0.5)
 tp_cli_test(optimize-weights refuses-grid-without-at refuses 2 --says "--at" -- optimize-weights --mode SAI --grid 3x3)
 tp_cli_test(optimize-weights refuses-focus-csv refuses 2 -- optimize-weights --mode SAI --at -0.5 --format csv)
-tp_cli_test(optimize-weights refuses-focus-certify refuses 2 -- optimize-weights --mode SAI --at -0.5 --certify)
+tp_cli_test(optimize-weights golden-focus-certify golden optimize-weights/focus-certify-grid-sai.json --rtol 1e-6 --
+  optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0 --certify)
 tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 -- optimize-weights --mode SAI --at -0.5 --objective threshold)
 tp_cli_test(optimize-weights refuses-focus-spill-unreachable refuses 1 --says "the least spill reachable is" --
   optimize-weights --mode SAI --at 0 --model rect3d)
 tp_cli_test(optimize-weights refuses-radius-within-quarter-pitch refuses 2 --says "quarter pitch" --
   optimize-weights --mode SAI --at -0.5 --radius 0.2)
+
+# A bank of pixels (--bank, issue 21): every pad's pattern, derived ones marked; its bad input.
+tp_cli_test(optimize-weights golden-bank-grid-sai golden optimize-weights/bank-grid-sai.json --rtol 1e-6 --
+  optimize-weights --bank --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --threads 2)
+tp_cli_test(optimize-weights golden-bank-neighbourhood golden optimize-weights/bank-neighbourhood-pc.json --rtol 1e-6 --
+  optimize-weights --bank --mode PC --grid 5x2 --pitch 2 --pad 1x1 --neighbourhood 3 --at=-2,-1 --at=0,-1 --at=2,1)
+tp_cli_test(optimize-weights refuses-neighbourhood-without-bank refuses 2 --says "with --bank only" --
+  optimize-weights --mode SAI --grid 3x3 --at 0,0 --neighbourhood 3)
+tp_cli_test(optimize-weights refuses-neighbourhood-pads refuses 2 --says "needs a grid" --
+  optimize-weights --bank --config ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pads-point3d.json --neighbourhood 3)
+tp_cli_test(optimize-weights refuses-neighbourhood-zero refuses 2 --
+  optimize-weights --bank --grid 3x3 --neighbourhood 0)
+tp_cli_test(optimize-weights refuses-at-twice refuses 2 --says "with --bank" --
+  optimize-weights --mode SAI --grid 3x3 --at 0,0 --at 2,0)
+tp_cli_test(optimize-weights refuses-bank-csv refuses 2 -- optimize-weights --bank --grid 3x3 --format csv)
+tp_cli_test(optimize-weights refuses-bank-certify refuses 2 -- optimize-weights --bank --grid 3x3 --certify)
+tp_cli_test(optimize-weights refuses-bank-focus-outside refuses 2 --says "outside the array" --
+  optimize-weights --bank --grid 3x3 --pitch 2 --at 0,4.1)
+tp_cli_test(optimize-weights refuses-no-mode refuses 2 --says "--mode" -- optimize-weights)

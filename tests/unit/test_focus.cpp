@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "model/field.hpp"
+#include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/ldp.hpp"
 
@@ -206,4 +207,108 @@ TEST_CASE("a focus is checked before any work", "[focus]") {
   o = FocusOptions{};
   o.radius_mm = -1.0;
   refuses(o);
+}
+
+TEST_CASE("a grid's plane on the lattice equals every pad evaluated (one pad's table)", "[focus]") {
+  // The lattice correlates one pad's tabulated response with the currents (model/
+  // lattice.hpp): at every point it must equal the direct sum over the pads.
+  for (const char* model : {"rect3d", "point3d"}) {
+    Setup s;
+    s.array = ElectrodeArray::grid_of(4, 3, 2.0, 1.5, 1.0, 0.8);
+    s.conductor.model = model;
+    s.lateral_margin_mm = 2.3;  // edges off the lattice
+    std::vector<double> currents;
+    for (std::size_t i = 0; i < s.array.size(); ++i)
+      currents.push_back(std::sin(1.7 * static_cast<double>(i) + 0.3));
+    const Field f(s, currents);
+    for (const Receptor& r : s.receptors) {
+      const Region g = fibre_region(s, r);
+      const GridValues v = f.plane_af(r, g.y0_mm, g.y0_mm / 7);
+      REQUIRE(v.s.front() == Approx(g.x0_mm).margin(1e-9));
+      REQUIRE(v.s.back() == Approx(g.x1_mm).margin(1e-9));
+      REQUIRE(v.t.front() == Approx(g.z0_mm).margin(1e-9));
+      REQUIRE(v.t.back() == Approx(g.z1_mm).margin(1e-9));
+      double worst = 0, scale = 0;
+      for (std::size_t j = 0; j < v.t.size(); ++j)
+        for (std::size_t i = 0; i < v.s.size(); ++i) {
+          const double d = f.af_3d(r.fibre, fibre_axis(r), v.s[i], g.y0_mm, v.t[j]);
+          worst = std::max(worst, std::fabs(d - v.v[j * v.s.size() + i]));
+          scale = std::max(scale, std::fabs(d));
+        }
+      INFO(model << " " << r.name << ": " << v.s.size() << " x " << v.t.size() << " points");
+      CHECK(worst <= 1e-12 * scale);
+    }
+  }
+}
+
+TEST_CASE("a bank: derived patterns equal the ones solved directly; translation", "[focus]") {
+  Setup s;
+  s.array = ElectrodeArray::grid_of(4, 4, 2.0, 2.0, 1.0, 1.0);
+  s.conductor.model = "rect3d";
+  s.lateral_margin_mm = 2.0;
+  BankOptions b;
+  b.modes = {"SAI"};
+  b.threads = 2;
+  const Bank bank = optimize_bank(s, b);
+  REQUIRE(bank.patterns.size() == 16);
+  CHECK(bank.solves == 4);  // one quadrant: the others are its mirror images
+  // A derived pattern (pad 15, the mirror in x and z of pad 0) against its own solve.
+  const BankPattern& p = bank.patterns[15];
+  REQUIRE(!p.solved);
+  CHECK(p.mirror_x);
+  CHECK(p.mirror_z);
+  FocusOptions o;
+  o.x_mm = 3.0;
+  o.z_mm = 3.0;
+  const FocusResult direct = optimize_focus(s, "SAI", o);
+  for (std::size_t i = 0; i < 16; ++i)
+    CHECK(std::fabs(direct.weights[i] - p.result.weights[i]) < 1e-6);
+  CHECK(p.result.ratio == Approx(direct.ratio).epsilon(1e-6));
+  CHECK(p.result.bounds_hold);
+
+  // A neighbourhood of 3 on a 7 x 5 grid: the interior pixels share one pattern, moved by
+  // whole pitches: pad (2, 2)'s weights shifted one column are pad (3, 2)'s, exactly.
+  Setup t = s;
+  t.array = ElectrodeArray::grid_of(7, 5, 2.0, 2.0, 1.0, 1.0);
+  BankOptions n = b;
+  n.neighbourhood = 3;
+  n.at = {{-2.0, 0.0}, {0.0, 0.0}, {2.0, 0.0}};  // columns 2, 3, 4 of row 2
+  const Bank tb = optimize_bank(t, n);
+  REQUIRE(tb.patterns.size() == 3);
+  CHECK(tb.solves == 1);
+  for (std::size_t k = 0; k + 1 < 3; ++k) {
+    const auto& w0 = tb.patterns[k].result.weights;
+    const auto& w1 = tb.patterns[k + 1].result.weights;
+    for (int row = 0; row < 5; ++row)
+      for (int col = 0; col + 1 < 7; ++col)
+        CHECK(w1[static_cast<std::size_t>(row * 7 + col + 1)] ==
+              w0[static_cast<std::size_t>(row * 7 + col)]);
+    int used = 0;
+    for (double w : w1) used += w != 0.0;
+    CHECK(used <= 9);
+    CHECK(tb.patterns[k].result.bounds_hold);
+  }
+}
+
+TEST_CASE("a pixel certified: the best over every place its peak may take", "[focus]") {
+  // The LP at every target sample within a quarter pitch of the focus: the focus itself is
+  // one of them, so the certified optimum is at most the sampled one.
+  Setup s;
+  s.array = ElectrodeArray::grid_of(4, 4, 2.0, 2.0, 1.0, 1.0);
+  s.conductor.model = "rect3d";
+  s.lateral_margin_mm = 2.0;
+  FocusOptions o;
+  o.x_mm = 1.0;
+  o.z_mm = -1.0;
+  o.certify = true;
+  for (const char* mode : {"RA", "SAI", "PC"}) {
+    const FocusResult r = optimize_focus(s, mode, o);
+    REQUIRE(r.certified_optimum);
+    INFO(mode << ": certified " << *r.certified_optimum << " at (" << r.certified_at.x_mm << ", "
+              << r.certified_at.z_mm << "), sampled " << r.sampled_optimum);
+    CHECK(r.certified_points > 4);
+    CHECK(*r.certified_optimum <= r.sampled_optimum * (1 + 1e-9));
+    CHECK(std::hypot(r.certified_at.x_mm - o.x_mm, r.certified_at.z_mm - o.z_mm) <=
+          r.pitch_mm / 4 + 1e-9);
+  }
 }

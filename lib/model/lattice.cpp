@@ -1,0 +1,120 @@
+#include "model/lattice.hpp"
+
+#include <cmath>
+#include <list>
+#include <mutex>
+#include <string>
+
+#include "model/field.hpp"
+
+namespace tp {
+
+std::optional<GridLattice> grid_lattice(const ElectrodeArray& arr, double x0_mm, double x1_mm,
+                                        double z0_mm, double z1_mm, double step_mm) {
+  if (!arr.grid() || !(step_mm > 0.0)) return std::nullopt;
+  const double pitch = *arr.pitch_mm, row_pitch = arr.row_pitch_mm;
+  const double m = std::ceil(pitch / step_mm - 1e-9), mz = std::ceil(row_pitch / step_mm - 1e-9);
+  GridLattice g;
+  g.hx = pitch / m;
+  g.hz = row_pitch / mz;
+  g.x00 = arr.positions_mm.front();
+  g.z00 = arr.z_mm.front();
+  const double a0 = std::ceil((x0_mm - g.x00) / g.hx - 1e-9);
+  const double a1 = std::floor((x1_mm - g.x00) / g.hx + 1e-9);
+  const double b0 = std::ceil((z0_mm - g.z00) / g.hz - 1e-9);
+  const double b1 = std::floor((z1_mm - g.z00) / g.hz + 1e-9);
+  const double oa = a0 - (arr.columns - 1) * m, ob = b0 - (arr.rows - 1) * mz;
+  // Counted in floating point: a count beyond int's range is never converted.
+  const double points = (a1 - a0 + 1) * (b1 - b0 + 1);
+  const double entries = (a1 - oa + 1) * (b1 - ob + 1);
+  if (!(a1 >= a0 && b1 >= b0 && points <= kMaxSamples &&
+        entries <= points * static_cast<double>(arr.size()) && entries <= kMaxSamples))
+    return std::nullopt;
+  g.m = static_cast<int>(m);
+  g.mz = static_cast<int>(mz);
+  g.a0 = static_cast<int>(a0);
+  g.a1 = static_cast<int>(a1);
+  g.b0 = static_cast<int>(b0);
+  g.b1 = static_cast<int>(b1);
+  g.x0_off = x0_mm < g.x(g.a0) - 1e-9 * g.hx;
+  g.x1_off = x1_mm > g.x(g.a1) + 1e-9 * g.hx;
+  g.z0_off = z0_mm < g.z(g.b0) - 1e-9 * g.hz;
+  g.z1_off = z1_mm > g.z(g.b1) + 1e-9 * g.hz;
+  return g;
+}
+
+namespace {
+
+PadTable build_table(const ConductorParams& params, const ElectrodeArray& arr, const GridLattice& g,
+                     double y_mm, const FibreAxis& axis) {
+  PadTable t;
+  t.oa = g.a0 - (arr.columns - 1) * g.m;
+  t.ob = g.b0 - (arr.rows - 1) * g.mz;
+  t.na = g.a1 - t.oa + 1;
+  t.nb = g.b1 - t.ob + 1;
+  const ElectrodeArray lone = ElectrodeArray::pads({0.0}, {0.0}, arr.width_mm, arr.length_mm);
+  const auto c = make_conductor(params, lone);
+  t.k.resize(static_cast<std::size_t>(t.na) * static_cast<std::size_t>(t.nb));
+  for (int b = 0; b < t.nb; ++b)
+    for (int a = 0; a < t.na; ++a)
+      c->unit_d2_along((t.oa + a) * g.hx, y_mm, (t.ob + b) * g.hz, axis,
+                       &t.k[static_cast<std::size_t>(b) * static_cast<std::size_t>(t.na) +
+                            static_cast<std::size_t>(a)]);
+  return t;
+}
+
+}  // namespace
+
+std::shared_ptr<const PadTable> pad_table(const ConductorParams& params, const ElectrodeArray& arr,
+                                          const GridLattice& g, double y_mm,
+                                          const FibreAxis& axis) {
+  // Everything the lone pad's response at the table's offsets depends on.
+  std::vector<double> key = {params.resistivity_ohm_m,
+                             params.source_depth_mm,
+                             arr.width_mm,
+                             arr.length_mm,
+                             g.hx,
+                             g.hz,
+                             static_cast<double>(g.a0 - (arr.columns - 1) * g.m),
+                             static_cast<double>(g.b0 - (arr.rows - 1) * g.mz),
+                             static_cast<double>(g.a1),
+                             static_cast<double>(g.b1),
+                             y_mm,
+                             axis.vertical ? 1.0 : 0.0,
+                             axis.cos_az,
+                             axis.sin_az};
+  for (const Layer& l : params.skin.layers) {
+    key.push_back(l.thickness_mm);
+    key.push_back(l.resistivity_ohm_m);
+  }
+  struct Entry {
+    std::string model;
+    std::vector<double> key;
+    std::shared_ptr<const PadTable> table;
+  };
+  static std::mutex mutex;
+  static std::list<Entry> cache;  // most recent first
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = cache.begin(); it != cache.end(); ++it)
+      if (it->model == params.model && it->key == key) {
+        cache.splice(cache.begin(), cache, it);
+        return cache.front().table;
+      }
+  }
+  auto table = std::make_shared<const PadTable>(build_table(params, arr, g, y_mm, axis));
+  std::lock_guard<std::mutex> lock(mutex);
+  cache.push_front({params.model, std::move(key), table});
+  constexpr std::size_t kBudget = 20000000;  // entries kept in all
+  std::size_t total = 0;
+  for (auto it = cache.begin(); it != cache.end();) {
+    total += it->table->k.size();
+    if (total > kBudget && it != cache.begin())
+      it = cache.erase(it);
+    else
+      ++it;
+  }
+  return table;
+}
+
+}  // namespace tp

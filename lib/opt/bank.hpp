@@ -1,0 +1,58 @@
+#pragma once
+// A bank of pixels (issue 21): every pad centre's (or every given place's) focal pattern of
+// each mode, the table a display renders from.
+//
+// Each pattern is a pixel (opt/focus.hpp) solved in a window of the array: the whole array,
+// or with a neighbourhood of K the K x K pads around the pad nearest the focus (shifted to
+// stay inside the array; the other pads carry nothing).  Windows of a uniform grid are
+// alike up to translation, and a window symmetric under a mirror through its centre gives
+// the mirror image's pattern for free: a pattern is solved once per distinct problem (its
+// window's size and the focus's place in the window, up to those mirrors) and the others
+// are derived from it by translation and reflection.  Every pattern, solved or derived, is
+// then judged on the whole array (evaluate_focus): its ratio, peak and spill are those of
+// the pattern as printed.
+
+#include <string>
+#include <vector>
+
+#include "opt/focus.hpp"
+
+namespace tp {
+
+struct BankOptions {
+  double radius_mm = 0.0;  // 0: one pitch
+  double spill = 0.3;
+  double max_current_mA = 2.0;
+  std::vector<std::string> modes;  // empty: every receptor's
+  // The foci (x_mm, z_mm); empty: every pad's centre.
+  std::vector<std::pair<double, double>> at;
+  int neighbourhood = 0;  // K (a grid: 1 to 16); 0: every pad
+  unsigned threads = 0;   // 0: every core
+};
+
+struct BankPattern {
+  std::size_t pixel = 0;  // index into Bank::pixels
+  std::string mode;
+  bool feasible = true;  // else `reason` says why no weights satisfy the focus
+  std::string reason;
+  FocusResult result;                       // judged on the whole array (weights over every pad)
+  bool solved = false;                      // else derived from pattern `from`'s solution
+  std::size_t from = 0;                     // the pattern solved for this one's problem
+  bool mirror_x = false, mirror_z = false;  // the reflections that derived it
+};
+
+struct Bank {
+  std::vector<std::pair<double, double>> pixels;  // the foci, mm
+  std::vector<long> pads;                         // each focus's pad (-1: not a pad centre)
+  std::vector<BankPattern> patterns;              // pixel-major, modes in the order given
+  int solves = 0;                                 // problems solved
+};
+
+// Bad input (exit 2) for a focus check_focus() refuses, a neighbourhood on an array that
+// is not a grid or outside [1, 16], more than kMaxBankPatterns patterns; a pattern whose
+// focus no weights satisfy is reported (feasible = false), not thrown.
+Bank optimize_bank(const Setup& setup, const BankOptions& opt);
+
+inline constexpr std::size_t kMaxBankPatterns = 4096;
+
+}  // namespace tp
