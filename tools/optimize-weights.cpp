@@ -101,10 +101,10 @@ int main(int argc, char** argv) {
                "each mode, as one JSON document; symmetric and translated pixels derived, "
                "every pattern judged on the whole array");
   app.add_option("--neighbourhood", neighbourhood,
-                 "With --bank on a grid: each pattern uses the K x K pads around its focus "
-                 "only, 1 to 16 [every pad]")
+                 "With --bank on a grid: each pattern uses only the K x K pads centred on its "
+                 "focus's pad (shifted to stay inside the grid), K odd, 3 to 255 [every pad]")
       ->type_name("K")
-      ->check(CLI::Range(1, 16));
+      ->check(CLI::Range(3, 255));
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");

@@ -11,8 +11,10 @@
 namespace tp {
 
 // Runs f(i) for i in [0, n) on `threads` threads; the first error (lowest i) is rethrown.
-template <class F>
-void parallel_for(std::size_t n, unsigned threads, F&& f) {
+// Each thread started here calls at_exit() before it ends (a library's per-thread state).
+template <class F, class G = void (*)()>
+void parallel_for(
+    std::size_t n, unsigned threads, F&& f, G at_exit = [] {}) {
   std::vector<std::exception_ptr> errors(n);
   std::atomic<std::size_t> next{0};
   auto work = [&] {
@@ -28,7 +30,10 @@ void parallel_for(std::size_t n, unsigned threads, F&& f) {
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < k; ++t) {
     try {
-      pool.emplace_back(work);
+      pool.emplace_back([&] {
+        work();
+        at_exit();
+      });
     } catch (...) {  // no more threads to be had: the ones there are do the work
       break;
     }

@@ -286,8 +286,9 @@ Json bank_to_json(const Document& doc, const Bank& bank, const BankOptions& o) {
       const BankPattern& src = bank.patterns[p.from];
       Json d;
       d["pixel"] = src.pixel;
-      d["mirror_x"] = p.mirror_x;
-      d["mirror_z"] = p.mirror_z;
+      // Relative to that pixel's pattern (each is a reflection of the problem solved).
+      d["mirror_x"] = p.mirror_x != src.mirror_x;
+      d["mirror_z"] = p.mirror_z != src.mirror_z;
       e["derived"] = d;
     }
     pixels[p.pixel]["patterns"][p.mode] = e;

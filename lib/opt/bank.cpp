@@ -12,6 +12,7 @@
 #include "core/parallel.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
+#include "opt/lp.hpp"
 
 namespace tp {
 namespace {
@@ -55,9 +56,10 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
   const int k = opt.neighbourhood;
   if (k != 0 && !a.grid())
     bad_input("--neighbourhood: needs a grid (array.grid); " + a.describe() + " is not one");
-  if (k < 0 || k > ranges::max_grid_side)
-    bad_input("--neighbourhood: " + std::to_string(k) + " outside [1, " +
-              std::to_string(ranges::max_grid_side) + "] (0: every pad)");
+  if (k != 0 && (k < 3 || k >= ranges::max_grid_side || k % 2 == 0))
+    bad_input("--neighbourhood: " + std::to_string(k) + " is not odd within [3, " +
+              std::to_string(ranges::max_grid_side - 1) +
+              "] (K x K pads centred on the focus's pad; 0: every pad)");
   if (a.size() < 2) bad_input("optimisation needs at least 2 electrodes");
   std::vector<std::string> modes = opt.modes;
   if (modes.empty())
@@ -121,8 +123,8 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
           std::clamp(static_cast<int>(std::lround((x - x00) / pitch)), 0, a.columns - 1);
       const int row =
           std::clamp(static_cast<int>(std::lround((z - z00) / a.row_pitch_mm)), 0, a.rows - 1);
-      w.c0 = std::clamp(col - (nc - 1) / 2, 0, a.columns - nc);
-      w.r0 = std::clamp(row - (nr - 1) / 2, 0, a.rows - nr);
+      w.c0 = std::clamp(col - k / 2, 0, a.columns - nc);
+      w.r0 = std::clamp(row - k / 2, 0, a.rows - nr);
       w.setup = setup;
       w.setup.array =
           ElectrodeArray::grid_of(nc, nr, pitch, a.row_pitch_mm, a.width_mm, a.length_mm);
@@ -144,7 +146,7 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
     std::size_t first;   // the first pattern that needs it
     FocusResult result;
     bool feasible = true;
-    std::string reason;
+    FocusFailure why;  // in the window's coordinates
   };
   std::vector<Problem> problems;
   std::map<std::tuple<std::string, int, int, long long, long long>, std::size_t> index;
@@ -154,7 +156,10 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
     const auto [x, z] = bank.pixels[p];
     for (const std::string& mode : modes) {
       Window w = window_of(x, z);
-      double fx = x - w.wx, fz = z - w.wz;  // the focus relative to the window's centre
+      // The focus relative to the window's centre (a rounding's worth from it: on it).
+      double fx = x - w.wx, fz = z - w.wz;
+      if (std::fabs(fx) < 1e-9) fx = 0.0;
+      if (std::fabs(fz) < 1e-9) fz = 0.0;
       BankPattern pat;
       pat.pixel = p;
       pat.mode = mode;
@@ -163,7 +168,7 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
       if (pat.mirror_x) fx = -fx;
       if (pat.mirror_z) fz = -fz;
       const auto key = std::make_tuple(mode, w.setup.array.columns, w.setup.array.rows,
-                                       std::llround(fx * 1e6), std::llround(fz * 1e6));
+                                       std::llround(fx * 1e9), std::llround(fz * 1e9));
       const auto it = index.find(key);
       if (it == index.end()) {
         Problem pr;
@@ -190,25 +195,34 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
       opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
 
   // Solve each problem; one no weights satisfy is reported, not thrown.
-  parallel_for(problems.size(), threads, [&](std::size_t i) {
-    Problem& pr = problems[i];
-    try {
-      pr.result = optimize_focus(pr.window.setup, pr.mode, pr.focus);
-    } catch (const Error& e) {
-      if (e.code() != ExitCode::failure) throw;
-      pr.feasible = false;
-      pr.reason = e.what();
-    }
-  });
+  parallel_for(
+      problems.size(), threads,
+      [&](std::size_t i) {
+        Problem& pr = problems[i];
+        auto r = try_optimize_focus(pr.window.setup, pr.mode, pr.focus, pr.why);
+        pr.feasible = r.has_value();
+        if (r) pr.result = std::move(*r);
+      },
+      release_lp_thread);
 
   // Every pattern: the solution reflected and placed in its window, judged on the array.
   parallel_for(bank.patterns.size(), threads, [&](std::size_t i) {
     BankPattern& pat = bank.patterns[i];
     const Problem& pr = problems[problem_of[i]];
     const Window& w = windows[i];
+    FocusOptions f = base;
+    f.x_mm = bank.pixels[pat.pixel].first;
+    f.z_mm = bank.pixels[pat.pixel].second;
+    // A place in the window's coordinates, in the array's (reflected as the pattern is).
+    auto place = [&](double& x, double& z) {
+      x = w.wx + (pat.mirror_x ? -(x - w.ox) : x - w.ox);
+      z = w.wz + (pat.mirror_z ? -(z - w.oz) : z - w.oz);
+    };
     if (!pr.feasible) {
       pat.feasible = false;
-      pat.reason = pr.reason;
+      FocusFailure why = pr.why;
+      place(why.peak_x_mm, why.peak_z_mm);
+      pat.reason = focus_failure_text(setup, pat.mode, f, why);
       return;
     }
     const ElectrodeArray& wa = w.setup.array;
@@ -222,11 +236,8 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
       }
       weights[full] = pr.result.weights[j];
     }
-    FocusOptions f = base;
-    f.x_mm = bank.pixels[pat.pixel].first;
-    f.z_mm = bank.pixels[pat.pixel].second;
-    if (pat.solved && k == 0) {
-      pat.result = pr.result;  // solved on the array itself: its own check
+    if (pat.solved && k == 0 && !pat.mirror_x && !pat.mirror_z) {
+      pat.result = pr.result;  // solved on the array itself, as it is: its own check
     } else {
       pat.result = evaluate_focus(setup, pat.mode, f, weights);
       if (pat.solved) {  // the solver's account of the window's problem

@@ -3,8 +3,8 @@
 // each mode, the table a display renders from.
 //
 // Each pattern is a pixel (opt/focus.hpp) solved in a window of the array: the whole array,
-// or with a neighbourhood of K the K x K pads around the pad nearest the focus (shifted to
-// stay inside the array; the other pads carry nothing).  Windows of a uniform grid are
+// or with a neighbourhood of K (odd) the K x K pads centred on the pad nearest the focus
+// (shifted to stay inside the array; the other pads carry nothing).  Windows of a uniform grid are
 // alike up to translation, and a window symmetric under a mirror through its centre gives
 // the mirror image's pattern for free: a pattern is solved once per distinct problem (its
 // window's size and the focus's place in the window, up to those mirrors) and the others
@@ -26,7 +26,7 @@ struct BankOptions {
   std::vector<std::string> modes;  // empty: every receptor's
   // The foci (x_mm, z_mm); empty: every pad's centre.
   std::vector<std::pair<double, double>> at;
-  int neighbourhood = 0;  // K (a grid: 1 to 16); 0: every pad
+  int neighbourhood = 0;  // K (a grid; odd, 3 to 255); 0: every pad
   unsigned threads = 0;   // 0: every core
 };
 
@@ -38,7 +38,7 @@ struct BankPattern {
   FocusResult result;                       // judged on the whole array (weights over every pad)
   bool solved = false;                      // else derived from pattern `from`'s solution
   std::size_t from = 0;                     // the pattern solved for this one's problem
-  bool mirror_x = false, mirror_z = false;  // the reflections that derived it
+  bool mirror_x = false, mirror_z = false;  // the reflections of the problem's solution
 };
 
 struct Bank {
@@ -49,7 +49,7 @@ struct Bank {
 };
 
 // Bad input (exit 2) for a focus check_focus() refuses, a neighbourhood on an array that
-// is not a grid or outside [1, 16], more than kMaxBankPatterns patterns; a pattern whose
+// is not a grid or not odd within [3, 255], more than kMaxBankPatterns patterns; a pattern whose
 // focus no weights satisfy is reported (feasible = false), not thrown.
 Bank optimize_bank(const Setup& setup, const BankOptions& opt);
 

@@ -326,7 +326,46 @@ void check_focus(const Setup& s, const FocusOptions& o) {
               number_text(p / 4) + " mm), where the target's peak may lie");
 }
 
+std::string focus_failure_text(const Setup& setup, const std::string& mode, const FocusOptions& opt,
+                               const FocusFailure& why) {
+  const bool two_d = setup.array.two_d();
+  const double radius = opt.radius_mm > 0.0 ? opt.radius_mm : nominal_pitch_mm(setup.array);
+  const std::string place =
+      "(" + number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") + ") mm";
+  const std::string no_weights = "no weights put receptor " + mode + "'s largest AF at the focus " +
+                                 place + " with a spill of at most " + number_text(opt.spill) +
+                                 " beyond " + number_text(radius) + " mm";
+  switch (why.kind) {
+    case FocusFailure::Kind::nowhere:
+      return no_weights + ": no weights put its peak there at all";
+    case FocusFailure::Kind::impossible:
+      return no_weights + ": no spill up to 1 is possible (the least on the samples is " +
+             number_text(why.value) + ": the peak itself cannot sit there)";
+    case FocusFailure::Kind::least_spill:
+      return no_weights + ": the least spill reachable is " + number_text(why.value) +
+             " (on the samples: a lower bound)";
+    case FocusFailure::Kind::caps:
+      return no_weights + " on the continuous fibres: the least reached is " +
+             number_text(why.value);
+    case FocusFailure::Kind::rounds:
+      break;
+  }
+  return "receptor " + mode + "'s pixel at " + place + ": after " + std::to_string(why.rounds) +
+         " rounds its peak lies at (" + number_text(why.peak_x_mm) +
+         (two_d ? ", " + number_text(why.peak_z_mm) : "") + ") mm and its spill is " +
+         number_text(why.value) + " (at most " + number_text(opt.spill) +
+         " asked); a larger --spill or --radius";
+}
+
 FocusResult optimize_focus(const Setup& setup, const std::string& mode, const FocusOptions& opt) {
+  FocusFailure why;
+  auto r = try_optimize_focus(setup, mode, opt, why);
+  if (!r) failure(focus_failure_text(setup, mode, opt, why));
+  return std::move(*r);
+}
+
+std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::string& mode,
+                                              const FocusOptions& opt, FocusFailure& why) {
   const auto t0 = std::chrono::steady_clock::now();
   check_focus(setup, opt);
   if (setup.array.size() < 2) bad_input("optimisation needs at least 2 electrodes");
@@ -339,12 +378,6 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
   res.pitch_mm = nominal_pitch_mm(setup.array);
   res.radius_mm = opt.radius_mm > 0.0 ? opt.radius_mm : res.pitch_mm;
   const double quarter = res.pitch_mm / 4.0;
-  // The focus, and the start of the messages that say no weights satisfy it.
-  const std::string place =
-      "(" + number_text(opt.x_mm) + (two_d ? ", " + number_text(opt.z_mm) : "") + ") mm";
-  const std::string no_weights = "no weights put receptor " + mode + "'s largest AF at the focus " +
-                                 place + " with a spill of at most " + number_text(opt.spill) +
-                                 " beyond " + number_text(res.radius_mm) + " mm";
   const auto conductor = make_conductor(setup.conductor, setup.array);
   check_fibre_reach(setup, *conductor);
   const Eigen::MatrixXd basis = zero_sum_basis(setup.array.size());
@@ -429,10 +462,17 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
   Eigen::VectorXd w_best;
   std::optional<double> best_depth;
   const std::vector<double> all_depths = depths;
+  bool all_depths_again = false;  // the chosen depth failed: every candidate from then on
   std::vector<double> last_caps;  // the caps of the last round's LP
   // The samples' rows, extended by the samples each round adds.
   Eigen::MatrixXd a_off(0, basis.cols()), a_cap(0, basis.cols());
   for (res.rounds = 1;; ++res.rounds) {
+    // The rounds add samples: the cap holds for them too.
+    const double now =
+        static_cast<double>(off.size() + capped.size()) * static_cast<double>(setup.array.size());
+    if (now > kMaxProblemEntries)
+      failure("focus problem: the samples the rounds added make " + number_text(now) +
+              " entries, more than the cap of " + number_text(kMaxProblemEntries));
     extend_rows(a_off, setup, *conductor, tables, off, basis);
     extend_rows(a_cap, setup, *conductor, tables, capped, basis);
     const Eigen::VectorXd b_cap =
@@ -441,7 +481,7 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
     std::optional<LpSolution> best;
     Eigen::VectorXd best_row;
     // The depth is chosen in the first round; later rounds add samples at the same one.
-    if (res.rounds == 2 && best_depth) depths = {*best_depth};
+    if (res.rounds == 2 && best_depth && !all_depths_again) depths = {*best_depth};
     last_caps = caps;
     for (const double y : depths) {
       const Eigen::VectorXd row = focus_row(y);
@@ -454,11 +494,18 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
         best_depth = y;
       }
     }
+    if (!best && depths.size() < all_depths.size()) {
+      // The depth chosen in the first round no longer works: every candidate again.
+      depths = all_depths;
+      all_depths_again = true;
+      --res.rounds;
+      continue;
+    }
     if (!best && res.rounds > 1) {
       // The caps were lowered by the check, and no weights meet them: the spill reached
       // on the continuous fibres is the last round's.
-      failure(no_weights + " on the continuous fibres: the least reached is " +
-              number_text(res.spill) + " (with --spill " + number_text(res.spill) + ")");
+      why = {FocusFailure::Kind::caps, res.spill};
+      return std::nullopt;
     }
     if (!best) {
       // The least spill any weights reach with the peak at the focus: the same problem
@@ -482,12 +529,11 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
         for (const double y : depths)
           if (const auto s = aux.solve(focus_row(y))) least = std::min(least, s->value);
       }
-      failure(no_weights + ": " +
-              (!std::isfinite(least) ? std::string("no weights put its peak there at all")
-               : least > 1.0 ? "no spill up to 1 is possible (the least on the samples is " +
-                                   number_text(least) + ": the peak itself cannot sit there)"
-                             : "the least spill reachable is " + number_text(least) +
-                                   " (on the samples: a lower bound)"));
+      why = {!std::isfinite(least) ? FocusFailure::Kind::nowhere
+             : least > 1.0         ? FocusFailure::Kind::impossible
+                                   : FocusFailure::Kind::least_spill,
+             least};
+      return std::nullopt;
     }
     res.sampled_optimum = best->value;
 
@@ -635,12 +681,10 @@ FocusResult optimize_focus(const Setup& setup, const std::string& mode, const Fo
     if ((add_off.empty() && add_target.empty() && !spill_over) || res.rounds >= kMaxRounds) {
       // Never a silent violation: the bounds hold on the continuous fibres (the spill to
       // the check's tolerance) or the program says they cannot be met.
-      if (peak_away || res.spill > opt.spill * (1 + kCheckSpill))
-        failure("receptor " + mode + "'s pixel at " + place + ": after " +
-                std::to_string(res.rounds) + " rounds its peak lies at (" + number_text(tp_.x_mm) +
-                (two_d ? ", " + number_text(tp_.z_mm) : "") + ") mm and its spill is " +
-                number_text(res.spill) + " (at most " + number_text(opt.spill) +
-                " asked); a larger --spill or --radius");
+      if (peak_away || res.spill > opt.spill * (1 + kCheckSpill)) {
+        why = {FocusFailure::Kind::rounds, res.spill, res.rounds, tp_.x_mm, tp_.z_mm};
+        return std::nullopt;
+      }
       break;
     }
     // Add the offending points with their mirror images through the focus, those within

@@ -13,9 +13,10 @@
 // `tolerance` of the optimum t*, at the same p*, the answer is the one of least Sum w^2
 // (opt/ldp.hpp): unique, so symmetric when the problem is.  It is then checked on the
 // continuous fibres (model/field.hpp): where a true maximum breaks a bound by more than
-// the check's tolerance, that point (and its mirror images under the array's symmetries
-// that fix the focus) joins the samples and the problem is solved again; a spill beyond
-// its bound also lowers the cap of every sample beyond the radius by the excess found.
+// the check's tolerance, that point (with its mirror images through the focus, and the
+// receptor's other lobes above the bound) joins the samples and the problem is solved
+// again; a spill beyond its bound also lowers the cap of every sample beyond the radius by
+// the excess found.
 
 #include <optional>
 #include <string>
@@ -66,9 +67,29 @@ double nominal_pitch_mm(const ElectrodeArray& a);
 // outside (0, 1] or a radius not in (0, 1000] mm.
 void check_focus(const Setup& setup, const FocusOptions& opt);
 
+// Why no weights satisfy a focus.
+struct FocusFailure {
+  enum class Kind {
+    nowhere,      // no weights put the target's peak there at all
+    impossible,   // value: the least spill on the samples, above 1
+    least_spill,  // value: the least spill on the samples (a lower bound)
+    caps,         // value: the spill reached on the continuous fibres
+    rounds        // value: the spill after `rounds` rounds, the peak at (peak_x, peak_z)
+  } kind = Kind::nowhere;
+  double value = 0.0;
+  int rounds = 0;
+  double peak_x_mm = 0.0, peak_z_mm = 0.0;
+};
+// Its one-line message, naming the focus of `opt` and the spill.
+std::string focus_failure_text(const Setup& setup, const std::string& mode, const FocusOptions& opt,
+                               const FocusFailure& why);
+
 // Bad input as check_focus(); a runtime failure (exit 1) when no weights satisfy the
-// focus, naming the least spill reachable.
+// focus, naming the least spill reachable (focus_failure_text).
 FocusResult optimize_focus(const Setup& setup, const std::string& mode, const FocusOptions& opt);
+// The same, but when no weights satisfy the focus: no value, and `why`.
+std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::string& mode,
+                                              const FocusOptions& opt, FocusFailure& why);
 
 // A given pattern (weights, one per pad) judged as a pixel at the focus on the continuous
 // fibres: every receptor's largest AF, the mode's ratio, the target's spill beyond the

@@ -130,6 +130,11 @@ void solve_c(glp_prob* lp, int nz, bool set_target, const int* ind, const double
 
 }  // namespace
 
+void release_lp_thread() {
+  glp_free_env();
+  ++g_environment;
+}
+
 void provoke_glpk_error() {
   Guard g;
   glp_prob* lp = nullptr;

@@ -30,6 +30,10 @@ struct LpSolution {
   Eigen::VectorXd z;
 };
 
+// Frees this thread's GLPK environment (GLPK keeps one per thread): for a thread about to
+// end, every TargetLp it made destroyed.
+void release_lp_thread();
+
 // Makes GLPK fail on purpose (an invalid argument), to test that its failures become a
 // tp::Error instead of abort(), with nothing printed.  Throws tp::Error (failure).
 void provoke_glpk_error();

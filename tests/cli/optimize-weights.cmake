@@ -101,8 +101,12 @@ tp_cli_test(optimize-weights refuses-neighbourhood-zero refuses 2 --
   optimize-weights --bank --grid 3x3 --neighbourhood 0)
 tp_cli_test(optimize-weights refuses-at-twice refuses 2 --says "with --bank" --
   optimize-weights --mode SAI --grid 3x3 --at 0,0 --at 2,0)
-tp_cli_test(optimize-weights refuses-bank-csv refuses 2 -- optimize-weights --bank --grid 3x3 --format csv)
-tp_cli_test(optimize-weights refuses-bank-certify refuses 2 -- optimize-weights --bank --grid 3x3 --certify)
+tp_cli_test(optimize-weights refuses-bank-csv refuses 2 --says "JSON output only" --
+  optimize-weights --bank --grid 3x3 --format csv)
+tp_cli_test(optimize-weights refuses-bank-certify refuses 2 --says "with --bank is not available" --
+  optimize-weights --bank --grid 3x3 --certify)
+tp_cli_test(optimize-weights refuses-neighbourhood-even refuses 2 --says "not odd" --
+  optimize-weights --bank --grid 8x8 --neighbourhood 4)
 tp_cli_test(optimize-weights refuses-bank-focus-outside refuses 2 --says "outside the array" --
   optimize-weights --bank --grid 3x3 --pitch 2 --at 0,4.1)
 tp_cli_test(optimize-weights refuses-no-mode refuses 2 --says "--mode" -- optimize-weights)

@@ -241,11 +241,21 @@ TEST_CASE("a grid's plane on the lattice equals every pad evaluated (one pad's t
   }
 }
 
-TEST_CASE("a bank: derived patterns equal the ones solved directly; translation", "[focus]") {
+namespace {
+
+// A 4 x 4 grid of 1 x 1 mm pads at 2 mm under rect3d, fibres 2 mm beyond the pads.
+Setup grid_4x4() {
   Setup s;
   s.array = ElectrodeArray::grid_of(4, 4, 2.0, 2.0, 1.0, 1.0);
   s.conductor.model = "rect3d";
   s.lateral_margin_mm = 2.0;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a bank: derived patterns equal the ones solved directly; translation", "[focus]") {
+  const Setup s = grid_4x4();
   BankOptions b;
   b.modes = {"SAI"};
   b.threads = 2;
@@ -276,6 +286,7 @@ TEST_CASE("a bank: derived patterns equal the ones solved directly; translation"
   const Bank tb = optimize_bank(t, n);
   REQUIRE(tb.patterns.size() == 3);
   CHECK(tb.solves == 1);
+  for (const BankPattern& q : tb.patterns) REQUIRE(q.feasible);
   for (std::size_t k = 0; k + 1 < 3; ++k) {
     const auto& w0 = tb.patterns[k].result.weights;
     const auto& w1 = tb.patterns[k + 1].result.weights;
@@ -293,10 +304,7 @@ TEST_CASE("a bank: derived patterns equal the ones solved directly; translation"
 TEST_CASE("a pixel certified: the best over every place its peak may take", "[focus]") {
   // The LP at every target sample within a quarter pitch of the focus: the focus itself is
   // one of them, so the certified optimum is at most the sampled one.
-  Setup s;
-  s.array = ElectrodeArray::grid_of(4, 4, 2.0, 2.0, 1.0, 1.0);
-  s.conductor.model = "rect3d";
-  s.lateral_margin_mm = 2.0;
+  const Setup s = grid_4x4();
   FocusOptions o;
   o.x_mm = 1.0;
   o.z_mm = -1.0;
@@ -311,4 +319,79 @@ TEST_CASE("a pixel certified: the best over every place its peak may take", "[fo
     CHECK(std::hypot(r.certified_at.x_mm - o.x_mm, r.certified_at.z_mm - o.z_mm) <=
           r.pitch_mm / 4 + 1e-9);
   }
+}
+
+TEST_CASE("a bank: a problem first met mirrored, threads, and the failures' places", "[focus]") {
+  const Setup s = grid_4x4();
+  BankOptions b;
+  b.modes = {"SAI"};
+  b.at = {{3.0, 3.0}, {-3.0, -3.0}};  // the first is solved as its mirror image
+  b.threads = 1;
+  const Bank bank = optimize_bank(s, b);
+  REQUIRE(bank.patterns.size() == 2);
+  CHECK(bank.solves == 1);
+  FocusOptions o;
+  o.x_mm = 3.0;
+  o.z_mm = 3.0;
+  const FocusResult direct = optimize_focus(s, "SAI", o);
+  const BankPattern& p = bank.patterns[0];
+  REQUIRE(p.feasible);
+  CHECK(p.solved);
+  for (std::size_t i = 0; i < 16; ++i)
+    CHECK(std::fabs(direct.weights[i] - p.result.weights[i]) < 1e-6);
+  const Peak& peak = p.result.summary.peaks[receptor_index(s, "SAI")].second;
+  CHECK(std::hypot(peak.x_mm - 3.0, peak.z_mm - 3.0) < 0.5);
+  CHECK(p.result.bounds_hold);
+
+  // The same bank on 1 and on 3 threads: the same numbers.
+  Setup g = s;
+  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
+  BankOptions all;
+  all.modes = {"SAI", "PC"};
+  all.threads = 1;
+  const Bank one = optimize_bank(g, all);
+  all.threads = 3;
+  const Bank three = optimize_bank(g, all);
+  REQUIRE(one.patterns.size() == three.patterns.size());
+  for (std::size_t i = 0; i < one.patterns.size(); ++i) {
+    CHECK(one.patterns[i].feasible == three.patterns[i].feasible);
+    CHECK(one.patterns[i].reason == three.patterns[i].reason);
+    CHECK(one.patterns[i].result.weights == three.patterns[i].result.weights);
+    CHECK(one.patterns[i].result.ratio == three.patterns[i].result.ratio);
+  }
+  // A pixel without a pattern is named by its own place, not its problem's (PC's corners
+  // have none: 4, solved once).
+  int without = 0;
+  for (const BankPattern& q : one.patterns) {
+    if (q.feasible) continue;
+    ++without;
+    const auto [x, z] = one.pixels[q.pixel];
+    const std::string at = "(" + number_text(x) + ", " + number_text(z) + ") mm";
+    INFO(q.reason);
+    CHECK(q.reason.find(at) != std::string::npos);
+  }
+  CHECK(without == 4);
+}
+
+TEST_CASE("a 2-D array's field with pads at zero: the pads that carry current alone", "[focus]") {
+  // Field evaluates only the pads with current under a 2-D array: the same as every pad.
+  Setup s;
+  s.array = ElectrodeArray::grid_of(4, 3, 2.0, 1.5, 1.0, 0.8);
+  s.conductor.model = "rect3d";
+  std::vector<double> currents(s.array.size(), 0.0);
+  currents[1] = 1.5;
+  currents[6] = -1.0;
+  currents[10] = -0.5;
+  const Field f(s, currents);
+  const auto c = make_conductor(s.conductor, s.array);
+  std::vector<double> k(s.array.size());
+  for (const Receptor& r : s.receptors)
+    for (const double x : {-4.1, -0.3, 2.2})
+      for (const double z : {-1.7, 0.0, 0.9}) {
+        c->unit_d2_along(x, 1.1, z, fibre_axis(r), k.data());
+        double sum = 0.0;
+        for (std::size_t i = 0; i < k.size(); ++i) sum += currents[i] * k[i];
+        CHECK(f.af_3d(r.fibre, fibre_axis(r), x, 1.1, z) ==
+              Approx(fibre_factor_mm2_per_ms(r.fibre) * sum).epsilon(1e-13));
+      }
 }
