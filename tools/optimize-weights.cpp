@@ -235,23 +235,34 @@ int main(int argc, char** argv) {
         tp::bad_input("--at: designs by the AF objective only, not --objective threshold");
       focus.certify = certify;
       if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --at");
-      if (format != "json" || modes.size() > 1) tp::bad_input("--at: one mode, JSON output");
+      if (format != "csv" && modes.size() > 1)
+        tp::bad_input("--at: several modes need --format csv (one row each)");
+      if (format == "csv" && certify)
+        tp::bad_input("--certify: the certified optimum is reported in JSON only");
       if (app.count("--pattern-starts") || app.count("--random-starts"))
         tp::bad_input(
             "--pattern-starts, --random-starts: do not apply with --at (the focus is "
             "solved by linear programming)");
-      const tp::FocusResult r = tp::optimize_focus(doc.setup, modes[0], focus);
-      const std::string text = tp::dump_json(tp::focus_result_to_json(doc, r, focus, timing));
-      if (!r.least_norm)
-        std::fputs(
-            "optimize-weights: warning: the least-Sum-w^2 step did not converge; these "
-            "are the LP's weights, optimal but not the unique least-power ones\n",
-            stderr);
-      std::fprintf(stderr,
-                   "optimize-weights: %s pixel at %s, ratio %.6g, spill %.3g (at most %.3g beyond "
-                   "%.3g mm), target AF %.4g V/ms at %.3g mA, %d rounds, %.3f s\n",
-                   modes[0].c_str(), at[0].c_str(), r.ratio, r.spill, focus.spill, r.radius_mm,
-                   r.target_max_af, opt.max_current_mA, r.rounds, r.time_s);
+      // The whole output first (a later mode may still fail), then the talk, then it.
+      std::string text = format == "csv" && !no_header ? tp::optimize_csv_header(doc.setup) : "";
+      std::string talk;
+      for (const std::string& m : modes) {
+        const tp::FocusResult r = tp::optimize_focus(doc.setup, m, focus);
+        text += format == "csv" ? tp::focus_csv_row(doc.setup, r)
+                                : tp::dump_json(tp::focus_result_to_json(doc, r, focus, timing));
+        if (!r.least_norm)
+          talk += "optimize-weights: warning: " + m +
+                  ": the least-Sum-w^2 step did not converge; these are the LP's weights, optimal "
+                  "but not the unique least-power ones\n";
+        char line[320];
+        std::snprintf(line, sizeof line,
+                      "optimize-weights: %s pixel at %s, ratio %.6g, spill %.3g (at most %.3g "
+                      "beyond %.3g mm), target AF %.4g V/ms at %.3g mA, %d rounds, %.3f s\n",
+                      m.c_str(), at[0].c_str(), r.ratio, r.spill, focus.spill, r.radius_mm,
+                      r.target_max_af, opt.max_current_mA, r.rounds, r.time_s);
+        talk += line;
+      }
+      std::fputs(talk.c_str(), stderr);
       tp::cli::write_stdout(text);
       return;
     }

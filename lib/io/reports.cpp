@@ -304,6 +304,16 @@ std::string optimize_csv_header(const Setup& setup) {
   return h + "\n";
 }
 
+std::string focus_csv_row(const Setup& setup, const FocusResult& r) {
+  OptimizeResult o;
+  o.mode = r.mode;
+  o.ratio = r.ratio;
+  o.target_max_af = r.target_max_af;
+  o.summary = r.summary;
+  o.weights = r.weights;
+  return optimize_csv_row(setup, o);
+}
+
 std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r) {
   const auto num = number_text;
   std::string line = std::to_string(setup.array.size()) + "," +

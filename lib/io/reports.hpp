@@ -60,5 +60,7 @@ Json bank_to_json(const Document& doc, const Bank& bank, const BankOptions& o);
 // One CSV row per result: electrodes,pitch_mm,mode,ratio,target_max_af,max_af_<R>...,w0,w1,...
 std::string optimize_csv_header(const Setup& setup);  // the header line, with its newline
 std::string optimize_csv_row(const Setup& setup, const OptimizeResult& r);
+// The same columns for a pixel (optimize-weights --at --format csv).
+std::string focus_csv_row(const Setup& setup, const FocusResult& r);
 
 }  // namespace tp

@@ -79,7 +79,12 @@ tp_cli_test(optimize-weights refuses-radius-zero refuses 2 -- optimize-weights -
 tp_cli_test(optimize-weights refuses-radius-negative refuses 2 -- optimize-weights --mode SAI --at -0.5 --radius=-1)
 tp_cli_test(optimize-weights refuses-spill-without-at refuses 2 -- optimize-weights --mode SAI --spill 0.5)
 tp_cli_test(optimize-weights refuses-grid-without-at refuses 2 --says "--at" -- optimize-weights --mode SAI --grid 3x3)
-tp_cli_test(optimize-weights refuses-focus-csv refuses 2 -- optimize-weights --mode SAI --at -0.5 --format csv)
+tp_cli_test(optimize-weights golden-focus-grid-csv golden optimize-weights/focus-grid-csv.csv --rtol 1e-6 --
+  optimize-weights --mode SAI,PC --grid 3x3 --pitch 2 --pad 1x1 --at 0,0 --format csv)
+tp_cli_test(optimize-weights refuses-focus-modes-json refuses 2 --says "--format csv" --
+  optimize-weights --mode SAI,PC --at -0.5)
+tp_cli_test(optimize-weights refuses-focus-certify-csv refuses 2 --says "JSON only" --
+  optimize-weights --mode SAI --at -0.5 --format csv --certify)
 tp_cli_test(optimize-weights golden-focus-certify golden optimize-weights/focus-certify-grid-sai.json --rtol 1e-6 --
   optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0 --certify)
 tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 -- optimize-weights --mode SAI --at -0.5 --objective threshold)
