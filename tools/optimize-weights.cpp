@@ -159,6 +159,24 @@ int main(int argc, char** argv) {
           !((bank || !at.empty()) && std::string(flag) == "--threads"))
         tp::bad_input(std::string(flag) + ": applies to --objective threshold only" +
                       (std::string(flag) == "--threads" ? ", --at and --bank" : ""));
+    // The pixel's places (--at, repeated with --bank), radius and spill.
+    std::vector<std::pair<double, double>> places;
+    for (const std::string& p : at) {
+      const std::vector<double> xz = tp::parse_list(p, "--at");
+      const bool two_d = doc.setup.array.two_d();
+      if (xz.size() != (two_d ? 2u : 1u))
+        tp::bad_input("--at: expected " +
+                      std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" + p +
+                      "'");
+      places.emplace_back(xz[0], two_d ? xz[1] : 0.0);
+    }
+    tp::FocusOptions focus;
+    if (!radius.empty()) {
+      focus.radius_mm = tp::parse_finite(radius, "--radius");
+      if (!(focus.radius_mm > 0.0)) tp::bad_input("--radius: must be > 0 mm, got " + radius);
+    }
+    if (!spill.empty()) focus.spill = tp::parse_finite(spill, "--spill");
+    focus.max_current_mA = opt.max_current_mA;
     if (bank) {
       if (by_threshold) tp::bad_input("--bank: designs by the AF objective only");
       if (certify) tp::bad_input("--certify: with --bank is not available yet");
@@ -168,21 +186,10 @@ int main(int argc, char** argv) {
         tp::bad_input("--pattern-starts, --random-starts: do not apply with --bank");
       tp::BankOptions b;
       b.modes = modes;
-      const bool two_d = doc.setup.array.two_d();
-      for (const std::string& p : at) {
-        const std::vector<double> xz = tp::parse_list(p, "--at");
-        if (xz.size() != (two_d ? 2u : 1u))
-          tp::bad_input("--at: expected " +
-                        std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" +
-                        p + "'");
-        b.at.emplace_back(xz[0], two_d ? xz[1] : 0.0);
-      }
-      if (!radius.empty()) {
-        b.radius_mm = tp::parse_finite(radius, "--radius");
-        if (!(b.radius_mm > 0.0)) tp::bad_input("--radius: must be > 0 mm, got " + radius);
-      }
-      if (!spill.empty()) b.spill = tp::parse_finite(spill, "--spill");
-      b.max_current_mA = opt.max_current_mA;
+      b.at = places;
+      b.radius_mm = focus.radius_mm;
+      b.spill = focus.spill;
+      b.max_current_mA = focus.max_current_mA;
       b.neighbourhood = neighbourhood;
       b.threads = static_cast<unsigned>(app.count("--threads") ? fibre.threads : 0);
       const tp::Bank result = tp::optimize_bank(doc.setup, b);
@@ -212,22 +219,9 @@ int main(int argc, char** argv) {
       tp::bad_input("--min-target-af: applies to the AF objective only");
     if (certify && format != "json")
       tp::bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
-    tp::FocusOptions focus;
-    if (!at.empty()) {
-      const std::vector<double> xz = tp::parse_list(at[0], "--at");
-      const bool two_d = doc.setup.array.two_d();
-      if (xz.size() != (two_d ? 2u : 1u))
-        tp::bad_input("--at: expected " +
-                      std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" +
-                      at[0] + "'");
-      focus.x_mm = xz[0];
-      focus.z_mm = two_d ? xz[1] : 0.0;
-      if (!radius.empty()) {
-        focus.radius_mm = tp::parse_finite(radius, "--radius");
-        if (!(focus.radius_mm > 0.0)) tp::bad_input("--radius: must be > 0 mm, got " + radius);
-      }
-      if (!spill.empty()) focus.spill = tp::parse_finite(spill, "--spill");
-      focus.max_current_mA = opt.max_current_mA;
+    if (!places.empty()) {
+      focus.x_mm = places[0].first;
+      focus.z_mm = places[0].second;
       focus.threads = app.count("--threads") ? static_cast<unsigned>(fibre.threads)
                                              : std::max(1u, std::thread::hardware_concurrency());
       tp::check_focus(doc.setup, focus);

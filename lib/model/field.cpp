@@ -245,18 +245,8 @@ GridValues Field::plane_af(const Receptor& r, double y, double step) const {
   const auto lat = grid_lattice(setup_.array, reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, step);
   GridValues g;
   if (!lat) {
-    // maximize_2d()'s grid.
-    const double ns_d = std::ceil((reg.x1_mm - reg.x0_mm) / step) + 1;
-    const double nt_d = std::ceil((reg.z1_mm - reg.z0_mm) / step) + 1;
-    if (!(ns_d * nt_d <= kMaxSamples)) refuse_sample_count("a fibre region's grid", ns_d * nt_d);
-    const auto ns = static_cast<std::size_t>(ns_d), nt = static_cast<std::size_t>(nt_d);
-    g.hs = ns > 1 ? (reg.x1_mm - reg.x0_mm) / static_cast<double>(ns - 1) : 0.0;
-    g.ht = nt > 1 ? (reg.z1_mm - reg.z0_mm) / static_cast<double>(nt - 1) : 0.0;
-    for (std::size_t i = 0; i < ns; ++i)
-      g.s.push_back(i + 1 == ns ? reg.x1_mm : reg.x0_mm + static_cast<double>(i) * g.hs);
-    for (std::size_t j = 0; j < nt; ++j)
-      g.t.push_back(j + 1 == nt ? reg.z1_mm : reg.z0_mm + static_cast<double>(j) * g.ht);
-    g.v.reserve(ns * nt);
+    g = uniform_grid(reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, step);
+    g.v.reserve(g.s.size() * g.t.size());
     for (const double z : g.t)
       for (const double x : g.s) g.v.push_back(af_3d(r.fibre, axis, x, y, z));
     return g;
@@ -266,12 +256,8 @@ GridValues Field::plane_af(const Receptor& r, double y, double step) const {
   const auto t = pad_table(setup_.conductor, setup_.array, *lat, y, axis);
   g.hs = lat->hx;
   g.ht = lat->hz;
-  if (lat->x0_off) g.s.push_back(reg.x0_mm);
-  for (int a = lat->a0; a <= lat->a1; ++a) g.s.push_back(lat->x(a));
-  if (lat->x1_off) g.s.push_back(reg.x1_mm);
-  if (lat->z0_off) g.t.push_back(reg.z0_mm);
-  for (int b = lat->b0; b <= lat->b1; ++b) g.t.push_back(lat->z(b));
-  if (lat->z1_off) g.t.push_back(reg.z1_mm);
+  g.s = lat->x_axis(reg.x0_mm, reg.x1_mm);
+  g.t = lat->z_axis(reg.z0_mm, reg.z1_mm);
   const double ff = fibre_factor_mm2_per_ms(r.fibre);
   const ElectrodeArray& arr = setup_.array;
   const auto ncur = static_cast<std::size_t>(arr.columns) * static_cast<std::size_t>(arr.rows);
@@ -459,8 +445,15 @@ std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>
 Summary summarize(const Setup& setup, const std::vector<double>& currents_mA) {
   Field field(setup, currents_mA);
   check_fibre_reach(setup, field.conductor());  // before any work
+  std::vector<Peak> peaks;
+  for (const auto& r : setup.receptors) peaks.push_back(field.peak(r));
+  return summary_of(setup, peaks);
+}
+
+Summary summary_of(const Setup& setup, const std::vector<Peak>& peaks) {
   Summary s;
-  for (const auto& r : setup.receptors) s.peaks.emplace_back(r.name, field.peak(r));
+  for (std::size_t i = 0; i < setup.receptors.size(); ++i)
+    s.peaks.emplace_back(setup.receptors[i].name, peaks[i]);
   for (const auto& r : setup.receptors) s.ratios.emplace_back(r.name, mode_ratio(s.peaks, r.name));
   return s;
 }

@@ -122,6 +122,8 @@ struct Summary {
   std::vector<std::pair<std::string, std::optional<double>>> ratios;
 };
 Summary summarize(const Setup& setup, const std::vector<double>& currents_mA);
+// The Summary of given peaks, one per receptor in table order (their ratios added).
+Summary summary_of(const Setup& setup, const std::vector<Peak>& peaks);
 
 // The index of the receptor named `mode`; bad input naming the known ones otherwise.
 std::size_t receptor_index(const Setup& setup, const std::string& mode);
@@ -144,9 +146,11 @@ template <class F>
 Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step);
 
 // The same from f's values on a grid already evaluated (GridValues), each local maximum
-// refined within (hs, ht) of it.
+// refined within (hs, ht) of it.  uniform_grid(): maximize_2d()'s grid, without values
+// (bad input beyond kMaxSamples points).
 template <class F>
 Max2d maximize_2d_grid(F&& f, const GridValues& grid);
+GridValues uniform_grid(double s0, double s1, double t0, double t1, double step);
 
 }  // namespace tp
 

@@ -45,6 +45,28 @@ std::optional<GridLattice> grid_lattice(const ElectrodeArray& arr, double x0_mm,
 
 namespace {
 
+// Lattice lines origin + i step for i in [i0, i1], with the ends lo, hi when off them.
+std::vector<double> axis(double lo, double hi, bool lo_off, bool hi_off, double origin, double step,
+                         int i0, int i1) {
+  std::vector<double> v;
+  if (lo_off) v.push_back(lo);
+  for (int i = i0; i <= i1; ++i) v.push_back(origin + i * step);
+  if (hi_off) v.push_back(hi);
+  return v;
+}
+
+}  // namespace
+
+std::vector<double> GridLattice::x_axis(double x0_mm, double x1_mm) const {
+  return axis(x0_mm, x1_mm, x0_off, x1_off, x00, hx, a0, a1);
+}
+
+std::vector<double> GridLattice::z_axis(double z0_mm, double z1_mm) const {
+  return axis(z0_mm, z1_mm, z0_off, z1_off, z00, hz, b0, b1);
+}
+
+namespace {
+
 PadTable build_table(const ConductorParams& params, const ElectrodeArray& arr, const GridLattice& g,
                      double y_mm, const FibreAxis& axis) {
   PadTable t;

@@ -27,6 +27,10 @@ struct GridLattice {
   bool x0_off = false, x1_off = false, z0_off = false, z1_off = false;
   double x(int a) const { return x00 + a * hx; }
   double z(int b) const { return z00 + b * hz; }
+  // The lattice's lines within [x0, x1] (or [z0, z1]), with the region's edges that fall
+  // between them: increasing.
+  std::vector<double> x_axis(double x0_mm, double x1_mm) const;
+  std::vector<double> z_axis(double z0_mm, double z1_mm) const;
 };
 
 // The lattice at a step of at most step_mm, or none when the array is not a grid or the

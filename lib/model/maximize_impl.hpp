@@ -129,8 +129,7 @@ Max2d maximize_2d_grid(F&& f, const GridValues& grid) {
   return best;
 }
 
-template <class F>
-Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step) {
+inline GridValues uniform_grid(double s0, double s1, double t0, double t1, double step) {
   const double ns_d = std::ceil((s1 - s0) / step) + 1, nt_d = std::ceil((t1 - t0) / step) + 1;
   if (!(ns_d * nt_d <= kMaxSamples)) refuse_sample_count("a fibre region's grid", ns_d * nt_d);
   const auto ns = static_cast<std::size_t>(ns_d), nt = static_cast<std::size_t>(nt_d);
@@ -141,9 +140,15 @@ Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step
     g.s.push_back(i + 1 == ns ? s1 : s0 + static_cast<double>(i) * g.hs);
   for (std::size_t j = 0; j < nt; ++j)
     g.t.push_back(j + 1 == nt ? t1 : t0 + static_cast<double>(j) * g.ht);
-  g.v.resize(ns * nt);
-  for (std::size_t j = 0; j < nt; ++j)
-    for (std::size_t i = 0; i < ns; ++i) g.v[j * ns + i] = f(g.s[i], g.t[j]);
+  return g;
+}
+
+template <class F>
+Max2d maximize_2d(F&& f, double s0, double s1, double t0, double t1, double step) {
+  GridValues g = uniform_grid(s0, s1, t0, t1, step);
+  g.v.reserve(g.s.size() * g.t.size());
+  for (const double t : g.t)
+    for (const double s : g.s) g.v.push_back(f(s, t));
   return maximize_2d_grid(f, g);
 }
 

@@ -26,27 +26,25 @@ struct Window {
   bool mirror_x = false, mirror_z = false;  // reflections through its centre it admits
 };
 
-// A reflection through (ox, oz) maps the pads onto themselves.
-bool symmetric(const ElectrodeArray& a, bool mx, bool mz, double ox, double oz) {
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const double x = mx ? 2 * ox - a.positions_mm[i] : a.positions_mm[i];
-    const double z = mz ? 2 * oz - a.z_of(i) : a.z_of(i);
-    bool found = false;
-    for (std::size_t j = 0; j < a.size() && !found; ++j)
-      found = std::fabs(a.positions_mm[j] - x) < 1e-9 && std::fabs(a.z_of(j) - z) < 1e-9;
-    if (!found) return false;
-  }
-  return true;
+// The pad at (x, z) (to 1e-9 mm), or -1.
+long pad_at(const ElectrodeArray& a, double x, double z) {
+  for (std::size_t j = 0; j < a.size(); ++j)
+    if (std::fabs(a.positions_mm[j] - x) < 1e-9 && std::fabs(a.z_of(j) - z) < 1e-9)
+      return static_cast<long>(j);
+  return -1;
 }
 
-// The pad of a window at the reflection of pad i's place.
-std::size_t mirrored(const ElectrodeArray& a, std::size_t i, bool mx, bool mz, double ox,
-                     double oz) {
-  const double x = mx ? 2 * ox - a.positions_mm[i] : a.positions_mm[i];
-  const double z = mz ? 2 * oz - a.z_of(i) : a.z_of(i);
-  for (std::size_t j = 0; j < a.size(); ++j)
-    if (std::fabs(a.positions_mm[j] - x) < 1e-9 && std::fabs(a.z_of(j) - z) < 1e-9) return j;
-  failure("bank: a reflection has no pad");  // symmetric() was checked
+// The pad at the reflection of pad i's place through (ox, oz), or -1.
+long mirrored(const ElectrodeArray& a, std::size_t i, bool mx, bool mz, double ox, double oz) {
+  return pad_at(a, mx ? 2 * ox - a.positions_mm[i] : a.positions_mm[i],
+                mz ? 2 * oz - a.z_of(i) : a.z_of(i));
+}
+
+// A reflection through (ox, oz) maps the pads onto themselves.
+bool symmetric(const ElectrodeArray& a, bool mx, bool mz, double ox, double oz) {
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (mirrored(a, i, mx, mz, ox, oz) < 0) return false;
+  return true;
 }
 
 }  // namespace
@@ -74,13 +72,7 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
     }
   } else {
     bank.pixels = opt.at;
-    for (const auto& [x, z] : opt.at) {
-      long pad = -1;
-      for (std::size_t i = 0; i < a.size() && pad < 0; ++i)
-        if (std::fabs(a.positions_mm[i] - x) < 1e-9 && std::fabs(a.z_of(i) - z) < 1e-9)
-          pad = static_cast<long>(i);
-      bank.pads.push_back(pad);
-    }
+    for (const auto& [x, z] : opt.at) bank.pads.push_back(pad_at(a, x, z));
   }
   const double count = static_cast<double>(bank.pixels.size()) * static_cast<double>(modes.size());
   if (count > static_cast<double>(kMaxBankPatterns))
@@ -228,7 +220,9 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
     const ElectrodeArray& wa = w.setup.array;
     std::vector<double> weights(a.size(), 0.0);
     for (std::size_t j = 0; j < wa.size(); ++j) {
-      const std::size_t m = mirrored(wa, j, pat.mirror_x, pat.mirror_z, w.ox, w.oz);
+      const long mi = mirrored(wa, j, pat.mirror_x, pat.mirror_z, w.ox, w.oz);
+      if (mi < 0) failure("bank: a reflection has no pad");  // symmetric() was checked
+      const auto m = static_cast<std::size_t>(mi);
       std::size_t full = m;
       if (k != 0) {
         const int c = static_cast<int>(m) % wa.columns, r = static_cast<int>(m) / wa.columns;

@@ -99,19 +99,15 @@ void sample_receptor(const Setup& s, std::size_t r, std::vector<Sample>& out,
     if (!lat) return plain();
     const int id = static_cast<int>(tables.size());
     tables.push_back({*lat, pad_table(s.conductor, arr, *lat, y, fibre_axis(s.receptors[r]))});
-    std::vector<double> xs, zs;  // the lattice's lines, then the region's edges off it
+    // The lattice's points, then the region's edges between its lines.
     for (int b = lat->b0; b <= lat->b1; ++b)
       for (int a = lat->a0; a <= lat->a1; ++a)
         out.push_back({lat->x(a), y, lat->z(b), r, id, a, b});
-    for (int a = lat->a0; a <= lat->a1; ++a) xs.push_back(lat->x(a));
-    for (int b = lat->b0; b <= lat->b1; ++b) zs.push_back(lat->z(b));
-    for (const double z : zs) {
-      if (lat->x0_off) out.push_back({g.x0_mm, y, z, r});
-      if (lat->x1_off) out.push_back({g.x1_mm, y, z, r});
+    for (int b = lat->b0; b <= lat->b1; ++b) {
+      if (lat->x0_off) out.push_back({g.x0_mm, y, lat->z(b), r});
+      if (lat->x1_off) out.push_back({g.x1_mm, y, lat->z(b), r});
     }
-    if (lat->x0_off) xs.insert(xs.begin(), g.x0_mm);
-    if (lat->x1_off) xs.push_back(g.x1_mm);
-    for (const double x : xs) {
+    for (const double x : lat->x_axis(g.x0_mm, g.x1_mm)) {
       if (lat->z0_off) out.push_back({x, y, g.z0_mm, r});
       if (lat->z1_off) out.push_back({x, y, g.z1_mm, r});
     }
@@ -267,10 +263,7 @@ std::pair<Summary, Peak> check_pattern(const Setup& s, const std::vector<double>
     else
       far = max_beyond(s, f, target, o, radius);
   });
-  Summary sum;
-  for (std::size_t i = 0; i < n; ++i) sum.peaks.emplace_back(s.receptors[i].name, peaks[i]);
-  for (const auto& r : s.receptors) sum.ratios.emplace_back(r.name, mode_ratio(sum.peaks, r.name));
-  return {sum, far};
+  return {summary_of(s, peaks), far};
 }
 
 // Calls f(s, t) at every grid point above `over` and at least as high as its neighbours.
