@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
       const tp::Field field(doc.setup, currents_mA);
       if (!field.conductor().three_d())
         tp::bad_input("--plane-depth: " + doc.setup.conductor.model +
-                      " does not evaluate points off the fibres' plane; use point3d or rect3d");
+                      " does not evaluate points off the fibres' plane; use point3d, rect3d or layered");
       tp::check_plane(doc.setup, field.conductor(), x, z, depth);  // before the first row
       tp::write_af_plane(stdout, field, x, z, depth);
       return;

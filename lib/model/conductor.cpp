@@ -38,7 +38,7 @@ std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
     bad_input("model.conductor: " + params.model +
               " is a 2-D model (electrodes infinitely long "
               "along z) and takes no 2-D array (" +
-              array.describe() + "); use point3d or rect3d");
+              array.describe() + "); use point3d, rect3d or layered");
   const double rho = params.resistivity_ohm_m > 0.0 ? params.resistivity_ohm_m
                                                     : constants::tissue_resistivity_ohm_m;
   if (params.model == "line2d") return make_line2d(array, rho);

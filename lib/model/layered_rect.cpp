@@ -21,8 +21,22 @@
 //     node (remainder_coefficients);
 //   - F_xx, F_zz on (u, y) tiles: y-tiles of half the layer's smallest a (geometric in the
 //     semi-infinite bottom layer), u-tiles of that a near the rectangle, then doubling with
-//     the distance from its edge; 14 x 10 nodes each, the edge integrals by 8-point
+//     the distance from its edge; 16 x 10 nodes each, the edge integrals by 8-point
 //     Gauss-Legendre on panels graded the same way.
+// 2-D arrays (pads off z = 0, and any 3-D point): the rectangle's remainder at offset
+// (u, v) = (x - x_i, z - z_i) from its centre, through its corners, with (a, b) = the
+// point's offset from a corner along x and z:
+//   F_xx = 1/(wL) C[Q(a, b)],  F_zz = 1/(wL) C[Q(b, a)],  F_xz = 1/(wL) C[R(r)],
+//   Q(a, b) = Int_0^b g(a, beta) dbeta         (odd in a and in b),
+// C[f] = f(a2, b2) - f(a1, b2) - f(a2, b1) + f(a1, b1) as in rect3d, R the point remainder.
+// Q and R(r) are tabulated on (|a|, |b|) tiles at each depth node of a y-tile, a and b on
+// the lattice 0, s, 2s, 4s, ... (s as the u-tiles'), 16 x 16 nodes each; Q by the graded
+// rule up to the tile's first b, then 8-point Gauss-Legendre between consecutive nodes.
+// From them, F_xx, F_zz (even in u and v) and F_xz (odd in each) are tabulated on
+// (|u|, |v|, y) tiles (u and v graded from the pad's edges, as the u-tiles; 16 x 16 x 10
+// nodes), so that a pad costs one 2-D interpolant per derivative.  Along a fibre at
+// azimuth (c, s): c^2 F_xx + 2 c s F_xz + s^2 F_zz; vertical: F_yy = -(F_xx + F_zz).
+//
 // Each tile is built when first needed and kept (shared by every conductor of the same
 // design in the process), and depends only on its own nodes: results do not depend on the
 // order of evaluation.  A conductor object caches the current depth's row (not for use by
@@ -47,8 +61,9 @@
 namespace tp {
 namespace {
 
-constexpr int kNu = 14;             // Chebyshev nodes along u per tile
+constexpr int kNu = 16;             // Chebyshev nodes along u per tile
 constexpr int kNy = 10;             // along y
+constexpr int kNq = 16;             // along a and b, per corner tile (2-D arrays)
 constexpr int kNr = 16;             // along r, per r-tile
 constexpr int kGl = 8;              // Gauss-Legendre points per panel
 constexpr double kDecay = 40.0;     // Hankel integrals stop at e^-40 of the remainder's decay
@@ -56,6 +71,10 @@ constexpr double kMaxPanels = 2e5;  // panels of one r-tile's Hankel rule (~1 KB
 
 const Chebyshev<kNu>& cheb_u() {
   static const Chebyshev<kNu> c;
+  return c;
+}
+const Chebyshev<kNq>& cheb_q() {
+  static const Chebyshev<kNq> c;
   return c;
 }
 const Chebyshev<kNy>& cheb_y() {
@@ -145,11 +164,28 @@ class Tables {
     double u0, u1;
     std::array<double, kNy * kNu> cxx{}, czz{};  // [j * kNu + i]: y-degree j, u-degree i
   };
+  // Q(a, b) and R(sqrt(a^2 + b^2)) on one (a, b) tile of a y-tile, at each of its depth
+  // nodes (what the F tiles are built from).
+  struct QTile {
+    double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
+    // [(j * kNq + k) * kNq + i]: depth node j, b-degree k, a-degree i
+    std::array<double, kNy * kNq * kNq> cq{}, cp{};
+  };
+  // A pad's remainder F_xx, F_zz (even in u and in v) and F_xz (odd in each) on one
+  // (|u|, |v|) tile of a y-tile (u, v: the point's offset from the pad's centre).
+  struct FTile {
+    double u0 = 0.0, u1 = 0.0, v0 = 0.0, v1 = 0.0;
+    // [(j * kNq + k) * kNq + i]: y-degree j, v-degree k, u-degree i
+    std::array<double, kNy * kNq * kNq> cxx{}, czz{}, cxz{};
+  };
   struct YTile {
     std::size_t layer = 0;
     double y0 = 0.0, y1 = 0.0, s = 0.0;
-    Lattice u;
+    Lattice u, q;
     std::vector<std::unique_ptr<Tile>> tiles;  // by u-tile index
+    Lattice fu, fv;                            // u and v, graded from the pad's edges
+    std::map<std::pair<long, long>, std::unique_ptr<QTile>> qtiles;  // by (a, b) tile index
+    std::map<std::pair<long, long>, std::unique_ptr<FTile>> ftiles;  // by (u, v) tile index
   };
 
   // The y-tile holding depth y (> 0), built on first use.
@@ -188,6 +224,9 @@ class Tables {
       slot->y1 = y1;
       slot->s = layer_a_min(k, y0, y1);
       slot->u = Lattice(slot->s, 0.5 * w_);
+      slot->q = Lattice(slot->s, 0.0);
+      slot->fu = Lattice(slot->s, 0.5 * w_);
+      slot->fv = Lattice(slot->s, 0.5 * l_);
     }
     return *slot;
   }
@@ -202,13 +241,25 @@ class Tables {
     return *yt.tiles[mi];
   }
 
+  // F tile (iu, iv) of a y-tile, built on first use.
+  const FTile& ftile(const YTile& yt_const, long iu, long iv) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& yt = const_cast<YTile&>(yt_const);  // owned by ytiles_; only this object mutates it
+    auto& slot = yt.ftiles[{iu, iv}];
+    if (!slot) slot = build_ftile(yt, iu, iv);
+    return *slot;
+  }
+
   // Bad input when a point at a depth in [y_min_mm, y_max_mm] and lateral offset up to
   // u_max_mm from an electrode would need more than kMaxPanels panels.  Conservative: for
   // every y-tile the range meets, the r-tile of the farthest edge of the u-tile of u_max_mm,
   // at every depth node of the y-tile (what its second derivatives are built from) and at
   // the range's ends within it (where potentials are evaluated).  Checked before any work or
   // output, so that no evaluation fails half-way through.
-  void reach(double u_max_mm, double y_min_mm, double y_max_mm, const std::string& what) {
+  // corners: the point may be off the plane z = plane_z (a 2-D array's pads, a 3-D point),
+  // u_max_mm its largest distance from a pad's centre: the corner tiles' reach is checked.
+  void reach(double u_max_mm, double y_min_mm, double y_max_mm, const std::string& what,
+             bool corners) {
     double worst = 0.0, at_y_mm = y_min_mm;
     // A tile lies in one layer, where the remainder distance is concave in y: its least over
     // any interval is at an end.
@@ -230,7 +281,12 @@ class Tables {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         const double u1 = yt.u.at(yt.u.index(std::fabs(u_max_mm)) + 1);
-        const double r_max = std::hypot(u1 + 0.5 * w_, std::fabs(z_) + 0.5 * l_);
+        double r_max = std::hypot(u1 + 0.5 * w_, std::fabs(z_) + 0.5 * l_);
+        if (corners) {  // the corner tiles' far ends
+          const double a = std::fabs(u_max_mm) + 0.5 * w_, b = std::fabs(u_max_mm) + 0.5 * l_;
+          r_max =
+              std::max(r_max, std::hypot(yt.q.at(yt.q.index(a) + 1), yt.q.at(yt.q.index(b) + 1)));
+        }
         const RGrid& g = rgrid(r_lattice_.index(r_max));
         const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
         for (std::size_t j = 0; j < kNy; ++j) consider(g, yt.layer, ymid + yhalf * cheb_y().t[j]);
@@ -254,10 +310,11 @@ class Tables {
 
   // The remainder's potential (V, 1 mA injected) of one rectangle at (u, y): a 2-D integral
   // of the tabulated point remainder (for unit_potentials, which only the checks use).
-  double remainder_potential(double u, double y) {
+  // v: the point's offset from the rectangle's centre along z.
+  double remainder_potential(double u, double v, double y) {
     std::lock_guard<std::mutex> lock(mutex_);
     const double s = stack_.remainder_distance(y);
-    const double b1 = z_ - 0.5 * l_, b2 = z_ + 0.5 * l_;
+    const double b1 = v - 0.5 * l_, b2 = v + 0.5 * l_;
     RTable& rt = rtable(y);
     const double total = graded_integral(u - 0.5 * w_, u + 0.5 * w_, s, [&](double a) {
       return graded_integral(b1, b2, s,
@@ -487,6 +544,110 @@ class Tables {
     return tile;
   }
 
+  std::unique_ptr<QTile> build_qtile(const YTile& yt, long ia, long ib) {
+    auto tile = std::make_unique<QTile>();
+    tile->a0 = yt.q.at(ia);
+    tile->a1 = yt.q.at(ia + 1);
+    tile->b0 = yt.q.at(ib);
+    tile->b1 = yt.q.at(ib + 1);
+    constexpr std::size_t kAB = kNq * kNq;
+    std::array<double, kNy * kAB> q{}, p{}, t1{};
+    const double amid = 0.5 * (tile->a0 + tile->a1), ahalf = 0.5 * (tile->a1 - tile->a0);
+    const double bmid = 0.5 * (tile->b0 + tile->b1), bhalf = 0.5 * (tile->b1 - tile->b0);
+    const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
+    const auto& gl = gl8();
+    for (std::size_t j = 0; j < kNy; ++j) {
+      RTable& rt = rtable(ymid + yhalf * cheb_y().t[j]);
+      for (std::size_t i = 0; i < kNq; ++i) {
+        const double a = amid + ahalf * cheb_q().t[i];  // > 0: nodes are interior
+        auto g = [&](double b) {
+          const double r = std::hypot(a, b);
+          return rt.eval(*this, r, false) * a / r;
+        };
+        // Q(a, b0), then on from node to node (the nodes decrease with their index).
+        double acc = graded_integral(0.0, tile->b0, yt.s, g), prev = tile->b0;
+        for (std::size_t k = kNq; k-- > 0;) {
+          const double b = bmid + bhalf * cheb_q().t[k];
+          const double half = 0.5 * (b - prev), mid = 0.5 * (b + prev);
+          for (std::size_t n = 0; n < kGl; ++n) acc += half * gl.w[n] * g(mid + half * gl.x[n]);
+          prev = b;
+          q[j * kAB + k * kNq + i] = acc;
+          p[j * kAB + k * kNq + i] = rt.eval(*this, std::hypot(a, b), true);
+        }
+      }
+    }
+    // Per depth node: 2-D coefficients, along a, then b.
+    for (auto [f, c] : {std::pair{&q, &tile->cq}, std::pair{&p, &tile->cp}}) {
+      for (std::size_t jk = 0; jk < kNy * kNq; ++jk) cheb_q().fit(&(*f)[jk * kNq], &t1[jk * kNq]);
+      for (std::size_t j = 0; j < kNy; ++j)
+        for (std::size_t i = 0; i < kNq; ++i)
+          cheb_q().fit(&t1[j * kAB + i], &(*c)[j * kAB + i], kNq);
+    }
+    return tile;
+  }
+
+  // Q(a, b) (odd in each) and R at depth node j of a y-tile (mutex_ held).
+  void corner_at(YTile& yt, std::size_t j, double a, double b, double& q, double& r) {
+    const double aa = std::fabs(a), bb = std::fabs(b);
+    const long ia = yt.q.index(aa), ib = yt.q.index(bb);
+    auto& slot = yt.qtiles[{ia, ib}];
+    if (!slot) slot = build_qtile(yt, ia, ib);
+    const QTile& t = *slot;
+    const double ta = (2.0 * aa - t.a0 - t.a1) / (t.a1 - t.a0);
+    const double tb = (2.0 * bb - t.b0 - t.b1) / (t.b1 - t.b0);
+    constexpr std::size_t kAB = kNq * kNq;
+    auto eval2 = [&](const double* c) {
+      std::array<double, kNq> along_b{};
+      for (std::size_t k = 0; k < kNq; ++k) along_b[k] = Chebyshev<kNq>::eval(c + k * kNq, ta);
+      return Chebyshev<kNq>::eval(along_b.data(), tb);
+    };
+    q = ((a < 0.0) != (b < 0.0) ? -1.0 : 1.0) * eval2(&t.cq[j * kAB]);
+    r = eval2(&t.cp[j * kAB]);
+  }
+
+  std::unique_ptr<FTile> build_ftile(YTile& yt, long iu, long iv) {
+    auto tile = std::make_unique<FTile>();
+    tile->u0 = yt.fu.at(iu);
+    tile->u1 = yt.fu.at(iu + 1);
+    tile->v0 = yt.fv.at(iv);
+    tile->v1 = yt.fv.at(iv + 1);
+    constexpr std::size_t kAB = kNq * kNq;
+    std::array<double, kNy * kAB> fxx{}, fzz{}, fxz{}, t1{}, t2{};
+    const double umid = 0.5 * (tile->u0 + tile->u1), uhalf = 0.5 * (tile->u1 - tile->u0);
+    const double vmid = 0.5 * (tile->v0 + tile->v1), vhalf = 0.5 * (tile->v1 - tile->v0);
+    const double hw = 0.5 * w_, hl = 0.5 * l_, inv_area = 1.0 / (w_ * l_);
+    for (std::size_t j = 0; j < kNy; ++j)
+      for (std::size_t k = 0; k < kNq; ++k)
+        for (std::size_t i = 0; i < kNq; ++i) {
+          const double u = umid + uhalf * cheb_q().t[i], v = vmid + vhalf * cheb_q().t[k];
+          const double a[2] = {u - hw, u + hw}, b[2] = {v - hl, v + hl};
+          double sxx = 0.0, szz = 0.0, sxz = 0.0;
+          for (int pa = 0; pa < 2; ++pa)
+            for (int qb = 0; qb < 2; ++qb) {
+              const double sign = pa == qb ? 1.0 : -1.0;  // + at (a2, b2) and (a1, b1)
+              double q = 0.0, r = 0.0;
+              corner_at(yt, j, a[pa], b[qb], q, r);
+              sxx += sign * q;
+              sxz += sign * r;
+              corner_at(yt, j, b[qb], a[pa], q, r);
+              szz += sign * q;
+            }
+          const std::size_t at = j * kAB + k * kNq + i;
+          fxx[at] = sxx * inv_area;
+          fzz[at] = szz * inv_area;
+          fxz[at] = sxz * inv_area;
+        }
+    // 3-D coefficients: along u, then v, then y.
+    for (auto [f, c] :
+         {std::pair{&fxx, &tile->cxx}, std::pair{&fzz, &tile->czz}, std::pair{&fxz, &tile->cxz}}) {
+      for (std::size_t jk = 0; jk < kNy * kNq; ++jk) cheb_q().fit(&(*f)[jk * kNq], &t1[jk * kNq]);
+      for (std::size_t j = 0; j < kNy; ++j)
+        for (std::size_t i = 0; i < kNq; ++i) cheb_q().fit(&t1[j * kAB + i], &t2[j * kAB + i], kNq);
+      for (std::size_t ki = 0; ki < kAB; ++ki) cheb_y().fit(&t2[ki], &(*c)[ki], kAB);
+    }
+    return tile;
+  }
+
   LayeredHalfSpace stack_;
   double w_, l_, z_;
   double a_glob_ = 1.0, stack_depth_ = 1.0, lambda_max_ = 1.0;
@@ -521,10 +682,7 @@ std::shared_ptr<Tables> tables_for(const std::vector<Layer>& layers, double w, d
 class Layered : public Conductor {
  public:
   Layered(const ElectrodeArray& array, const std::vector<Layer>& layers, double plane_z_mm)
-      : x_(array.positions_mm), stack_(layers) {
-    if (array.two_d())
-      bad_input("layered: 2-D arrays (" + array.describe() +
-                ") are not supported by this model yet; use point3d or rect3d");
+      : x_(array.positions_mm), pz_(array.z_mm), z_(plane_z_mm), stack_(layers) {
     if (!(array.width_mm > 0.0)) bad_input("layered: array.width_mm must be > 0");
     for (std::size_t k = 0; k < layers.size(); ++k)
       rect_.push_back(make_rect3d(array, stack_.leading_of(k), plane_z_mm));
@@ -535,16 +693,50 @@ class Layered : public Conductor {
   const char* name() const override { return "layered"; }
   std::size_t size() const override { return x_.size(); }
   bool planar_harmonic() const override { return false; }
+  bool three_d() const override { return true; }
+  std::vector<double> interfaces_mm() const override {
+    std::vector<double> tops;
+    for (std::size_t k = 1; k < stack_.layers().size(); ++k) tops.push_back(stack_.top_of(k));
+    return tops;
+  }
 
   void unit_potentials(double x_mm, double y_mm, double* psi) const override {
+    if (!pz_.empty()) return unit_potentials_3d(x_mm, y_mm, z_, psi);
     check_depth(y_mm);
     rect_[stack_.layer_of(y_mm)]->unit_potentials(x_mm, y_mm, psi);
     if (!tables_) return;
     for (std::size_t i = 0; i < x_.size(); ++i)
-      psi[i] -= tables_->remainder_potential(x_mm - x_[i], y_mm);  // cathodic
+      psi[i] -= tables_->remainder_potential(x_mm - x_[i], z_, y_mm);  // cathodic
+  }
+
+  void unit_potentials_3d(double x_mm, double y_mm, double z_mm, double* psi) const override {
+    check_depth(y_mm);
+    rect_[stack_.layer_of(y_mm)]->unit_potentials_3d(x_mm, y_mm, z_mm, psi);
+    if (!tables_) return;
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      psi[i] -= tables_->remainder_potential(x_mm - x_[i], z_mm - pz(i), y_mm);  // cathodic
+  }
+
+  void unit_d2_along(double x_mm, double y_mm, double z_mm, const FibreAxis& e,
+                     double* out) const override {
+    check_depth(y_mm);
+    rect_[stack_.layer_of(y_mm)]->unit_d2_along(x_mm, y_mm, z_mm, e, out);
+    if (!tables_) return;
+    select_frow(y_mm);
+    const double cc = e.cos_az * e.cos_az, cs2 = 2.0 * e.cos_az * e.sin_az,
+                 ss = e.sin_az * e.sin_az;
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      // Cathodic: minus the injected current's remainder.
+      out[i] -= f_along(x_mm - x_[i], z_mm - pz(i), e.vertical, cc, cs2, ss);
+    }
   }
 
   void unit_second_derivatives(double x_mm, double y_mm, double* xx, double* yy) const override {
+    if (!pz_.empty()) {  // a 2-D array: its section at z = plane_z_mm
+      if (xx) unit_d2_along(x_mm, y_mm, z_, FibreAxis{}, xx);
+      if (yy) unit_d2_along(x_mm, y_mm, z_, FibreAxis{true, 0.0, 0.0}, yy);
+      return;
+    }
     check_depth(y_mm);
     const std::size_t n = x_.size();
     double* rx = scratch_.data();
@@ -569,7 +761,7 @@ class Layered : public Conductor {
                    const std::string& what) const override {
     check_depth(y_min_mm);
     check_depth(y_max_mm);
-    if (tables_) tables_->reach(max_offset_mm, y_min_mm, y_max_mm, what);
+    if (tables_) tables_->reach(max_offset_mm, y_min_mm, y_max_mm, what, !pz_.empty());
   }
 
   // d2Psi/dz2 of electrode i (the tests' Laplace check).
@@ -623,7 +815,67 @@ class Layered : public Conductor {
     fzz = Chebyshev<kNu>::eval(row_coef_[mi].data() + kNu, tu);
   }
 
-  std::vector<double> x_;
+  double pz(std::size_t i) const { return pz_.empty() ? 0.0 : pz_[i]; }
+
+  // The F tables at the current depth: each (u, v) tile's coefficients collapsed along y,
+  // kept until the depth changes.
+  static constexpr long kFMax = 64;  // F tiles per axis (the lattice doubles: ample)
+  struct FRow {
+    const Tables::FTile* tile = nullptr;
+    std::array<double, 3 * kNq * kNq> c{};  // F_xx's, F_zz's, F_xz's: [k * kNq + i]
+  };
+  void select_frow(double y) const {
+    if (y == frow_y_) return;
+    frow_y_ = y;
+    frow_ = &tables_->ytile(y);
+    frow_t_ = (2.0 * y - frow_->y0 - frow_->y1) / (frow_->y1 - frow_->y0);
+    for (const std::size_t k : fused_) fslot_[k] = -1;
+    fused_.clear();
+    fpool_.clear();
+  }
+  // A pad's remainder along a fibre axis at offset (u, v), at the current depth.
+  double f_along(double u, double v, bool vertical, double cc, double cs2, double ss) const {
+    const double au = std::fabs(u), av = std::fabs(v);
+    const long iu = frow_->fu.index(au), iv = frow_->fv.index(av);
+    if (iu >= kFMax || iv >= kFMax)
+      failure("layered: a point " + number_text(std::hypot(u, v)) +
+              " mm from a pad is beyond the tables");
+    if (fslot_.empty()) fslot_.assign(static_cast<std::size_t>(kFMax * kFMax), -1);
+    const auto key = static_cast<std::size_t>(iu * kFMax + iv);
+    constexpr std::size_t kAB = kNq * kNq;
+    if (fslot_[key] < 0) {
+      const Tables::FTile& t = tables_->ftile(*frow_, iu, iv);
+      FRow row;
+      row.tile = &t;
+      for (std::size_t ki = 0; ki < kAB; ++ki) {
+        row.c[ki] = Chebyshev<kNy>::eval(&t.cxx[ki], frow_t_, kAB);
+        row.c[kAB + ki] = Chebyshev<kNy>::eval(&t.czz[ki], frow_t_, kAB);
+        row.c[2 * kAB + ki] = Chebyshev<kNy>::eval(&t.cxz[ki], frow_t_, kAB);
+      }
+      fslot_[key] = static_cast<int>(fpool_.size());
+      fpool_.push_back(row);
+      fused_.push_back(key);
+    }
+    const FRow& row = fpool_[static_cast<std::size_t>(fslot_[key])];
+    const Tables::FTile& t = *row.tile;
+    const double tu = (2.0 * au - t.u0 - t.u1) / (t.u1 - t.u0);
+    const double tv = (2.0 * av - t.v0 - t.v1) / (t.v1 - t.v0);
+    auto eval2 = [&](const double* c) {
+      std::array<double, kNq> along_v{};
+      for (std::size_t k = 0; k < kNq; ++k) along_v[k] = Chebyshev<kNq>::eval(c + k * kNq, tu);
+      return Chebyshev<kNq>::eval(along_v.data(), tv);
+    };
+    if (vertical) return -(eval2(row.c.data()) + eval2(row.c.data() + kAB));  // F_yy
+    double sum = 0.0;
+    if (cc != 0.0) sum += cc * eval2(row.c.data());
+    if (ss != 0.0) sum += ss * eval2(row.c.data() + kAB);
+    if (cs2 != 0.0)
+      sum += cs2 * ((u < 0.0) != (v < 0.0) ? -1.0 : 1.0) * eval2(row.c.data() + 2 * kAB);
+    return sum;
+  }
+
+  std::vector<double> x_, pz_;  // pad centres (pz_: a 2-D array's, else empty)
+  double z_;
   LayeredHalfSpace stack_;
   std::vector<std::unique_ptr<Conductor>> rect_;  // rect3d with rho = C_k, per layer
   std::shared_ptr<Tables> tables_;                // null when the stack is uniform
@@ -634,6 +886,12 @@ class Layered : public Conductor {
   mutable std::vector<char> row_have_;
   mutable std::vector<std::array<double, 2 * kNu>> row_coef_;
   mutable std::vector<const Tables::Tile*> row_tile_;
+  mutable double frow_y_ = NAN;
+  mutable const Tables::YTile* frow_ = nullptr;
+  mutable double frow_t_ = 0.0;
+  mutable std::vector<int> fslot_;  // (iu * kFMax + iv) -> index in fpool_, or -1
+  mutable std::vector<std::size_t> fused_;
+  mutable std::vector<FRow> fpool_;
 };
 
 }  // namespace

@@ -101,7 +101,12 @@ tp_cli_test(af-field golden-grid-plane golden af-field/grid-plane.csv --
   --x -3:3:0.5 --z-grid -2:2:0.5)
 tp_cli_test(af-field refuses-grid-line2d refuses 2 --says "takes no 2-D array" --
   af-field --grid 2x2 --model line2d --summary)
-tp_cli_test(af-field refuses-grid-layered refuses 2 -- af-field --grid 2x2 --model layered --summary)
+# A grid on the layered skin: the summary, and a plane map at SAI's depth (corner tables).
+tp_cli_test(af-field golden-grid-layered-summary golden af-field/grid-layered-summary.json --rtol 1e-6 --
+  af-field --grid 3x2 --pitch 2 --model layered --weights 1,-0.5,0,-0.5,0.2,-0.2 --summary)
+tp_cli_test(af-field golden-grid-layered-plane golden af-field/grid-layered-plane.csv --
+  af-field --grid 3x2 --pitch 2 --model layered --weights 1,-0.5,0,-0.5,0.2,-0.2
+  --plane-depth 0.9 --x -4:4:1 --z-grid -3:3:1)
 tp_cli_test(af-field refuses-grid-too-many refuses 2 --says "at most 256" -- af-field --grid 16x17)
 tp_cli_test(af-field refuses-grid-form refuses 2 -- af-field --grid 8)
 tp_cli_test(af-field refuses-grid-zero refuses 2 -- af-field --grid 0x3)

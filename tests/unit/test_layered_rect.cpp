@@ -296,3 +296,130 @@ TEST_CASE(
     }
   }
 }
+
+namespace {
+
+// A layered conductor over any array (a 2-D grid included).
+std::unique_ptr<Conductor> layered_on(const ElectrodeArray& a, std::vector<Layer> layers,
+                                      double plane_z = 0.0) {
+  ConductorParams p;
+  p.model = "layered";
+  p.plane_z_mm = plane_z;
+  p.skin.layers = std::move(layers);
+  p.skin.layer_names.assign(p.skin.layers.size(), "x");
+  return make_conductor(p, a);
+}
+
+std::vector<double> along3(const Conductor& c, double x, double y, double z, const FibreAxis& e) {
+  std::vector<double> out(c.size());
+  c.unit_d2_along(x, y, z, e, out.data());
+  return out;
+}
+
+double largest(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::fabs(x));
+  return m;
+}
+
+const FibreAxis kAlongX{}, kDown{true, 0.0, 0.0}, kAlongZ{false, 0.0, 1.0},
+    kSlant{false, 0.6, -0.8};
+
+}  // namespace
+
+TEST_CASE("layered, 2-D arrays: a grid matches the two-layer image series along every axis",
+          "[model][layered][array2d]") {
+  // The image series of rect3d grids: each image the whole grid (rho 1) seen at the image's
+  // depth; every axis's second derivative of a rect3d field is even in the depth.
+  const ElectrodeArray grid = ElectrodeArray::grid_of(3, 2, 2.0, 1.5, 1.0, 1.0);
+  ConductorParams rp;
+  rp.model = "rect3d";
+  rp.resistivity_ohm_m = 1.0;
+  const auto unit = make_conductor(rp, grid);
+  for (auto [rho1, rho2, h] : {std::tuple{3.0, 12.0, 0.8}, std::tuple{30.0, 3.0, 0.4}}) {
+    const auto c = layered_on(grid, {{h, rho1}, {0.0, rho2}});
+    const double k = (rho2 - rho1) / (rho2 + rho1);
+    for (auto [x, y, z] : {std::tuple{0.0, 0.3, 0.0}, std::tuple{1.2, h - 0.01, -0.4},
+                           std::tuple{-2.5, h + 0.01, 1.9}, std::tuple{0.7, 0.9, 0.75},
+                           std::tuple{4.0, 2.0, -3.0}, std::tuple{-9.0, 1.3, 6.0}}) {
+      for (const FibreAxis& e : {kAlongX, kDown, kAlongZ, kSlant}) {
+        std::vector<double> want(grid.size(), 0.0);
+        auto add = [&](double coef, double v) {
+          const auto t = along3(*unit, x, std::fabs(v), z, e);
+          for (std::size_t i = 0; i < t.size(); ++i) want[i] += coef * t[i];
+        };
+        double kn = 1.0;
+        if (y < h) {
+          add(rho1, y);
+          for (int n = 1; n < 4000 && std::fabs(kn) > 1e-17; ++n) {
+            kn *= k;
+            add(rho1 * kn, y - 2 * n * h);
+            add(rho1 * kn, y + 2 * n * h);
+          }
+        } else {
+          for (int n = 0; n < 4000 && std::fabs(kn) > 1e-17; ++n, kn *= k)
+            add(rho1 * (1 + k) * kn, y + 2 * n * h);
+        }
+        const auto got = along3(*c, x, y, z, e);
+        const double scale = largest(want);
+        for (std::size_t i = 0; i < grid.size(); ++i) {
+          INFO("rho " << rho1 << "/" << rho2 << " at (" << x << ", " << y << ", " << z << ") axis "
+                      << e.vertical << "/" << e.cos_az << "/" << e.sin_az << " pad " << i << ": "
+                      << got[i] << " vs " << want[i]);
+          CHECK(std::fabs(got[i] - want[i]) < 1e-6 * scale);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("layered, 2-D arrays: a grid of one row is the 1-D array of the same pads",
+          "[model][layered][array2d]") {
+  // Two separate tabulations: the 1-D array's edge integrals over (u, y) tiles, the grid's
+  // corner functions over (a, b, y) tiles.
+  const auto layers = fingertip_like(1500.0);
+  const ElectrodeArray line = ElectrodeArray::uniform(5, 2.0, 1.0, 1.5);
+  const ElectrodeArray grid = ElectrodeArray::grid_of(5, 1, 2.0, 2.0, 1.0, 1.5);
+  const auto c2 = layered_on(grid, layers);
+  for (auto [x, y, z] :
+       {std::tuple{0.0, 0.9, 0.0}, std::tuple{0.3, 0.7, -0.4}, std::tuple{-1.2, 2.0, 1.1},
+        std::tuple{2.5, 1.3, 2.9}, std::tuple{-3.1, 0.65, 0.2}, std::tuple{4.0, 3.0, -2.0}}) {
+    const auto c1 = layered_on(line, layers, z);
+    std::vector<double> xx(5), yy(5);
+    c1->unit_second_derivatives(x, y, xx.data(), yy.data());
+    const auto gx = along3(*c2, x, y, z, kAlongX), gy = along3(*c2, x, y, z, kDown);
+    const double scale = std::max(largest(xx), largest(yy));
+    for (std::size_t i = 0; i < 5; ++i) {
+      INFO("(" << x << ", " << y << ", " << z << ") pad " << i << ": xx " << gx[i] << " vs "
+               << xx[i] << ", yy " << gy[i] << " vs " << yy[i]);
+      CHECK(std::fabs(gx[i] - xx[i]) <= 1e-9 * scale);
+      CHECK(std::fabs(gy[i] - yy[i]) <= 1e-9 * scale);
+    }
+  }
+}
+
+TEST_CASE("layered, 2-D arrays: second derivatives along any axis match finite differences",
+          "[model][layered][array2d]") {
+  // The potential: the remainder by J0 integrated over each pad in 2-D; the derivatives:
+  // J1 and the corner functions.
+  const ElectrodeArray grid = ElectrodeArray::grid_of(2, 2, 2.0, 1.5, 1.0, 1.0);
+  const auto c = layered_on(grid, fingertip_like(1500.0));
+  for (auto [x, y, z] :
+       {std::tuple{0.2, 0.8, -0.3}, std::tuple{1.7, 1.5, 1.0}, std::tuple{-0.6, 2.4, 0.1}}) {
+    for (const FibreAxis& e : {kAlongX, kAlongZ, kSlant}) {
+      const auto exact = along3(*c, x, y, z, e);
+      const double h = 2e-3;
+      std::vector<double> p(4), m(4), o(4);
+      c->unit_potentials_3d(x + h * e.cos_az, y, z + h * e.sin_az, p.data());
+      c->unit_potentials_3d(x - h * e.cos_az, y, z - h * e.sin_az, m.data());
+      c->unit_potentials_3d(x, y, z, o.data());
+      const double scale = largest(exact);
+      for (std::size_t i = 0; i < 4; ++i) {
+        const double fd = (p[i] - 2 * o[i] + m[i]) / (h * h);
+        INFO("(" << x << ", " << y << ", " << z << ") pad " << i << ": " << exact[i] << " vs "
+                 << fd);
+        CHECK(std::fabs(exact[i] - fd) < 1e-4 * scale);
+      }
+    }
+  }
+}
