@@ -181,7 +181,8 @@ int main(int argc, char** argv) {
       if (by_threshold) tp::bad_input("--bank: designs by the AF objective only");
       if (certify) tp::bad_input("--certify: with --bank is not available yet");
       if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --bank");
-      if (format != "json") tp::bad_input("--bank: JSON output only");
+      if (format != "json" || header_only || no_header)
+        tp::bad_input("--bank: JSON output only (no --format csv, --header-only, --no-header)");
       if (app.count("--pattern-starts") || app.count("--random-starts"))
         tp::bad_input("--pattern-starts, --random-starts: do not apply with --bank");
       tp::BankOptions b;
@@ -237,6 +238,11 @@ int main(int argc, char** argv) {
         tp::bad_input(
             "--pattern-starts, --random-starts: do not apply with --at (the focus is "
             "solved by linear programming)");
+      if (header_only) {  // the checks above, and no work
+        if (format != "csv") tp::bad_input("--header-only: needs --format csv");
+        tp::cli::write_stdout(tp::optimize_csv_header(doc.setup));
+        return;
+      }
       // The whole output first (a later mode may still fail), then the talk, then it.
       std::string text = format == "csv" && !no_header ? tp::optimize_csv_header(doc.setup) : "";
       std::string talk;

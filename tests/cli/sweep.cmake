@@ -1,5 +1,6 @@
 # sweep-spacing and its engines (label sweep).
 tp_cli_test(sweep local script ${CMAKE_CURRENT_SOURCE_DIR}/sweep/local.sh)
+tp_cli_test(sweep grid script ${CMAKE_CURRENT_SOURCE_DIR}/sweep/grid.sh)
 tp_cli_test(sweep engines script ${CMAKE_CURRENT_SOURCE_DIR}/sweep/engines.sh)
 set_tests_properties(sweep.engines PROPERTIES TIMEOUT 300)
 # Real daemons, started and stopped by the tests: a single-node Slurm (slurmctld, slurmd,

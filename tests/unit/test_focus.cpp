@@ -189,6 +189,25 @@ TEST_CASE("a symmetric focus gives symmetric weights (1-D and 2-D)", "[focus]") 
   }
 }
 
+TEST_CASE("a pixel on a layered grid: symmetric, and confirmed by an independent fine grid",
+          "[focus][layered]") {
+  Setup g;
+  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
+  g.conductor.model = "layered";  // the built-in fingertip skin
+  g.lateral_margin_mm = 3.0;
+  FocusOptions c;
+  for (const char* mode : {"SAI", "PC"}) {
+    const FocusResult q = optimize_focus(g, mode, c);
+    auto w = [&](int row, int col) { return q.weights[static_cast<std::size_t>(row * 3 + col)]; };
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) {
+        CHECK(std::fabs(w(row, col) - w(row, 2 - col)) < 1e-6);  // x -> -x
+        CHECK(std::fabs(w(row, col) - w(2 - row, col)) < 1e-6);  // z -> -z
+      }
+    confirm(g, mode, c, 0.05);
+  }
+}
+
 TEST_CASE("a focus is checked before any work", "[focus]") {
   Setup s;
   auto refuses = [&](FocusOptions o) {
