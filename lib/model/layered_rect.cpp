@@ -67,7 +67,8 @@ constexpr int kNq = 16;             // along a and b, per corner tile (2-D array
 constexpr int kNr = 16;             // along r, per r-tile
 constexpr int kGl = 8;              // Gauss-Legendre points per panel
 constexpr double kDecay = 40.0;     // Hankel integrals stop at e^-40 of the remainder's decay
-constexpr double kMaxPanels = 2e5;  // panels of one r-tile's Hankel rule (~1 KB each)
+constexpr double kMaxPanels = 2e5;  // panels of one r-tile's Hankel rule (~1 KB each, ~2 KB
+                                    // with the potentials' J0: 2-D arrays)
 
 const Chebyshev<kNu>& cheb_u() {
   static const Chebyshev<kNu> c;
@@ -282,8 +283,10 @@ class Tables {
         std::lock_guard<std::mutex> lock(mutex_);
         const double u1 = yt.u.at(yt.u.index(std::fabs(u_max_mm)) + 1);
         double r_max = std::hypot(u1 + 0.5 * w_, std::fabs(z_) + 0.5 * l_);
-        if (corners) {  // the corner tiles' far ends
-          const double a = std::fabs(u_max_mm) + 0.5 * w_, b = std::fabs(u_max_mm) + 0.5 * l_;
+        if (corners) {  // the F tiles' far ends, and the corner tiles those need
+          const double off = std::fabs(u_max_mm);
+          const double a = yt.fu.at(yt.fu.index(off) + 1) + 0.5 * w_,
+                       b = yt.fv.at(yt.fv.index(off) + 1) + 0.5 * l_;
           r_max =
               std::max(r_max, std::hypot(yt.q.at(yt.q.index(a) + 1), yt.q.at(yt.q.index(b) + 1)));
         }
@@ -355,8 +358,8 @@ class Tables {
     // layer), then the coarse width: half a period of J1 at r1, and fine enough for the
     // remainder's decay.  The nodes and Bessel values are built only as far as a depth needs
     // (to kDecay over its remainder distance), and that is bounded: at most kMaxPanels
-    // (~200 MB), checked per depth (fill(), reach()), so that a deep point far from the
-    // electrodes is not refused for what a shallow one would need.
+    // (~200 MB, or ~400 MB with J0 for 2-D arrays), checked per depth (fill(), reach()), so that a
+    // deep point far from the electrodes is not refused for what a shallow one would need.
     const double coarse = std::min(kQuadPi / g->r1, 0.5 / a_glob_);
     const double fine = std::min(coarse, 0.25 / stack_depth_);
     const double lambda_fine = std::min(20.0 / stack_depth_, lambda_max_);
@@ -693,7 +696,9 @@ class Layered : public Conductor {
   const char* name() const override { return "layered"; }
   std::size_t size() const override { return x_.size(); }
   bool planar_harmonic() const override { return false; }
-  bool three_d() const override { return true; }
+  // 3-D points for 2-D arrays (a 1-D array's plane maps would need their z range checked
+  // against the Hankel rule: not offered).
+  bool three_d() const override { return !pz_.empty(); }
   std::vector<double> interfaces_mm() const override {
     std::vector<double> tops;
     for (std::size_t k = 1; k < stack_.layers().size(); ++k) tops.push_back(stack_.top_of(k));
@@ -766,6 +771,7 @@ class Layered : public Conductor {
 
   // d2Psi/dz2 of electrode i (the tests' Laplace check).
   double unit_zz(std::size_t i, double x_mm, double y_mm) const {
+    if (!pz_.empty()) failure("layered_unit_zz: a 1-D array's (use unit_d2_along along z)");
     check_depth(y_mm);
     double zz = rect3d_unit_zz(*rect_[stack_.layer_of(y_mm)], i, x_mm, y_mm);
     if (tables_) {
@@ -819,7 +825,6 @@ class Layered : public Conductor {
 
   // The F tables at the current depth: each (u, v) tile's coefficients collapsed along y,
   // kept until the depth changes.
-  static constexpr long kFMax = 64;  // F tiles per axis (the lattice doubles: ample)
   struct FRow {
     const Tables::FTile* tile = nullptr;
     std::array<double, 3 * kNq * kNq> c{};  // F_xx's, F_zz's, F_xz's: [k * kNq + i]
@@ -829,21 +834,17 @@ class Layered : public Conductor {
     frow_y_ = y;
     frow_ = &tables_->ytile(y);
     frow_t_ = (2.0 * y - frow_->y0 - frow_->y1) / (frow_->y1 - frow_->y0);
-    for (const std::size_t k : fused_) fslot_[k] = -1;
-    fused_.clear();
+    fslot_.clear();
     fpool_.clear();
   }
   // A pad's remainder along a fibre axis at offset (u, v), at the current depth.
   double f_along(double u, double v, bool vertical, double cc, double cs2, double ss) const {
     const double au = std::fabs(u), av = std::fabs(v);
     const long iu = frow_->fu.index(au), iv = frow_->fv.index(av);
-    if (iu >= kFMax || iv >= kFMax)
-      failure("layered: a point " + number_text(std::hypot(u, v)) +
-              " mm from a pad is beyond the tables");
-    if (fslot_.empty()) fslot_.assign(static_cast<std::size_t>(kFMax * kFMax), -1);
-    const auto key = static_cast<std::size_t>(iu * kFMax + iv);
+    const std::pair<long, long> key{iu, iv};
+    auto found = fslot_.find(key);
     constexpr std::size_t kAB = kNq * kNq;
-    if (fslot_[key] < 0) {
+    if (found == fslot_.end()) {
       const Tables::FTile& t = tables_->ftile(*frow_, iu, iv);
       FRow row;
       row.tile = &t;
@@ -852,11 +853,10 @@ class Layered : public Conductor {
         row.c[kAB + ki] = Chebyshev<kNy>::eval(&t.czz[ki], frow_t_, kAB);
         row.c[2 * kAB + ki] = Chebyshev<kNy>::eval(&t.cxz[ki], frow_t_, kAB);
       }
-      fslot_[key] = static_cast<int>(fpool_.size());
+      found = fslot_.emplace(key, fpool_.size()).first;
       fpool_.push_back(row);
-      fused_.push_back(key);
     }
-    const FRow& row = fpool_[static_cast<std::size_t>(fslot_[key])];
+    const FRow& row = fpool_[found->second];
     const Tables::FTile& t = *row.tile;
     const double tu = (2.0 * au - t.u0 - t.u1) / (t.u1 - t.u0);
     const double tv = (2.0 * av - t.v0 - t.v1) / (t.v1 - t.v0);
@@ -889,8 +889,7 @@ class Layered : public Conductor {
   mutable double frow_y_ = NAN;
   mutable const Tables::YTile* frow_ = nullptr;
   mutable double frow_t_ = 0.0;
-  mutable std::vector<int> fslot_;  // (iu * kFMax + iv) -> index in fpool_, or -1
-  mutable std::vector<std::size_t> fused_;
+  mutable std::map<std::pair<long, long>, std::size_t> fslot_;  // (iu, iv) -> fpool_ index
   mutable std::vector<FRow> fpool_;
 };
 
