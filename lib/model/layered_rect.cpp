@@ -78,6 +78,22 @@ const Chebyshev<kNq>& cheb_q() {
   static const Chebyshev<kNq> c;
   return c;
 }
+// A 2-D Chebyshev series c[k * kNq + i] (degree k along the second variable, i along the
+// first) at (ta, tb) in [-1, 1]^2.
+double cheb2(const double* c, double ta, double tb) {
+  std::array<double, kNq> along_b{};
+  for (std::size_t k = 0; k < kNq; ++k) along_b[k] = Chebyshev<kNq>::eval(c + k * kNq, ta);
+  return Chebyshev<kNq>::eval(along_b.data(), tb);
+}
+// The 2-D coefficients of kNy planes of values f[(j * kNq + k) * kNq + i] at the nodes:
+// along the first variable, then the second, into c (same layout).
+void fit_planes(const double* f, double* c) {
+  constexpr std::size_t kAB = kNq * kNq;
+  std::array<double, kNy * kAB> t{};
+  for (std::size_t jk = 0; jk < kNy * kNq; ++jk) cheb_q().fit(&f[jk * kNq], &t[jk * kNq]);
+  for (std::size_t j = 0; j < kNy; ++j)
+    for (std::size_t i = 0; i < kNq; ++i) cheb_q().fit(&t[j * kAB + i], &c[j * kAB + i], kNq);
+}
 const Chebyshev<kNy>& cheb_y() {
   static const Chebyshev<kNy> c;
   return c;
@@ -554,7 +570,7 @@ class Tables {
     tile->b0 = yt.q.at(ib);
     tile->b1 = yt.q.at(ib + 1);
     constexpr std::size_t kAB = kNq * kNq;
-    std::array<double, kNy * kAB> q{}, p{}, t1{};
+    std::array<double, kNy * kAB> q{}, p{};
     const double amid = 0.5 * (tile->a0 + tile->a1), ahalf = 0.5 * (tile->a1 - tile->a0);
     const double bmid = 0.5 * (tile->b0 + tile->b1), bhalf = 0.5 * (tile->b1 - tile->b0);
     const double ymid = 0.5 * (yt.y0 + yt.y1), yhalf = 0.5 * (yt.y1 - yt.y0);
@@ -580,12 +596,8 @@ class Tables {
       }
     }
     // Per depth node: 2-D coefficients, along a, then b.
-    for (auto [f, c] : {std::pair{&q, &tile->cq}, std::pair{&p, &tile->cp}}) {
-      for (std::size_t jk = 0; jk < kNy * kNq; ++jk) cheb_q().fit(&(*f)[jk * kNq], &t1[jk * kNq]);
-      for (std::size_t j = 0; j < kNy; ++j)
-        for (std::size_t i = 0; i < kNq; ++i)
-          cheb_q().fit(&t1[j * kAB + i], &(*c)[j * kAB + i], kNq);
-    }
+    fit_planes(q.data(), tile->cq.data());
+    fit_planes(p.data(), tile->cp.data());
     return tile;
   }
 
@@ -599,11 +611,7 @@ class Tables {
     const double ta = (2.0 * aa - t.a0 - t.a1) / (t.a1 - t.a0);
     const double tb = (2.0 * bb - t.b0 - t.b1) / (t.b1 - t.b0);
     constexpr std::size_t kAB = kNq * kNq;
-    auto eval2 = [&](const double* c) {
-      std::array<double, kNq> along_b{};
-      for (std::size_t k = 0; k < kNq; ++k) along_b[k] = Chebyshev<kNq>::eval(c + k * kNq, ta);
-      return Chebyshev<kNq>::eval(along_b.data(), tb);
-    };
+    auto eval2 = [&](const double* c) { return cheb2(c, ta, tb); };
     q = ((a < 0.0) != (b < 0.0) ? -1.0 : 1.0) * eval2(&t.cq[j * kAB]);
     r = eval2(&t.cp[j * kAB]);
   }
@@ -615,7 +623,7 @@ class Tables {
     tile->v0 = yt.fv.at(iv);
     tile->v1 = yt.fv.at(iv + 1);
     constexpr std::size_t kAB = kNq * kNq;
-    std::array<double, kNy * kAB> fxx{}, fzz{}, fxz{}, t1{}, t2{};
+    std::array<double, kNy * kAB> fxx{}, fzz{}, fxz{}, t2{};
     const double umid = 0.5 * (tile->u0 + tile->u1), uhalf = 0.5 * (tile->u1 - tile->u0);
     const double vmid = 0.5 * (tile->v0 + tile->v1), vhalf = 0.5 * (tile->v1 - tile->v0);
     const double hw = 0.5 * w_, hl = 0.5 * l_, inv_area = 1.0 / (w_ * l_);
@@ -643,9 +651,7 @@ class Tables {
     // 3-D coefficients: along u, then v, then y.
     for (auto [f, c] :
          {std::pair{&fxx, &tile->cxx}, std::pair{&fzz, &tile->czz}, std::pair{&fxz, &tile->cxz}}) {
-      for (std::size_t jk = 0; jk < kNy * kNq; ++jk) cheb_q().fit(&(*f)[jk * kNq], &t1[jk * kNq]);
-      for (std::size_t j = 0; j < kNy; ++j)
-        for (std::size_t i = 0; i < kNq; ++i) cheb_q().fit(&t1[j * kAB + i], &t2[j * kAB + i], kNq);
+      fit_planes(f->data(), t2.data());
       for (std::size_t ki = 0; ki < kAB; ++ki) cheb_y().fit(&t2[ki], &(*c)[ki], kAB);
     }
     return tile;
@@ -860,11 +866,7 @@ class Layered : public Conductor {
     const Tables::FTile& t = *row.tile;
     const double tu = (2.0 * au - t.u0 - t.u1) / (t.u1 - t.u0);
     const double tv = (2.0 * av - t.v0 - t.v1) / (t.v1 - t.v0);
-    auto eval2 = [&](const double* c) {
-      std::array<double, kNq> along_v{};
-      for (std::size_t k = 0; k < kNq; ++k) along_v[k] = Chebyshev<kNq>::eval(c + k * kNq, tu);
-      return Chebyshev<kNq>::eval(along_v.data(), tv);
-    };
+    auto eval2 = [&](const double* c) { return cheb2(c, tu, tv); };
     if (vertical) return -(eval2(row.c.data()) + eval2(row.c.data() + kAB));  // F_yy
     double sum = 0.0;
     if (cc != 0.0) sum += cc * eval2(row.c.data());

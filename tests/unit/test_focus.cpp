@@ -123,6 +123,26 @@ void confirm(const Setup& s, const std::string& mode, const FocusOptions& o, dou
   CHECK(big == 1.0);
 }
 
+// SAI and PC at the centre of a 3 x 3 grid (2 mm, 1 x 1 mm pads) under a model: weights
+// symmetric under both mirrors, and the pattern confirmed by the independent fine grid.
+void centre_pixel_of_3x3(const char* model) {
+  Setup g;
+  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
+  g.conductor.model = model;
+  g.lateral_margin_mm = 3.0;
+  FocusOptions c;
+  for (const char* mode : {"SAI", "PC"}) {
+    const FocusResult q = optimize_focus(g, mode, c);
+    auto w = [&](int row, int col) { return q.weights[static_cast<std::size_t>(row * 3 + col)]; };
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) {
+        CHECK(std::fabs(w(row, col) - w(row, 2 - col)) < 1e-6);  // x -> -x
+        CHECK(std::fabs(w(row, col) - w(2 - row, col)) < 1e-6);  // z -> -z
+      }
+    confirm(g, mode, c, 0.05);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("focal patterns on the paper's array, confirmed by an independent fine grid", "[focus]") {
@@ -172,40 +192,12 @@ TEST_CASE("a symmetric focus gives symmetric weights (1-D and 2-D)", "[focus]") 
     CHECK(q.least_norm);
     for (std::size_t i = 0; i < 8; ++i) CHECK(std::fabs(q.weights[i] - r.weights[i]) < 1e-6);
   }
-  Setup g;
-  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
-  g.conductor.model = "rect3d";
-  g.lateral_margin_mm = 3.0;
-  FocusOptions c;
-  for (const char* mode : {"SAI", "PC"}) {
-    const FocusResult q = optimize_focus(g, mode, c);
-    auto w = [&](int row, int col) { return q.weights[static_cast<std::size_t>(row * 3 + col)]; };
-    for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 3; ++col) {
-        CHECK(std::fabs(w(row, col) - w(row, 2 - col)) < 1e-6);  // x -> -x
-        CHECK(std::fabs(w(row, col) - w(2 - row, col)) < 1e-6);  // z -> -z
-      }
-    confirm(g, mode, c, 0.05);
-  }
+  centre_pixel_of_3x3("rect3d");
 }
 
 TEST_CASE("a pixel on a layered grid: symmetric, and confirmed by an independent fine grid",
           "[focus][layered]") {
-  Setup g;
-  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
-  g.conductor.model = "layered";  // the built-in fingertip skin
-  g.lateral_margin_mm = 3.0;
-  FocusOptions c;
-  for (const char* mode : {"SAI", "PC"}) {
-    const FocusResult q = optimize_focus(g, mode, c);
-    auto w = [&](int row, int col) { return q.weights[static_cast<std::size_t>(row * 3 + col)]; };
-    for (int row = 0; row < 3; ++row)
-      for (int col = 0; col < 3; ++col) {
-        CHECK(std::fabs(w(row, col) - w(row, 2 - col)) < 1e-6);  // x -> -x
-        CHECK(std::fabs(w(row, col) - w(2 - row, col)) < 1e-6);  // z -> -z
-      }
-    confirm(g, mode, c, 0.05);
-  }
+  centre_pixel_of_3x3("layered");  // the built-in fingertip skin
 }
 
 TEST_CASE("a focus is checked before any work", "[focus]") {

@@ -17,23 +17,11 @@ using namespace tp::test;
 
 namespace {
 
-// A rectangle on a two-layer half-space (top rho1, thickness h, over rho2) by the image
-// series: each image a rect3d rectangle (rho 1) seen at the image's depth |v|; the
-// second derivatives of a rect3d field are even in the depth.
-D2 two_layer_rect(double rho1, double rho2, double h, double w, double l, double z, double x,
-                  double y) {
-  ConductorParams p;
-  p.model = "rect3d";
-  p.resistivity_ohm_m = 1.0;
-  p.plane_z_mm = z;
-  const auto unit = make_conductor(p, one_electrode(w, l));
+// The image series of a two-layer half-space (top rho1, thickness h, over rho2) seen at
+// depth y: add(coefficient, image depth) for each image, until its weight is below 1e-17.
+template <class F>
+void image_series(double rho1, double rho2, double h, double y, F&& add) {
   const double k = (rho2 - rho1) / (rho2 + rho1);
-  D2 s{0, 0};
-  auto add = [&](double coef, double v) {
-    const D2 t = d2(*unit, x, std::fabs(v));
-    s.xx += coef * t.xx;
-    s.yy += coef * t.yy;
-  };
   double kn = 1.0;
   if (y < h) {
     add(rho1, y);
@@ -46,6 +34,24 @@ D2 two_layer_rect(double rho1, double rho2, double h, double w, double l, double
     for (int n = 0; n < 4000 && std::fabs(kn) > 1e-17; ++n, kn *= k)
       add(rho1 * (1 + k) * kn, y + 2 * n * h);
   }
+}
+
+// A rectangle on a two-layer half-space (top rho1, thickness h, over rho2) by the image
+// series: each image a rect3d rectangle (rho 1) seen at the image's depth |v|; the
+// second derivatives of a rect3d field are even in the depth.
+D2 two_layer_rect(double rho1, double rho2, double h, double w, double l, double z, double x,
+                  double y) {
+  ConductorParams p;
+  p.model = "rect3d";
+  p.resistivity_ohm_m = 1.0;
+  p.plane_z_mm = z;
+  const auto unit = make_conductor(p, one_electrode(w, l));
+  D2 s{0, 0};
+  image_series(rho1, rho2, h, y, [&](double coef, double v) {
+    const D2 t = d2(*unit, x, std::fabs(v));
+    s.xx += coef * t.xx;
+    s.yy += coef * t.yy;
+  });
   return s;
 }
 
@@ -338,28 +344,15 @@ TEST_CASE("layered, 2-D arrays: a grid matches the two-layer image series along 
   const auto unit = make_conductor(rp, grid);
   for (auto [rho1, rho2, h] : {std::tuple{3.0, 12.0, 0.8}, std::tuple{30.0, 3.0, 0.4}}) {
     const auto c = layered_on(grid, {{h, rho1}, {0.0, rho2}});
-    const double k = (rho2 - rho1) / (rho2 + rho1);
     for (auto [x, y, z] : {std::tuple{0.0, 0.3, 0.0}, std::tuple{1.2, h - 0.01, -0.4},
                            std::tuple{-2.5, h + 0.01, 1.9}, std::tuple{0.7, 0.9, 0.75},
                            std::tuple{4.0, 2.0, -3.0}, std::tuple{-9.0, 1.3, 6.0}}) {
       for (const FibreAxis& e : {kAlongX, kDown, kAlongZ, kSlant}) {
         std::vector<double> want(grid.size(), 0.0);
-        auto add = [&](double coef, double v) {
+        image_series(rho1, rho2, h, y, [&](double coef, double v) {
           const auto t = along3(*unit, x, std::fabs(v), z, e);
           for (std::size_t i = 0; i < t.size(); ++i) want[i] += coef * t[i];
-        };
-        double kn = 1.0;
-        if (y < h) {
-          add(rho1, y);
-          for (int n = 1; n < 4000 && std::fabs(kn) > 1e-17; ++n) {
-            kn *= k;
-            add(rho1 * kn, y - 2 * n * h);
-            add(rho1 * kn, y + 2 * n * h);
-          }
-        } else {
-          for (int n = 0; n < 4000 && std::fabs(kn) > 1e-17; ++n, kn *= k)
-            add(rho1 * (1 + k) * kn, y + 2 * n * h);
-        }
+        });
         const auto got = along3(*c, x, y, z, e);
         const double scale = largest(want);
         for (std::size_t i = 0; i < grid.size(); ++i) {
