@@ -55,14 +55,21 @@ D2 two_layer_rect(double rho1, double rho2, double h, double w, double l, double
   return s;
 }
 
-std::unique_ptr<Conductor> layered(std::vector<Layer> layers, double w = 0.5, double l = 10.0,
-                                   double z = 0.0) {
+// A layered conductor over any array (a 2-D grid included).
+std::unique_ptr<Conductor> layered_on(const ElectrodeArray& a, std::vector<Layer> layers,
+                                      double plane_z = 0.0) {
   ConductorParams p;
   p.model = "layered";
-  p.plane_z_mm = z;
+  p.plane_z_mm = plane_z;
   p.skin.layers = std::move(layers);
   p.skin.layer_names.assign(p.skin.layers.size(), "x");
-  return make_conductor(p, one_electrode(w, l));
+  return make_conductor(p, a);
+}
+
+// One w x l electrode on the layers, fibres in the plane z.
+std::unique_ptr<Conductor> layered(std::vector<Layer> layers, double w = 0.5, double l = 10.0,
+                                   double z = 0.0) {
+  return layered_on(one_electrode(w, l), std::move(layers), z);
 }
 
 }  // namespace
@@ -304,17 +311,6 @@ TEST_CASE(
 }
 
 namespace {
-
-// A layered conductor over any array (a 2-D grid included).
-std::unique_ptr<Conductor> layered_on(const ElectrodeArray& a, std::vector<Layer> layers,
-                                      double plane_z = 0.0) {
-  ConductorParams p;
-  p.model = "layered";
-  p.plane_z_mm = plane_z;
-  p.skin.layers = std::move(layers);
-  p.skin.layer_names.assign(p.skin.layers.size(), "x");
-  return make_conductor(p, a);
-}
 
 std::vector<double> along3(const Conductor& c, double x, double y, double z, const FibreAxis& e) {
   std::vector<double> out(c.size());
