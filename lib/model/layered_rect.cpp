@@ -80,10 +80,22 @@ const Chebyshev<kNq>& cheb_q() {
 }
 // A 2-D Chebyshev series c[k * kNq + i] (degree k along the second variable, i along the
 // first) at (ta, tb) in [-1, 1]^2.
+// Clenshaw's recurrence along the second variable runs on whole rows at once (kNq
+// independent lanes, which the compiler vectorises), then once along the first.
 double cheb2(const double* c, double ta, double tb) {
-  std::array<double, kNq> along_b{};
-  for (std::size_t k = 0; k < kNq; ++k) along_b[k] = Chebyshev<kNq>::eval(c + k * kNq, ta);
-  return Chebyshev<kNq>::eval(along_b.data(), tb);
+  std::array<double, kNq> b1{}, b2{};
+  const double tb2 = 2.0 * tb;
+  for (std::size_t k = kNq - 1; k > 0; --k) {
+    const double* row = c + k * kNq;
+    for (std::size_t i = 0; i < kNq; ++i) {
+      const double b0 = row[i] + tb2 * b1[i] - b2[i];
+      b2[i] = b1[i];
+      b1[i] = b0;
+    }
+  }
+  std::array<double, kNq> along_a{};
+  for (std::size_t i = 0; i < kNq; ++i) along_a[i] = c[i] + tb * b1[i] - b2[i];
+  return Chebyshev<kNq>::eval(along_a.data(), ta);
 }
 // The 2-D coefficients of kNy planes of values f[(j * kNq + k) * kNq + i] at the nodes:
 // along the first variable, then the second, into c (same layout).

@@ -459,6 +459,9 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
   std::vector<double> last_caps;  // the caps of the last round's LP
   // The samples' rows, extended by the samples each round adds.
   Eigen::MatrixXd a_off(0, basis.cols()), a_cap(0, basis.cols());
+  // One LP for every round: each adds its samples and lowers caps, and the rows the last
+  // solves needed stay in (with their basis), so a round starts near its answer.
+  std::unique_ptr<TargetLp> lp;
   for (res.rounds = 1;; ++res.rounds) {
     // The rounds add samples: the cap holds for them too.
     const double now =
@@ -466,11 +469,18 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
     if (now > kMaxProblemEntries)
       failure("focus problem: the samples the rounds added make " + number_text(now) +
               " entries, more than the cap of " + number_text(kMaxProblemEntries));
+    const Eigen::Index off_had = a_off.rows(), cap_had = a_cap.rows();
     extend_rows(a_off, setup, *conductor, tables, off, basis);
     extend_rows(a_cap, setup, *conductor, tables, capped, basis);
     const Eigen::VectorXd b_cap =
         Eigen::Map<const Eigen::VectorXd>(caps.data(), static_cast<Eigen::Index>(caps.size()));
-    TargetLp lp(a_off, basis, 0.0, a_cap, b_cap);
+    if (!lp) {
+      lp = std::make_unique<TargetLp>(a_off, basis, 0.0, a_cap, b_cap);
+    } else {
+      lp->append(a_off.bottomRows(a_off.rows() - off_had), a_cap.bottomRows(a_cap.rows() - cap_had),
+                 b_cap.tail(a_cap.rows() - cap_had));
+      lp->set_caps(b_cap);
+    }
     std::optional<LpSolution> best;
     Eigen::VectorXd best_row;
     // The depth is chosen in the first round; later rounds add samples at the same one.
@@ -479,7 +489,7 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
     for (const double y : depths) {
       const Eigen::VectorXd row = focus_row(y);
       ++res.lp_solves;
-      const auto sol = lp.solve(row);
+      const auto sol = lp->solve(row);
       if (sol && (!best || sol->value < best->value - 1e-12 * std::fabs(best->value))) {
         best = sol;
         best_row = row;
@@ -701,17 +711,17 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
   if (opt.certify) {
     // The best over every place the peak may take: the LP with the last round's rows and
     // caps, its target at each sample within a quarter pitch of the focus and at p*'s
-    // candidates.  p* is one of them, so the certified optimum is at most t*.
-    TargetLp lp(a_off, basis, 0.0, a_cap,
-                Eigen::Map<const Eigen::VectorXd>(last_caps.data(),
-                                                  static_cast<Eigen::Index>(last_caps.size())));
+    // candidates.  p* is one of them, so the certified optimum is at most t*.  (The
+    // rounds' LP holds those rows: the last round added none.)
+    lp->set_caps(Eigen::Map<const Eigen::VectorXd>(last_caps.data(),
+                                                   static_cast<Eigen::Index>(last_caps.size())));
     std::vector<Sample> cands = inner;
     for (const double y : all_depths)
       cands.push_back({opt.x_mm, y, two_d ? opt.z_mm : setup.conductor.plane_z_mm, target});
     const Eigen::MatrixXd rows = rows_of(setup, *conductor, tables, cands, basis);
     for (Eigen::Index i = 0; i < rows.rows(); ++i) {
       ++res.lp_solves;
-      const auto sol = lp.solve(rows.row(i).transpose());
+      const auto sol = lp->solve(rows.row(i).transpose());
       if (sol && (!res.certified_optimum || sol->value < *res.certified_optimum)) {
         res.certified_optimum = sol->value;
         const Sample& c = cands[static_cast<std::size_t>(i)];

@@ -80,8 +80,9 @@ void build(glp_prob* lp, int nz, int n_box, double bound, const std::vector<int>
 // Appends rows (each nz coefficients): an off-target row with -1 for t, "<= 0"; a capped
 // row without t, "<= its cap" (t_coef 0).
 void add_rows(glp_prob* lp, int nz, int count, const double* rows, const double* t_coef,
-              const double* bound) {
+              const double* bound, int* first_row) {
   const int first = glp_add_rows(lp, count);
+  *first_row = first;
   std::vector<int> ind(static_cast<std::size_t>(nz) + 2);
   std::vector<double> val(static_cast<std::size_t>(nz) + 2);
   for (int j = 1; j <= nz + 1; ++j) ind[static_cast<std::size_t>(j)] = j;
@@ -146,33 +147,21 @@ void provoke_glpk_error() {
   glp_delete_prob(lp);
 }
 
-TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound,
-                   const Eigen::MatrixXd& capped_rows, const Eigen::VectorXd& caps)
+TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis,
+                   double weight_bound, const Eigen::MatrixXd& capped_rows,
+                   const Eigen::VectorXd& caps)
     : nz_(static_cast<int>(off_rows.cols())) {
-  if (!off_rows.allFinite() || !basis.allFinite() || !std::isfinite(weight_bound) ||
-      !capped_rows.allFinite() || !caps.allFinite())
+  if (!basis.allFinite() || !std::isfinite(weight_bound))
     failure("linear programme: non-finite coefficients (a model value out of range)");
-  if (capped_rows.rows() != caps.size() ||
-      (capped_rows.rows() > 0 && capped_rows.cols() != off_rows.cols()))
-    failure("linear programme: capped rows and caps disagree");
   // The ratio is scale invariant: divide every AF row by the largest entry so that GLPK
   // works with numbers near 1 whatever the resistivity, diameters or currents
   // (see solve() for how z and the bound follow; a capped row a z <= c becomes
   // (a / s) (s z) <= c, its cap unchanged).
   double m = off_rows.size() ? off_rows.cwiseAbs().maxCoeff() : 0.0;
   if (capped_rows.size()) m = std::max(m, capped_rows.cwiseAbs().maxCoeff());
-  scale_ = m > 0 ? m : 1.0;
-  n_off_ = off_rows.rows();
-  if (capped_rows.rows() == 0) {
-    off_ = std::move(off_rows);
-  } else {
-    off_.resize(off_rows.rows() + capped_rows.rows(), off_rows.cols());
-    off_.topRows(off_rows.rows()) = off_rows;
-    off_.bottomRows(capped_rows.rows()) = capped_rows;
-  }
-  caps_ = caps;
-  off_ /= scale_;
-  in_lp_.assign(static_cast<std::size_t>(off_.rows()), false);
+  scale_ = m > 0 && std::isfinite(m) ? m : 1.0;
+  keep(off_rows, nullptr);
+  keep(capped_rows, &caps);
   const bool box = weight_bound > 0.0;
   const int n_box = box ? static_cast<int>(basis.rows()) : 0;
   std::vector<int> ia{0}, ja{0};
@@ -202,30 +191,95 @@ TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, doubl
   // simplex step works on a basis as large as the rows in the LP, so fewer is faster: on
   // the paper's array 64 took 25 % less time than 256, and 32 more (too few rows leave the
   // LP unbounded and cost extra rounds).
-  const Eigen::Index n = off_.rows();
+  const auto n = static_cast<Eigen::Index>(glp_row_.size());
   std::vector<Eigen::Index> first;
   const Eigen::Index stride = std::max<Eigen::Index>(1, n / 64);
   for (Eigen::Index i = 0; i < n; i += stride) first.push_back(i);
   add(first);
 }
 
-void TargetLp::add(const std::vector<Eigen::Index>& rows) {
-  if (rows.empty()) return;
-  std::vector<double> buf, t_coef, bound;
-  buf.reserve(rows.size() * static_cast<std::size_t>(nz_));
-  for (Eigen::Index i : rows) {
-    in_lp_[static_cast<std::size_t>(i)] = true;
-    for (int j = 0; j < nz_; ++j) buf.push_back(off_(i, j));
-    t_coef.push_back(i < n_off_ ? -1.0 : 0.0);
-    bound.push_back(i < n_off_ ? 0.0 : caps_(i - n_off_));
+void TargetLp::keep(const Eigen::MatrixXd& rows, const Eigen::VectorXd* caps) {
+  if (rows.rows() == 0) return;
+  if (rows.cols() != nz_ || (caps && caps->size() != rows.rows()))
+    failure("linear programme: rows and caps disagree");
+  if (!rows.allFinite() || (caps && !caps->allFinite()))
+    failure("linear programme: non-finite coefficients (a model value out of range)");
+  const auto nz = static_cast<std::size_t>(nz_);
+  const std::size_t at = rows_.size();
+  rows_.resize(at + static_cast<std::size_t>(rows.rows()) * nz);
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) {
+    for (Eigen::Index j = 0; j < rows.cols(); ++j)
+      rows_[at + static_cast<std::size_t>(i) * nz + static_cast<std::size_t>(j)] =
+          rows(i, j) / scale_;
+    if (caps) {
+      cap_of_.push_back(static_cast<Eigen::Index>(caps_.size()));
+      caps_.push_back((*caps)(i));
+    } else {
+      cap_of_.push_back(-1);
+    }
+    glp_row_.push_back(0);
+  }
+}
+
+void TargetLp::append(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& capped_rows,
+                      const Eigen::VectorXd& caps) {
+  keep(off_rows, nullptr);
+  keep(capped_rows, &caps);
+}
+
+void TargetLp::set_caps(const Eigen::VectorXd& caps) {
+  if (caps.size() != static_cast<Eigen::Index>(caps_.size()))
+    failure("linear programme: " + std::to_string(caps.size()) + " caps for " +
+            std::to_string(caps_.size()) + " capped rows");
+  if (!caps.allFinite()) failure("linear programme: non-finite caps");
+  if (!lp_ || environment_ != g_environment)
+    failure("linear programme: solver state lost after an earlier failure");
+  std::vector<int> row;
+  std::vector<double> cap;
+  for (std::size_t i = 0; i < glp_row_.size(); ++i) {
+    const Eigen::Index k = cap_of_[i];
+    if (k < 0) continue;
+    caps_[static_cast<std::size_t>(k)] = caps(k);
+    if (glp_row_[i] > 0) {
+      row.push_back(glp_row_[i]);
+      cap.push_back(caps(k));
+    }
   }
   Guard g;
   glp_prob* lp = lp_;
-  const int nz = nz_, count = static_cast<int>(rows.size());
-  if (!guarded(g, [&] { add_rows(lp, nz, count, buf.data(), t_coef.data(), bound.data()); })) {
+  if (!guarded(g, [&] {
+        for (std::size_t i = 0; i < row.size(); ++i)
+          glp_set_row_bnds(lp, row[i], GLP_UP, 0.0, cap[i]);
+      })) {
+    lp_ = nullptr;
+    glpk_failed(g, "changing bounds");
+  }
+}
+
+void TargetLp::add(const std::vector<Eigen::Index>& rows) {
+  if (rows.empty()) return;
+  std::vector<double> buf, t_coef, bound;
+  const auto nz = static_cast<std::size_t>(nz_);
+  buf.reserve(rows.size() * nz);
+  for (Eigen::Index i : rows) {
+    const auto r = static_cast<std::size_t>(i);
+    buf.insert(buf.end(), rows_.begin() + static_cast<std::ptrdiff_t>(r * nz),
+               rows_.begin() + static_cast<std::ptrdiff_t>((r + 1) * nz));
+    const Eigen::Index k = cap_of_[r];
+    t_coef.push_back(k < 0 ? -1.0 : 0.0);
+    bound.push_back(k < 0 ? 0.0 : caps_[static_cast<std::size_t>(k)]);
+  }
+  Guard g;
+  glp_prob* lp = lp_;
+  const int count = static_cast<int>(rows.size());
+  int first = 0;
+  if (!guarded(
+          g, [&] { add_rows(lp, nz_, count, buf.data(), t_coef.data(), bound.data(), &first); })) {
     lp_ = nullptr;
     glpk_failed(g, "adding constraints");
   }
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    glp_row_[static_cast<std::size_t>(rows[k])] = first + static_cast<int>(k);
   rows_in_lp_ += rows.size();
 }
 
@@ -249,7 +303,7 @@ std::optional<LpSolution> TargetLp::solve(const Eigen::VectorXd& target_row) {
   // no sample is the optimum of the whole problem.  Rows stay for later target points (the
   // active sets of nearby points overlap), and each re-solve starts from the last basis.
   Eigen::VectorXd z(nz_);
-  const Eigen::Index n = off_.rows();
+  const auto n = static_cast<Eigen::Index>(glp_row_.size());
   const std::size_t batch = std::max<std::size_t>(32, static_cast<std::size_t>(nz_));
   for (bool first = true;; first = false) {
     SolveOut out;
@@ -263,20 +317,25 @@ std::optional<LpSolution> TargetLp::solve(const Eigen::VectorXd& target_row) {
     std::vector<Eigen::Index> more;
     if (out.outcome == Outcome::optimal) {
       // The excess of each row over its bound: t for an off-target row, its cap otherwise.
-      Eigen::VectorXd v = off_ * z;
-      v.head(n_off_).array() -= out.value;
-      v.tail(n - n_off_) -= caps_;
+      Eigen::VectorXd v =
+          Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+              rows_.data(), n, nz_) *
+          z;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const Eigen::Index k = cap_of_[static_cast<std::size_t>(i)];
+        v(i) -= k < 0 ? out.value : caps_[static_cast<std::size_t>(k)];
+      }
       const double tol = 1e-10 * std::max(1.0, std::fabs(out.value));
       std::vector<std::pair<double, Eigen::Index>> violated;
       // Samples run along the fibres in order: add the peaks of the violation only, not
       // their neighbours, which the next solve satisfies with them.
       for (Eigen::Index i = 0; i < n; ++i)
-        if (v(i) > tol && !in_lp_[static_cast<std::size_t>(i)] && (i == 0 || v(i) >= v(i - 1)) &&
+        if (v(i) > tol && !glp_row_[static_cast<std::size_t>(i)] && (i == 0 || v(i) >= v(i - 1)) &&
             (i + 1 == n || v(i) >= v(i + 1)))
           violated.emplace_back(v(i), i);
       if (violated.empty())  // plateaus: fall back to every violated sample
         for (Eigen::Index i = 0; i < n; ++i)
-          if (v(i) > tol && !in_lp_[static_cast<std::size_t>(i)]) violated.emplace_back(v(i), i);
+          if (v(i) > tol && !glp_row_[static_cast<std::size_t>(i)]) violated.emplace_back(v(i), i);
       if (violated.empty()) {
         LpSolution s;
         s.value = out.value;  // t is unchanged by the scaling
@@ -298,7 +357,7 @@ std::optional<LpSolution> TargetLp::solve(const Eigen::VectorXd& target_row) {
       const Eigen::Index stride = std::max<Eigen::Index>(
           1, (n - static_cast<Eigen::Index>(rows_in_lp_)) / static_cast<Eigen::Index>(want));
       for (Eigen::Index i = 0, seen = 0; i < n; ++i)
-        if (!in_lp_[static_cast<std::size_t>(i)] && seen++ % stride == 0) more.push_back(i);
+        if (!glp_row_[static_cast<std::size_t>(i)] && seen++ % stride == 0) more.push_back(i);
     }
     add(more);
   }

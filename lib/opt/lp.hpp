@@ -41,30 +41,40 @@ void provoke_glpk_error();
 class TargetLp {
  public:
   // basis and weight_bound: when weight_bound > 0, |(basis z)_i| <= weight_bound.
-  // off_rows is kept (scaled): move it in when the caller is done with it.  capped_rows
-  // (with as many columns) and caps: rows held at or below a fixed value each.
-  TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound,
+  // off_rows is kept (scaled).  capped_rows (with as many columns) and caps: rows held at
+  // or below a value each.
+  TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis, double weight_bound,
            const Eigen::MatrixXd& capped_rows = Eigen::MatrixXd(),
            const Eigen::VectorXd& caps = Eigen::VectorXd());
   ~TargetLp();
   TargetLp(const TargetLp&) = delete;
   TargetLp& operator=(const TargetLp&) = delete;
 
+  // More samples, kept like the first (scaled by the first rows' scale).  They enter the
+  // LP when a solve finds them violated, and the rows already in it stay: the next solve
+  // starts from the last basis (a focus's rounds add samples to one problem).
+  void append(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& capped_rows,
+              const Eigen::VectorXd& caps);
+  // New bounds for every capped row, in the order the rows were given.
+  void set_caps(const Eigen::VectorXd& caps);
+
   // No value when infeasible or unbounded.  A GLPK failure (which GLPK itself would end
   // with abort()) is a tp::Error (failure), and its output never reaches stdout.
   std::optional<LpSolution> solve(const Eigen::VectorXd& target_row);
 
  private:
-  void add(const std::vector<Eigen::Index>& rows);  // off-target rows into the LP
+  void add(const std::vector<Eigen::Index>& rows);  // samples into the LP
+  void keep(const Eigen::MatrixXd& rows, const Eigen::VectorXd* caps);
 
   glp_prob* lp_ = nullptr;
-  Eigen::MatrixXd off_;      // every row, scaled: the off-target ones, then the capped ones
-  Eigen::Index n_off_ = 0;   // how many are off-target rows (<= t); the rest are capped
-  Eigen::VectorXd caps_;     // the capped rows' bounds
-  std::vector<bool> in_lp_;  // which rows the LP holds
+  // Every sample's row, scaled, row-major (rows x nz_), in the order given.
+  std::vector<double> rows_;
+  std::vector<Eigen::Index> cap_of_;  // per row: its index in caps_, or -1 (off-target: <= t)
+  std::vector<double> caps_;          // the capped rows' bounds, in the order given
+  std::vector<int> glp_row_;          // per row: its row in the LP, or 0
   std::size_t rows_in_lp_ = 0;
   int nz_;                    // number of z variables
-  double scale_ = 1.0;        // the rows are divided by this (their largest entry)
+  double scale_ = 1.0;        // the rows are divided by this (the first rows' largest entry)
   unsigned environment_ = 0;  // GLPK's environment the problem belongs to
 };
 
