@@ -101,6 +101,56 @@ CATCH_TEST_CASE("the target-point LP meets its constraints and is optimal among 
   }
 }
 
+CATCH_TEST_CASE("an LP grown by append and re-capped gives the LP built at once", "[opt][lp]") {
+  // The focus's rounds: samples in two parts, off-target and capped rows in each, then every
+  // cap lowered.  The grown LP (warm, its rows and basis kept) and a fresh one with the final
+  // rows and caps reach the same optimum, and both answers meet every row.
+  Setup s;
+  const ModeProblem p = make_mode_problem(s, "SAI", 0.05);
+  const Eigen::Index n = p.off_rows.rows(), half = n / 2;
+  const Eigen::Index mid = p.target_rows.rows() / 2;
+  const Eigen::VectorXd a = p.target_rows.row(mid).transpose();
+  TargetLp loose(p.off_rows, p.basis, 0.0);
+  const auto l = loose.solve(a);
+  CATCH_REQUIRE(l);
+  // Capped rows: the two highest off-target samples of each half at the loose optimum, held
+  // at 0.9 of it, then at 0.8.
+  auto top2 = [&](Eigen::Index from, Eigen::Index count) {
+    const Eigen::VectorXd v = p.off_rows.middleRows(from, count) * l->z;
+    Eigen::Index i = 0, j = 0;
+    v.maxCoeff(&i);
+    Eigen::VectorXd w = v;
+    w(i) = -INFINITY;
+    w.maxCoeff(&j);
+    Eigen::MatrixXd m(2, p.basis.cols());
+    m << p.off_rows.row(from + i), p.off_rows.row(from + j);
+    return m;
+  };
+  const Eigen::MatrixXd cap1 = top2(0, half), cap2 = top2(half, n - half);
+  const double t = l->value;
+  TargetLp grown(p.off_rows.topRows(half), p.basis, 0.0, cap1, Eigen::Vector2d(0.9 * t, 0.9 * t));
+  CATCH_REQUIRE(grown.solve(a));
+  grown.append(p.off_rows.bottomRows(n - half), cap2, Eigen::Vector2d(0.9 * t, 0.9 * t));
+  const Eigen::Vector4d caps = Eigen::Vector4d::Constant(0.8 * t);
+  grown.set_caps(caps);
+  const auto g = grown.solve(a);
+  Eigen::MatrixXd all_caps(4, p.basis.cols());
+  all_caps << cap1, cap2;
+  TargetLp fresh(p.off_rows, p.basis, 0.0, all_caps, caps);
+  const auto f = fresh.solve(a);
+  CATCH_REQUIRE(g);
+  CATCH_REQUIRE(f);
+  CATCH_CHECK(g->value == Approx(f->value).epsilon(1e-7));
+  for (const auto* sol : {&*g, &*f}) {
+    CATCH_CHECK(a.dot(sol->z) == Approx(1.0).epsilon(1e-9));
+    CATCH_CHECK((p.off_rows * sol->z).maxCoeff() <= sol->value * (1 + 1e-7));
+    CATCH_CHECK((all_caps * sol->z).maxCoeff() <= 0.8 * t * (1 + 1e-7));
+  }
+  // The caps bind: with them the optimum is higher.
+  CATCH_CHECK(f->value > t * (1 + 1e-6));
+  CATCH_CHECK_THROWS_AS(grown.set_caps(Eigen::Vector2d(0.1, 0.1)), Error);
+}
+
 CATCH_TEST_CASE("weights sum to zero and peak at |w| = 1, and the answer is reproducible",
                 "[opt]") {
   Setup s;
