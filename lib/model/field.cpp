@@ -282,6 +282,47 @@ GridValues Field::plane_af(const Receptor& r, double y, double step) const {
   return g;
 }
 
+GridValues Field::wall_af(const Receptor& r, bool along_x, double fixed_mm, double step) const {
+  const Region reg = fibre_region(setup_, r);
+  const FibreAxis axis = fibre_axis(r);
+  const double s0 = along_x ? reg.x0_mm : reg.z0_mm, s1 = along_x ? reg.x1_mm : reg.z1_mm;
+  GridValues g = uniform_grid(s0, s1, reg.y0_mm, reg.y1_mm, step);
+  auto direct = [&](double s, double y) {
+    return along_x ? af_3d(r.fibre, axis, s, y, fixed_mm) : af_3d(r.fibre, axis, fixed_mm, y, s);
+  };
+  const auto lat = grid_lattice(setup_.array, reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, step);
+  const auto t =
+      lat ? wall_table(setup_.conductor, setup_.array, *lat, along_x, fixed_mm, g.t, axis)
+          : nullptr;
+  if (!t) {
+    g.v.reserve(g.s.size() * g.t.size());
+    for (const double y : g.t)
+      for (const double s : g.s) g.v.push_back(direct(s, y));
+    return g;
+  }
+  // The lattice's lines by correlation of the lone pad's table with the currents; the
+  // region's edges off the lattice evaluated directly.
+  g.s = along_x ? lat->x_axis(s0, s1) : lat->z_axis(s0, s1);
+  g.hs = along_x ? lat->hx : lat->hz;
+  const bool off0 = along_x ? lat->x0_off : lat->z0_off, off1 = along_x ? lat->x1_off : lat->z1_off;
+  const int i0 = along_x ? lat->a0 : lat->b0;
+  const double ff = fibre_factor_mm2_per_ms(r.fibre);
+  std::vector<double> k(setup_.array.size());
+  g.v.reserve(g.s.size() * g.t.size());
+  for (std::size_t j = 0; j < g.t.size(); ++j)
+    for (std::size_t i = 0; i < g.s.size(); ++i) {
+      if ((off0 && i == 0) || (off1 && i + 1 == g.s.size())) {
+        g.v.push_back(direct(g.s[i], g.t[j]));
+        continue;
+      }
+      t->pads_at(setup_.array, *lat, i0 + static_cast<int>(i) - (off0 ? 1 : 0), j, k.data());
+      double d = 0.0;
+      for (std::size_t p = 0; p < k.size(); ++p) d += currents_[p] * k[p];
+      g.v.push_back(ff * d);
+    }
+  return g;
+}
+
 Peak Field::peak_3d(const Receptor& r) const {
   // The AF of a fibre along a fixed axis is d2Psi/ds2 times a constant: harmonic in space
   // within each layer of the conductor, so its largest over the box of fibres lies on the
@@ -321,12 +362,11 @@ Peak Field::peak_3d(const Receptor& r) const {
       if (y > reg.y0_mm && y < reg.y1_mm) plane(y);
     const double step = reg.y0_mm / 10.0;
     auto side = [&](bool along_x, double fixed) {
-      const Max2d m = maximize_2d(
+      const Max2d m = maximize_2d_grid(
           [&](double s, double y) {
             return along_x ? af_3d(r.fibre, axis, s, y, fixed) : af_3d(r.fibre, axis, fixed, y, s);
           },
-          along_x ? reg.x0_mm : reg.z0_mm, along_x ? reg.x1_mm : reg.z1_mm, reg.y0_mm, reg.y1_mm,
-          step);
+          wall_af(r, along_x, fixed, step));
       const Peak p = along_x ? Peak{m.value, m.s, m.t, fixed} : Peak{m.value, fixed, m.t, m.s};
       if (p.af > best.af) best = p;
     };

@@ -100,6 +100,10 @@ class Field {
   // its pads' centres lie on, with the region's edges (model/lattice.hpp); else the
   // uniform grid maximize_2d() samples.
   GridValues plane_af(const Receptor& r, double y_mm, double step_mm) const;
+  // The same over a wall of the region: the plane z = fixed_mm (along_x: s along x) or
+  // x = fixed_mm (s along z), t the depth from the region's top to its bottom; s on the
+  // lattice as plane_af's, t uniform at most step_mm apart (as maximize_2d samples it).
+  GridValues wall_af(const Receptor& r, bool along_x, double fixed_mm, double step_mm) const;
 
  private:
   Peak peak_3d(const Receptor& r) const;  // a 2-D array's: over the box of fibres

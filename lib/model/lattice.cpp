@@ -87,46 +87,44 @@ PadTable build_table(const ConductorParams& params, const ElectrodeArray& arr, c
 
 }  // namespace
 
-std::shared_ptr<const PadTable> pad_table(const ConductorParams& params, const ElectrodeArray& arr,
-                                          const GridLattice& g, double y_mm,
-                                          const FibreAxis& axis) {
-  // Everything the lone pad's response at the table's offsets depends on.
-  std::vector<double> key = {params.resistivity_ohm_m,
-                             params.source_depth_mm,
-                             arr.width_mm,
-                             arr.length_mm,
-                             g.hx,
-                             g.hz,
-                             static_cast<double>(g.a0 - (arr.columns - 1) * g.m),
-                             static_cast<double>(g.b0 - (arr.rows - 1) * g.mz),
-                             static_cast<double>(g.a1),
-                             static_cast<double>(g.b1),
-                             y_mm,
-                             axis.vertical ? 1.0 : 0.0,
-                             axis.cos_az,
-                             axis.sin_az};
+namespace {
+
+// Everything a lone pad's response depends on besides the points: the model's settings and
+// the pad.
+std::vector<double> conductor_key(const ConductorParams& params, const ElectrodeArray& arr) {
+  std::vector<double> key = {params.resistivity_ohm_m, params.source_depth_mm, arr.width_mm,
+                             arr.length_mm};
   for (const Layer& l : params.skin.layers) {
     key.push_back(l.thickness_mm);
     key.push_back(l.resistivity_ohm_m);
   }
+  return key;
+}
+
+// The tables of one kind, kept for the process (most recent first, up to 2e7 entries in
+// all), shared between threads.  A table depends only on its key, so keeping it changes no
+// value.
+template <class Table, class Build>
+std::shared_ptr<const Table> kept(const std::string& model, std::vector<double> key,
+                                  Build&& build) {
   struct Entry {
     std::string model;
     std::vector<double> key;
-    std::shared_ptr<const PadTable> table;
+    std::shared_ptr<const Table> table;
   };
   static std::mutex mutex;
-  static std::list<Entry> cache;  // most recent first
+  static std::list<Entry> cache;
   {
     std::lock_guard<std::mutex> lock(mutex);
     for (auto it = cache.begin(); it != cache.end(); ++it)
-      if (it->model == params.model && it->key == key) {
+      if (it->model == model && it->key == key) {
         cache.splice(cache.begin(), cache, it);
         return cache.front().table;
       }
   }
-  auto table = std::make_shared<const PadTable>(build_table(params, arr, g, y_mm, axis));
+  auto table = std::make_shared<const Table>(build());
   std::lock_guard<std::mutex> lock(mutex);
-  cache.push_front({params.model, std::move(key), table});
+  cache.push_front({model, std::move(key), table});
   constexpr std::size_t kBudget = 20000000;  // entries kept in all
   std::size_t total = 0;
   for (auto it = cache.begin(); it != cache.end();) {
@@ -137,6 +135,58 @@ std::shared_ptr<const PadTable> pad_table(const ConductorParams& params, const E
       ++it;
   }
   return table;
+}
+
+}  // namespace
+
+std::shared_ptr<const PadTable> pad_table(const ConductorParams& params, const ElectrodeArray& arr,
+                                          const GridLattice& g, double y_mm,
+                                          const FibreAxis& axis) {
+  std::vector<double> key = conductor_key(params, arr);
+  key.insert(key.end(), {g.hx, g.hz, static_cast<double>(g.a0 - (arr.columns - 1) * g.m),
+                         static_cast<double>(g.b0 - (arr.rows - 1) * g.mz),
+                         static_cast<double>(g.a1), static_cast<double>(g.b1), y_mm,
+                         axis.vertical ? 1.0 : 0.0, axis.cos_az, axis.sin_az});
+  return kept<PadTable>(params.model, std::move(key),
+                        [&] { return build_table(params, arr, g, y_mm, axis); });
+}
+
+std::shared_ptr<const WallTable> wall_table(const ConductorParams& params,
+                                            const ElectrodeArray& arr, const GridLattice& g,
+                                            bool along_x, double fixed_mm,
+                                            const std::vector<double>& ys, const FibreAxis& axis) {
+  WallTable t;
+  t.along_x = along_x;
+  t.o = along_x ? g.a0 - (arr.columns - 1) * g.m : g.b0 - (arr.rows - 1) * g.mz;
+  t.n = (along_x ? g.a1 : g.b1) - t.o + 1;
+  t.lines = along_x ? arr.rows : arr.columns;
+  const double entries = static_cast<double>(ys.size()) * t.lines * t.n;
+  if (!(entries <= kMaxSamples)) return nullptr;
+  std::vector<double> key = conductor_key(params, arr);
+  key.insert(key.end(),
+             {along_x ? 1.0 : 0.0, fixed_mm, g.hx, g.hz, g.x00, g.z00, static_cast<double>(g.m),
+              static_cast<double>(g.mz), static_cast<double>(t.o), static_cast<double>(t.n),
+              static_cast<double>(t.lines), axis.vertical ? 1.0 : 0.0, axis.cos_az, axis.sin_az});
+  key.insert(key.end(), ys.begin(), ys.end());
+  return kept<WallTable>(params.model, std::move(key), [&] {
+    const ElectrodeArray lone = ElectrodeArray::pads({0.0}, {0.0}, arr.width_mm, arr.length_mm);
+    const auto c = make_conductor(params, lone);
+    t.k.resize(static_cast<std::size_t>(entries));
+    std::size_t e = 0;
+    for (const double y : ys)
+      for (int line = 0; line < t.lines; ++line) {
+        // The wall's distance from the line of pads, across it.
+        const double across = along_x ? fixed_mm - g.z(line * g.mz) : fixed_mm - g.x(line * g.m);
+        for (int i = 0; i < t.n; ++i) {
+          const double along = (t.o + i) * (along_x ? g.hx : g.hz);
+          if (along_x)
+            c->unit_d2_along(along, y, across, axis, &t.k[e++]);
+          else
+            c->unit_d2_along(across, y, along, axis, &t.k[e++]);
+        }
+      }
+    return t;
+  });
 }
 
 }  // namespace tp

@@ -55,10 +55,40 @@ struct PadTable {
         out[r * arr.columns + c] = at(a - c * g.m, b - r * g.mz);
   }
 };
+// The lone pad's response on a wall of a fibre box: the plane z = fixed (along x) or
+// x = fixed (along z), at the lattice's lines across the wall and at depths ys.  Pad (c, r)
+// sees a point at lattice index i along the wall at the offset (i - c m) hx along x (or
+// (i - r mz) hz along z) and fixed - z_r (or fixed - x_c) across: one line per pad row
+// (or column).
+struct WallTable {
+  bool along_x = true;
+  int o = 0, n = 0, lines = 0;  // the first offset along the wall, how many; pad rows or columns
+  std::vector<double> k;        // [(iy * lines + line) * n + offset - o]
+  // The responses of every pad (row-major, as the array's index) at lattice index i along
+  // the wall, at depth ys[iy].
+  void pads_at(const ElectrodeArray& arr, const GridLattice& g, int i, std::size_t iy,
+               double* out) const {
+    const auto at = [&](int line, int offset) {
+      return k[(iy * static_cast<std::size_t>(lines) + static_cast<std::size_t>(line)) *
+                   static_cast<std::size_t>(n) +
+               static_cast<std::size_t>(offset - o)];
+    };
+    for (int r = 0; r < arr.rows; ++r)
+      for (int c = 0; c < arr.columns; ++c)
+        out[r * arr.columns + c] = along_x ? at(r, i - c * g.m) : at(c, i - r * g.mz);
+  }
+};
+
 // Tables are kept for the process (the last ones built, up to 2e7 entries in all: 160 MB),
 // shared between threads: a pixel's rounds and a bank's patterns evaluate the same planes
 // over and over.  A table depends only on its arguments, so keeping it changes no value.
 std::shared_ptr<const PadTable> pad_table(const ConductorParams& params, const ElectrodeArray& arr,
                                           const GridLattice& g, double y_mm, const FibreAxis& axis);
+// A wall's table (kept as the plane tables are), or none when it would hold more than
+// kMaxSamples entries.
+std::shared_ptr<const WallTable> wall_table(const ConductorParams& params,
+                                            const ElectrodeArray& arr, const GridLattice& g,
+                                            bool along_x, double fixed_mm,
+                                            const std::vector<double>& ys, const FibreAxis& axis);
 
 }  // namespace tp

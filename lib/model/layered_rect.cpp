@@ -82,7 +82,11 @@ const Chebyshev<kNq>& cheb_q() {
 // first) at (ta, tb) in [-1, 1]^2.
 // Clenshaw's recurrence along the second variable runs on whole rows at once (kNq
 // independent lanes, which the compiler vectorises), then once along the first.
-double cheb2(const double* c, double ta, double tb) {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double
+cheb2(const double* c, double ta, double tb) {
   std::array<double, kNq> b1{}, b2{};
   const double tb2 = 2.0 * tb;
   for (std::size_t k = kNq - 1; k > 0; --k) {
@@ -859,10 +863,12 @@ class Layered : public Conductor {
   double f_along(double u, double v, bool vertical, double cc, double cs2, double ss) const {
     const double au = std::fabs(u), av = std::fabs(v);
     const long iu = frow_->fu.index(au), iv = frow_->fv.index(av);
-    const std::pair<long, long> key{iu, iv};
-    auto found = fslot_.find(key);
+    const auto su = static_cast<std::size_t>(iu), sv = static_cast<std::size_t>(iv);
+    if (fslot_.size() <= su) fslot_.resize(su + 1);
+    std::vector<std::size_t>& slots = fslot_[su];
+    if (slots.size() <= sv) slots.resize(sv + 1, kNoSlot);
     constexpr std::size_t kAB = kNq * kNq;
-    if (found == fslot_.end()) {
+    if (slots[sv] == kNoSlot) {
       const Tables::FTile& t = tables_->ftile(*frow_, iu, iv);
       FRow row;
       row.tile = &t;
@@ -871,10 +877,10 @@ class Layered : public Conductor {
         row.c[kAB + ki] = Chebyshev<kNy>::eval(&t.czz[ki], frow_t_, kAB);
         row.c[2 * kAB + ki] = Chebyshev<kNy>::eval(&t.cxz[ki], frow_t_, kAB);
       }
-      found = fslot_.emplace(key, fpool_.size()).first;
+      slots[sv] = fpool_.size();
       fpool_.push_back(row);
     }
-    const FRow& row = fpool_[found->second];
+    const FRow& row = fpool_[slots[sv]];
     const Tables::FTile& t = *row.tile;
     const double tu = (2.0 * au - t.u0 - t.u1) / (t.u1 - t.u0);
     const double tv = (2.0 * av - t.v0 - t.v1) / (t.v1 - t.v0);
@@ -903,7 +909,8 @@ class Layered : public Conductor {
   mutable double frow_y_ = NAN;
   mutable const Tables::YTile* frow_ = nullptr;
   mutable double frow_t_ = 0.0;
-  mutable std::map<std::pair<long, long>, std::size_t> fslot_;  // (iu, iv) -> fpool_ index
+  static constexpr std::size_t kNoSlot = static_cast<std::size_t>(-1);
+  mutable std::vector<std::vector<std::size_t>> fslot_;  // [iu][iv] -> fpool_ index, or kNoSlot
   mutable std::vector<FRow> fpool_;
 };
 

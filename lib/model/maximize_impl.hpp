@@ -16,6 +16,77 @@ inline constexpr double kMaxSamples = 1e7;
 // Throws tp::Error (bad input) naming the count and the cap.
 [[noreturn]] void refuse_sample_count(const char* what, double count);
 
+// The maximum of f on [lo, hi] by Brent's method (R. P. Brent, Algorithms for Minimization
+// without Derivatives, 1973, ch. 5: parabolic interpolation through the best three points,
+// a golden-section step where the parabola's step is not trusted), starting from x in
+// [lo, hi] with f(x) = fx known.  Stops when the bracket is within 4 tol; returns the best
+// point seen and its value (never below fx).  A value of -inf (a masked point) is a point
+// below every other.
+template <class F>
+std::pair<double, double> brent_max(F&& f, double lo, double hi, double x, double fx, double tol) {
+  constexpr double kGold = 0.3819660112501051;  // (3 - sqrt 5) / 2
+  // Minimise g = -f.
+  double gx = -fx, w = x, gw = gx, v = x, gv = gx;
+  double d = 0.0, e = 0.0;
+  for (int it = 0; it < 200; ++it) {
+    const double m = 0.5 * (lo + hi), tol2 = 2.0 * tol;
+    if (std::fabs(x - m) <= tol2 - 0.5 * (hi - lo)) break;
+    bool golden = true;
+    if (std::fabs(e) > tol) {
+      double r = (x - w) * (gx - gv);
+      double q = (x - v) * (gx - gw);
+      double p = (x - v) * q - (x - w) * r;
+      q = 2.0 * (q - r);
+      if (q > 0.0) p = -p;
+      q = std::fabs(q);
+      const double e_prev = e;
+      e = d;
+      // The parabola's step, if finite, inside the bracket and under half the step before
+      // last (else the search would not shrink).
+      if (std::isfinite(p) && std::isfinite(q) && std::fabs(p) < std::fabs(0.5 * q * e_prev) &&
+          p > q * (lo - x) && p < q * (hi - x)) {
+        d = p / q;
+        const double u = x + d;
+        if (u - lo < tol2 || hi - u < tol2) d = x < m ? tol : -tol;
+        golden = false;
+      }
+    }
+    if (golden) {
+      e = x < m ? hi - x : lo - x;
+      d = kGold * e;
+    }
+    const double u = std::fabs(d) >= tol ? x + d : x + (d > 0.0 ? tol : -tol);
+    const double gu = -f(u);
+    if (gu <= gx) {
+      if (u < x)
+        hi = x;
+      else
+        lo = x;
+      v = w;
+      gv = gw;
+      w = x;
+      gw = gx;
+      x = u;
+      gx = gu;
+    } else {
+      if (u < x)
+        lo = u;
+      else
+        hi = u;
+      if (gu <= gw || w == x) {
+        v = w;
+        gv = gw;
+        w = u;
+        gw = gu;
+      } else if (gu <= gv || v == x || v == w) {
+        v = u;
+        gv = gu;
+      }
+    }
+  }
+  return {x, -gx};
+}
+
 template <class F>
 std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
   if (!(b > a)) return {a, f(a)};
@@ -34,31 +105,11 @@ std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
     const bool left_ok = i == 0 || v[i] >= v[i - 1];
     const bool right_ok = i + 1 == n || v[i] >= v[i + 1];
     if (!(left_ok && right_ok)) continue;
-    // Golden-section search on the bracket around sample i.
-    double lo = i == 0 ? a : t - h;
-    double hi = i + 1 == n ? b : t + h;
-    constexpr double g = 0.6180339887498949;
-    double c = hi - g * (hi - lo), d = lo + g * (hi - lo);
-    double fc = f(c), fd = f(d);
-    // To 1e-9 of the position: the value near a maximum is off by the square of that,
-    // far below double rounding for the smooth fields of the models.
-    for (int it = 0; it < 200 && hi - lo > 1e-9 * (1.0 + std::fabs(t)); ++it) {
-      if (fc >= fd) {
-        hi = d;
-        d = c;
-        fd = fc;
-        c = hi - g * (hi - lo);
-        fc = f(c);
-      } else {
-        lo = c;
-        c = d;
-        fc = fd;
-        d = lo + g * (hi - lo);
-        fd = f(d);
-      }
-    }
-    const double tm = fc >= fd ? c : d;
-    const double fm = fc >= fd ? fc : fd;
+    // Brent's search (parabolic steps, golden-section ones where a parabola cannot be
+    // trusted) on the bracket around sample i, from the sample.
+    const double lo = i == 0 ? a : t - h;
+    const double hi = i + 1 == n ? b : t + h;
+    const auto [tm, fm] = brent_max(f, lo, hi, t, v[i], 2.5e-10 * (1.0 + std::fabs(t)));
     if (fm > best.second) best = {tm, fm};
   }
   return best;
@@ -108,11 +159,15 @@ Max2d maximize_2d_grid(F&& f, const GridValues& grid) {
   for (const auto& [c, k] : peaks) {
     if (c < best.value - 0.25 * std::fabs(best.value)) break;
     double s = sat(k % ns), t = tat(k / ns), val = c;
-    // Golden-section searches along a line through the point, within a grid step.
-    auto along = [&](double& x, double lo, double hi, double cell, auto&& g) {
+    // Searches along a line through the point: in the first round a scan within a grid
+    // step (the line's maximum may lie anywhere in it), then Brent's search within a
+    // quarter step of where the last round left it (the rounds move it less and less).
+    auto along = [&](double& x, double lo, double hi, double cell, bool scan, auto&& g) {
       if (!(cell > 0.0)) return;
       const auto [xn, vn] =
-          maximize_1d(g, std::max(lo, x - cell), std::min(hi, x + cell), cell / 4);
+          scan ? maximize_1d(g, std::max(lo, x - cell), std::min(hi, x + cell), cell / 4)
+               : brent_max(g, std::max(lo, x - cell / 4), std::min(hi, x + cell / 4), x, val,
+                           2.5e-10 * (1.0 + std::fabs(x)));
       if (vn > val) {
         x = xn;
         val = vn;
@@ -120,8 +175,8 @@ Max2d maximize_2d_grid(F&& f, const GridValues& grid) {
     };
     for (int round = 0; round < 40; ++round) {
       const double sp = s, tp = t;
-      along(s, s0, s1, hs, [&](double sv) { return f(sv, t); });
-      along(t, t0, t1, ht, [&](double tv) { return f(s, tv); });
+      along(s, s0, s1, hs, round == 0, [&](double sv) { return f(sv, t); });
+      along(t, t0, t1, ht, round == 0, [&](double tv) { return f(s, tv); });
       if (std::fabs(s - sp) < 1e-9 && std::fabs(t - tp) < 1e-9) break;
     }
     if (val > best.value) best = {s, t, val};

@@ -225,14 +225,23 @@ Peak max_beyond(const Setup& s, const Field& f, const Receptor& r, const FocusOp
   if (!(g.y1_mm > g.y0_mm)) return best;
   plane(g.y1_mm);
   const double h = step_at(g.y0_mm) / 2;
+  // The walls, the disc's points masked.
+  auto wall = [&](bool along_x, double fixed) {
+    GridValues v = f.wall_af(r, along_x, fixed, h);
+    for (std::size_t i = 0; i < v.s.size(); ++i) {
+      const double x = along_x ? v.s[i] : fixed, z = along_x ? fixed : v.s[i];
+      if (lateral(o, two_d, x, z) > radius) continue;
+      for (std::size_t j = 0; j < v.t.size(); ++j) v.v[j * v.s.size() + i] = -kInf;
+    }
+    return maximize_2d_grid(
+        [&](double sv, double y) { return along_x ? af(sv, y, fixed) : af(fixed, y, sv); }, v);
+  };
   for (const double z : {g.z0_mm, g.z1_mm}) {
-    const Max2d m = maximize_2d([&](double x, double y) { return af(x, y, z); }, g.x0_mm, g.x1_mm,
-                                g.y0_mm, g.y1_mm, h);
+    const Max2d m = wall(true, z);
     consider(m.value, m.s, m.t, z);
   }
   for (const double x : {g.x0_mm, g.x1_mm}) {
-    const Max2d m = maximize_2d([&](double z, double y) { return af(x, y, z); }, g.z0_mm, g.z1_mm,
-                                g.y0_mm, g.y1_mm, h);
+    const Max2d m = wall(false, x);
     consider(m.value, x, m.t, m.s);
   }
   // The cylinder of the radius, where the masked region's boundary lies inside the box.

@@ -45,15 +45,17 @@ tp_cli_test(af-field golden-one-cathode-csv golden af-field/one-cathode.csv --
   af-field --electrodes 8 --pitch 1 --weights 0,0,0,1,0,0,0,0 --x -5:5:0.5 --y 0.25:3:0.25)
 tp_cli_test(af-field golden-sai-pattern-csv golden af-field/sai-pattern.csv --
   af-field --electrodes 8 --pitch 1 --weights 0,0,-0.5,1,-0.5,0,0,0 --x -4:4:0.2 --y 0.5:2.5:0.5)
-tp_cli_test(af-field golden-default-summary golden af-field/default-summary.json -- af-field --summary)
-tp_cli_test(af-field golden-config-summary golden af-field/config-summary.json
+# Peak positions are found to ~1e-8 mm (the AF is flat at a maximum): --rtol 1e-6, and
+# --atol 1e-6 where one lies at 0.
+tp_cli_test(af-field golden-default-summary golden af-field/default-summary.json --rtol 1e-6 --
+  af-field --summary)
+tp_cli_test(af-field golden-config-summary golden af-field/config-summary.json --rtol 1e-6 --atol 1e-6
   --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/pc-pattern.json -- af-field --config - --summary)
-tp_cli_test(af-field golden-strip2d-summary golden af-field/strip2d-summary.json --
+tp_cli_test(af-field golden-strip2d-summary golden af-field/strip2d-summary.json --rtol 1e-6 --atol 1e-6 --
   af-field --model strip2d --weights -1,-1,1,1,1,1,-1,-1 --summary)
 foreach(model rect3d point3d)
   tp_cli_test(af-field golden-${model}-csv golden af-field/${model}-sai.csv --
     af-field --model ${model} --weights 0,0,-0.5,1,-0.5,0,0,0 --x -4:4:0.5 --y 0.5:2.5:0.5)
-  # Peak positions are found to ~1e-8 mm (the AF is flat at a maximum): --rtol 1e-6.
   tp_cli_test(af-field golden-${model}-summary golden af-field/${model}-summary.json --rtol 1e-6 --
     af-field --model ${model} --z 1 --weights 0.3,-0.9,1.2,0.4,-1.5,0.8,-0.6,0.3 --summary)
 endforeach()

@@ -59,12 +59,13 @@ tp_cli_test(optimize-weights refuses-header-only-no-header refuses 2 -- optimize
 tp_cli_test(optimize-weights refuses-header-only-mode refuses 2 -- optimize-weights --mode SAI,XY --format csv --header-only)
 
 # A pixel (--at, issue 21): a focal pattern's document, the focus that no pattern can
-# satisfy (exit 1, naming the least spill reachable), and the focus's bad input.
+# satisfy (exit 1, naming the least spill reachable), and the focus's bad input.  Peaks are
+# found to ~1e-8 mm: --atol 1e-6 where one lies at 0.
 # (Under electrode 4, not at 0: a symmetric focus's off-target peaks come in mirror pairs of
 # equal AF, and which one is printed rests on rounding.)
 tp_cli_test(optimize-weights golden-focus-pc golden optimize-weights/focus-pc.json --rtol 1e-6 --
   optimize-weights --mode PC --at -0.5)
-tp_cli_test(optimize-weights golden-focus-grid-sai golden optimize-weights/focus-grid-sai.json --rtol 1e-6 --
+tp_cli_test(optimize-weights golden-focus-grid-sai golden optimize-weights/focus-grid-sai.json --rtol 1e-6 --atol 1e-6 --
   optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0)
 tp_cli_test(optimize-weights refuses-focus-between-electrodes refuses 1 --says "no spill up to 1 is possible" --
   optimize-weights --mode SAI --at 0)
@@ -87,7 +88,7 @@ tp_cli_test(optimize-weights refuses-focus-modes-json refuses 2 --says "--format
   optimize-weights --mode SAI,PC --at -0.5)
 tp_cli_test(optimize-weights refuses-focus-certify-csv refuses 2 --says "JSON only" --
   optimize-weights --mode SAI --at -0.5 --format csv --certify)
-tp_cli_test(optimize-weights golden-focus-certify golden optimize-weights/focus-certify-grid-sai.json --rtol 1e-6 --
+tp_cli_test(optimize-weights golden-focus-certify golden optimize-weights/focus-certify-grid-sai.json --rtol 1e-6 --atol 1e-6 --
   optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0 --certify)
 tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 -- optimize-weights --mode SAI --at -0.5 --objective threshold)
 tp_cli_test(optimize-weights refuses-focus-spill-unreachable refuses 1 --says "the least spill reachable is" --
@@ -96,9 +97,8 @@ tp_cli_test(optimize-weights refuses-radius-within-quarter-pitch refuses 2 --say
   optimize-weights --mode SAI --at -0.5 --radius 0.2)
 
 # A bank of pixels (--bank, issue 21): every pad's pattern, derived ones marked; its bad input.
-tp_cli_test(optimize-weights golden-bank-grid-sai golden optimize-weights/bank-grid-sai.json --rtol 1e-6 --
+tp_cli_test(optimize-weights golden-bank-grid-sai golden optimize-weights/bank-grid-sai.json --rtol 1e-6 --atol 1e-6 --
   optimize-weights --bank --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --threads 2)
-# (--atol: a peak found at x = 0 to within 1e-8 mm.)
 tp_cli_test(optimize-weights golden-bank-neighbourhood golden optimize-weights/bank-neighbourhood-pc.json --rtol 1e-6 --atol 1e-6 --
   optimize-weights --bank --mode PC --grid 5x2 --pitch 2 --pad 1x1 --neighbourhood 3 --at=-2,-1 --at=0,-1 --at=2,1)
 tp_cli_test(optimize-weights refuses-neighbourhood-without-bank refuses 2 --says "with --bank only" --
