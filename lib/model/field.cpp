@@ -290,7 +290,13 @@ GridValues Field::wall_af(const Receptor& r, bool along_x, double fixed_mm, doub
   auto direct = [&](double s, double y) {
     return along_x ? af_3d(r.fibre, axis, s, y, fixed_mm) : af_3d(r.fibre, axis, fixed_mm, y, s);
   };
-  const auto lat = grid_lattice(setup_.array, reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, step);
+  auto lat = grid_lattice(setup_.array, reg.x0_mm, reg.x1_mm, reg.z0_mm, reg.z1_mm, step);
+  // The lattice's step may be finer than the uniform grid's (down to half): its points too
+  // within the bound, else the uniform grid.
+  if (lat) {
+    const double lines = along_x ? lat->a1 - lat->a0 + 3 : lat->b1 - lat->b0 + 3;
+    if (!(lines * static_cast<double>(g.t.size()) <= kMaxSamples)) lat.reset();
+  }
   const auto t =
       lat ? wall_table(setup_.conductor, setup_.array, *lat, along_x, fixed_mm, g.t, axis)
           : nullptr;
@@ -410,7 +416,7 @@ Peak Field::peak(const Receptor& r) const {
     // The 3-D models are harmonic in space but not in the fibres' plane: search the
     // interior too.  A grid at a tenth of the shallowest depth (the AF varies on the
     // scale of the depth), then every grid point above its 8 neighbours refined by
-    // alternating golden-section searches along x and y.
+    // alternating line searches along x and y (maximize_1d).
     if (!conductor_->planar_harmonic()) {
       const double h = reg.y0_mm / 10.0;
       const double nx_d = std::ceil((reg.x1_mm - reg.x0_mm) / h) + 1;
@@ -437,7 +443,7 @@ Peak Field::peak(const Receptor& r) const {
               if ((di || dj) && v[(j + dj) * nx + (i + di)] > c) peak_here = false;
           if (!peak_here) continue;
           double x = xat(i), y = yat(j), val = c;
-          // One golden-section search along a line through the point, within a grid step.
+          // One line search through the point (a scan, then Brent's), within a grid step.
           auto along = [&](double& t, double lo, double hi, double cell, auto&& f) {
             const auto [tn, vn] =
                 maximize_1d(f, std::max(lo, t - cell), std::min(hi, t + cell), cell / 4);

@@ -135,14 +135,15 @@ std::size_t receptor_index(const Setup& setup, const std::string& mode);
 std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>& peaks,
                                  const std::string& mode);
 
-// Maximises f on [a, b]: dense sampling at `step`, then golden-section refinement of every
-// sampled local maximum.  Returns (argmax, max).
+// Maximises f on [a, b]: dense sampling at `step`, then every sampled local maximum refined
+// by Brent's search (brent_max).  Returns (argmax, max).
 template <class F>
 std::pair<double, double> maximize_1d(F&& f, double a, double b, double step);
 
 // Maximises f(s, t) on [s0, s1] x [t0, t1]: a grid at most `step` apart, then every grid
-// point at least as high as its neighbours refined by alternating golden-section searches
-// along s and t.  Returns (s, t, max).
+// point at least as high as its neighbours refined by alternating line searches along s and
+// t (a scan within a grid step and Brent's search, then Brent's search within a quarter
+// step).  Returns (s, t, max).
 struct Max2d {
   double s, t, value;
 };

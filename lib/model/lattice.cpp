@@ -94,6 +94,7 @@ namespace {
 std::vector<double> conductor_key(const ConductorParams& params, const ElectrodeArray& arr) {
   std::vector<double> key = {params.resistivity_ohm_m, params.source_depth_mm, arr.width_mm,
                              arr.length_mm};
+  key.push_back(static_cast<double>(params.skin.layers.size()));  // then what follows
   for (const Layer& l : params.skin.layers) {
     key.push_back(l.thickness_mm);
     key.push_back(l.resistivity_ohm_m);
@@ -101,9 +102,9 @@ std::vector<double> conductor_key(const ConductorParams& params, const Electrode
   return key;
 }
 
-// The tables of one kind, kept for the process (most recent first, up to 2e7 entries in
-// all), shared between threads.  A table depends only on its key, so keeping it changes no
-// value.
+// The tables of one kind, kept for the process (most recent first, up to 2e7 entries of
+// the kind), shared between threads.  A table depends only on its key, so keeping it
+// changes no value (two threads may build the same one at once: both are the same).
 template <class Table, class Build>
 std::shared_ptr<const Table> kept(const std::string& model, std::vector<double> key,
                                   Build&& build) {
@@ -167,25 +168,27 @@ std::shared_ptr<const WallTable> wall_table(const ConductorParams& params,
              {along_x ? 1.0 : 0.0, fixed_mm, g.hx, g.hz, g.x00, g.z00, static_cast<double>(g.m),
               static_cast<double>(g.mz), static_cast<double>(t.o), static_cast<double>(t.n),
               static_cast<double>(t.lines), axis.vertical ? 1.0 : 0.0, axis.cos_az, axis.sin_az});
+  key.push_back(static_cast<double>(ys.size()));
   key.insert(key.end(), ys.begin(), ys.end());
   return kept<WallTable>(params.model, std::move(key), [&] {
+    WallTable w = t;  // (no entries yet: a cheap copy, returned without one)
     const ElectrodeArray lone = ElectrodeArray::pads({0.0}, {0.0}, arr.width_mm, arr.length_mm);
     const auto c = make_conductor(params, lone);
-    t.k.resize(static_cast<std::size_t>(entries));
+    w.k.resize(static_cast<std::size_t>(entries));
     std::size_t e = 0;
     for (const double y : ys)
-      for (int line = 0; line < t.lines; ++line) {
+      for (int line = 0; line < w.lines; ++line) {
         // The wall's distance from the line of pads, across it.
         const double across = along_x ? fixed_mm - g.z(line * g.mz) : fixed_mm - g.x(line * g.m);
-        for (int i = 0; i < t.n; ++i) {
-          const double along = (t.o + i) * (along_x ? g.hx : g.hz);
+        for (int i = 0; i < w.n; ++i) {
+          const double along = (w.o + i) * (along_x ? g.hx : g.hz);
           if (along_x)
-            c->unit_d2_along(along, y, across, axis, &t.k[e++]);
+            c->unit_d2_along(along, y, across, axis, &w.k[e++]);
           else
-            c->unit_d2_along(across, y, along, axis, &t.k[e++]);
+            c->unit_d2_along(across, y, along, axis, &w.k[e++]);
         }
       }
-    return t;
+    return w;
   });
 }
 

@@ -79,7 +79,8 @@ struct WallTable {
   }
 };
 
-// Tables are kept for the process (the last ones built, up to 2e7 entries in all: 160 MB),
+// Tables are kept for the process (the last ones built, up to 2e7 entries of each kind,
+// plane and wall: 320 MB at most),
 // shared between threads: a pixel's rounds and a bank's patterns evaluate the same planes
 // over and over.  A table depends only on its arguments, so keeping it changes no value.
 std::shared_ptr<const PadTable> pad_table(const ConductorParams& params, const ElectrodeArray& arr,

@@ -147,9 +147,8 @@ void provoke_glpk_error() {
   glp_delete_prob(lp);
 }
 
-TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis,
-                   double weight_bound, const Eigen::MatrixXd& capped_rows,
-                   const Eigen::VectorXd& caps)
+TargetLp::TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound,
+                   const Eigen::MatrixXd& capped_rows, const Eigen::VectorXd& caps)
     : nz_(static_cast<int>(off_rows.cols())) {
   if (!basis.allFinite() || !std::isfinite(weight_bound))
     failure("linear programme: non-finite coefficients (a model value out of range)");
@@ -160,7 +159,9 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
   double m = off_rows.size() ? off_rows.cwiseAbs().maxCoeff() : 0.0;
   if (capped_rows.size()) m = std::max(m, capped_rows.cwiseAbs().maxCoeff());
   scale_ = m > 0 && std::isfinite(m) ? m : 1.0;
+  rows_.reserve(static_cast<std::size_t>(off_rows.size() + capped_rows.size()));
   keep(off_rows, nullptr);
+  off_rows = Eigen::MatrixXd();  // kept in rows_: not twice
   keep(capped_rows, &caps);
   const bool box = weight_bound > 0.0;
   const int n_box = box ? static_cast<int>(basis.rows()) : 0;
@@ -199,13 +200,18 @@ TargetLp::TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis
 }
 
 void TargetLp::keep(const Eigen::MatrixXd& rows, const Eigen::VectorXd* caps) {
+  if (caps && caps->size() != rows.rows())
+    failure("linear programme: capped rows and caps disagree");
   if (rows.rows() == 0) return;
-  if (rows.cols() != nz_ || (caps && caps->size() != rows.rows()))
-    failure("linear programme: rows and caps disagree");
+  if (rows.cols() != nz_)
+    failure("linear programme: rows of " + std::to_string(rows.cols()) + " coefficients, not " +
+            std::to_string(nz_));
   if (!rows.allFinite() || (caps && !caps->allFinite()))
     failure("linear programme: non-finite coefficients (a model value out of range)");
   const auto nz = static_cast<std::size_t>(nz_);
   const std::size_t at = rows_.size();
+  // Exactly what is needed (a focus's rounds append a few rows each: no doubling).
+  rows_.reserve(at + static_cast<std::size_t>(rows.rows()) * nz);
   rows_.resize(at + static_cast<std::size_t>(rows.rows()) * nz);
   for (Eigen::Index i = 0; i < rows.rows(); ++i) {
     for (Eigen::Index j = 0; j < rows.cols(); ++j)

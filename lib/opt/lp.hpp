@@ -41,9 +41,9 @@ void provoke_glpk_error();
 class TargetLp {
  public:
   // basis and weight_bound: when weight_bound > 0, |(basis z)_i| <= weight_bound.
-  // off_rows is kept (scaled).  capped_rows (with as many columns) and caps: rows held at
-  // or below a value each.
-  TargetLp(const Eigen::MatrixXd& off_rows, const Eigen::MatrixXd& basis, double weight_bound,
+  // off_rows is kept (scaled; move it in when the caller is done with it).  capped_rows
+  // (with as many columns) and caps: rows held at or below a value each.
+  TargetLp(Eigen::MatrixXd off_rows, const Eigen::MatrixXd& basis, double weight_bound,
            const Eigen::MatrixXd& capped_rows = Eigen::MatrixXd(),
            const Eigen::VectorXd& caps = Eigen::VectorXd());
   ~TargetLp();

@@ -262,7 +262,7 @@ TEST_CASE("a grid's walls on the lattice equal every pad evaluated (one pad's wa
     Setup s;
     s.array = ElectrodeArray::grid_of(4, 3, 2.0, 1.5, 1.0, 0.8);
     s.conductor.model = model;
-    s.lateral_margin_mm = 2.3;  // walls off the lattice
+    s.lateral_margin_mm = 2.35;  // walls off the lattice
     std::vector<double> currents;
     for (std::size_t i = 0; i < s.array.size(); ++i)
       currents.push_back(std::sin(1.7 * static_cast<double>(i) + 0.3));
@@ -272,7 +272,14 @@ TEST_CASE("a grid's walls on the lattice equal every pad evaluated (one pad's wa
       for (const bool along_x : {true, false})
         for (const double fixed : along_x ? std::vector<double>{g.z0_mm, g.z1_mm}
                                           : std::vector<double>{g.x0_mm, g.x1_mm}) {
-          const GridValues v = f.wall_af(r, along_x, fixed, g.y0_mm / 7);
+          const double step = g.y0_mm / 7;
+          const GridValues v = f.wall_af(r, along_x, fixed, step);
+          // On the lattice (a pitch a whole number of steps), not the uniform grid.
+          const double pitch = along_x ? 2.0 : 1.5;
+          REQUIRE(v.hs == Approx(pitch / std::ceil(pitch / step - 1e-9)).epsilon(1e-12));
+          bool on_centre = false;  // a pad's centre among the points (-3 or -1.5)
+          for (const double x : v.s) on_centre |= std::fabs(x - (along_x ? -3.0 : -1.5)) < 1e-9;
+          REQUIRE(on_centre);
           REQUIRE(v.s.front() == Approx(along_x ? g.x0_mm : g.z0_mm).margin(1e-9));
           REQUIRE(v.s.back() == Approx(along_x ? g.x1_mm : g.z1_mm).margin(1e-9));
           REQUIRE(v.t.front() == g.y0_mm);
