@@ -164,15 +164,31 @@ Eigen::MatrixXd rows_of(const Setup& s, const Conductor& c, const std::vector<La
   return out;
 }
 
-// Rows for the samples added since the matrix was last extended.
-void extend_rows(Eigen::MatrixXd& m, const Setup& s, const Conductor& c,
-                 const std::vector<Lattice>& tables, const std::vector<Sample>& pts,
-                 const Eigen::MatrixXd& basis) {
-  const auto done = static_cast<std::size_t>(m.rows());
+// The samples' rows (row-major), grown by the rounds with an eighth to spare: a round adds
+// a few rows, which then fit without moving the table (and faulting its pages in again).
+struct Rows {
+  using Map =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+  std::vector<double> v;
+  Eigen::Index n = 0, cols = 0;
+  explicit Rows(Eigen::Index columns) : cols(columns) {}
+  Map all() const { return from(0); }
+  Map from(Eigen::Index i) const { return Map(v.data() + i * cols, n - i, cols); }
+  void append(const Eigen::MatrixXd& m) {
+    const std::size_t need = v.size() + static_cast<std::size_t>(m.size());
+    if (v.capacity() < need) v.reserve(need + need / 8);
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+      for (Eigen::Index j = 0; j < m.cols(); ++j) v.push_back(m(i, j));
+    n += m.rows();
+  }
+};
+
+// Rows for the samples added since the rows were last extended.
+void extend_rows(Rows& m, const Setup& s, const Conductor& c, const std::vector<Lattice>& tables,
+                 const std::vector<Sample>& pts, const Eigen::MatrixXd& basis) {
+  const auto done = static_cast<std::size_t>(m.n);
   if (done == pts.size()) return;
-  const Eigen::MatrixXd more = rows_of(s, c, tables, pts, basis, done);
-  m.conservativeResize(static_cast<Eigen::Index>(pts.size()), basis.cols());
-  m.bottomRows(more.rows()) = more;
+  m.append(rows_of(s, c, tables, pts, basis, done));
 }
 
 // A reflection through the focus: x -> 2 x_f - x, z -> 2 z_f - z, or both.
@@ -467,7 +483,7 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
   bool all_depths_again = false;  // the chosen depth failed: every candidate from then on
   std::vector<double> last_caps;  // the caps of the last round's LP
   // The samples' rows, extended by the samples each round adds.
-  Eigen::MatrixXd a_off(0, basis.cols()), a_cap(0, basis.cols());
+  Rows a_off(basis.cols()), a_cap(basis.cols());
   // One LP for every round: each adds its samples and lowers caps, and the rows the last
   // solves needed stay in (with their basis), so a round starts near its answer.
   std::unique_ptr<TargetLp> lp;
@@ -478,16 +494,15 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
     if (now > kMaxProblemEntries)
       failure("focus problem: the samples the rounds added make " + number_text(now) +
               " entries, more than the cap of " + number_text(kMaxProblemEntries));
-    const Eigen::Index off_had = a_off.rows(), cap_had = a_cap.rows();
+    const Eigen::Index off_had = a_off.n, cap_had = a_cap.n;
     extend_rows(a_off, setup, *conductor, tables, off, basis);
     extend_rows(a_cap, setup, *conductor, tables, capped, basis);
     const Eigen::VectorXd b_cap =
         Eigen::Map<const Eigen::VectorXd>(caps.data(), static_cast<Eigen::Index>(caps.size()));
     if (!lp) {
-      lp = std::make_unique<TargetLp>(a_off, basis, 0.0, a_cap, b_cap);
+      lp = std::make_unique<TargetLp>(a_off.all(), basis, 0.0, a_cap.all(), b_cap);
     } else {
-      lp->append(a_off.bottomRows(a_off.rows() - off_had), a_cap.bottomRows(a_cap.rows() - cap_had),
-                 b_cap.tail(a_cap.rows() - cap_had));
+      lp->append(a_off.from(off_had), a_cap.from(cap_had), b_cap.tail(a_cap.n - cap_had));
       lp->set_caps(b_cap);
     }
     std::optional<LpSolution> best;
@@ -564,19 +579,19 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
       q = full.rightCols(nz - 1);
     }
     const double t_bound = best->value + opt.tolerance * std::fabs(best->value);
-    const Eigen::Index n_off = a_off.rows(), n_all = a_off.rows() + a_cap.rows();
+    const Eigen::Index n_off = a_off.n, n_all = a_off.n + a_cap.n;
     Eigen::VectorXd bound(n_all);
     bound.head(n_off).setConstant(t_bound);
-    bound.tail(a_cap.rows()) = b_cap;
+    bound.tail(a_cap.n) = b_cap;
     auto row_at = [&](Eigen::Index i) {
-      return i < n_off ? Eigen::RowVectorXd(a_off.row(i))
-                       : Eigen::RowVectorXd(a_cap.row(i - n_off));
+      return i < n_off ? Eigen::RowVectorXd(a_off.all().row(i))
+                       : Eigen::RowVectorXd(a_cap.all().row(i - n_off));
     };
     // Excess of every row over its bound at z.
     auto excess = [&](const Eigen::VectorXd& z) {
       Eigen::VectorXd v(n_all);
-      v.head(n_off) = a_off * z;
-      v.tail(a_cap.rows()) = a_cap * z;
+      v.head(n_off) = a_off.all() * z;
+      v.tail(a_cap.n) = a_cap.all() * z;
       return Eigen::VectorXd(v - bound);
     };
     // Working set: the rows the LP optimum holds (nearly) tight, then the violated ones.
