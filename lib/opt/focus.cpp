@@ -446,8 +446,15 @@ std::optional<FocusResult> try_optimize_focus(const Setup& setup, const std::str
         const double n = 4 * std::ceil(2 * kPi * rr / step_at(y) / 4);
         if (!(n < kMaxSamples)) refuse_sample_count("a focus circle", n);
         for (double k = 0; k < n; ++k) {
+          // The quarter turns exactly (cos and sin of pi are not 0 in floating point: the
+          // ring's points on the focus's axes would fall a rounding off them, and out of a
+          // region one sample thick, as a grid of one row with no margin).
           const double th = 2 * kPi * k / n;
-          const double x = opt.x_mm + rr * std::cos(th), z = opt.z_mm + rr * std::sin(th);
+          const double quarter_turns = 4 * k / n;
+          const bool axis = quarter_turns == std::floor(quarter_turns);
+          const double c = axis ? std::round(std::cos(th)) : std::cos(th);
+          const double sn = axis ? std::round(std::sin(th)) : std::sin(th);
+          const double x = opt.x_mm + rr * c, z = opt.z_mm + rr * sn;
           if (x >= g.x0_mm && x <= g.x1_mm && z >= g.z0_mm && z <= g.z1_mm)
             own.push_back({x, y, z, r});
         }

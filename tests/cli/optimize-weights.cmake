@@ -61,12 +61,12 @@ tp_cli_test(optimize-weights refuses-header-only-mode refuses 2 -- optimize-weig
 # A pixel (--at, issue 21): a focal pattern's document, the focus that no pattern can
 # satisfy (exit 1, naming the least spill reachable), and the focus's bad input.  Peaks are
 # found to ~1e-8 mm: --atol 1e-6 where one lies at 0.
-# (Under electrode 4, not at 0: a symmetric focus's off-target peaks come in mirror pairs of
-# equal AF, and which one is printed rests on rounding.)
+# (Under electrode 4, not at 0, and a grid's corner: a symmetric focus's off-target peaks
+# come in mirror pairs of equal AF, and which one is printed rests on rounding.)
 tp_cli_test(optimize-weights golden-focus-pc golden optimize-weights/focus-pc.json --rtol 1e-6 --
   optimize-weights --mode PC --at -0.5)
 tp_cli_test(optimize-weights golden-focus-grid-sai golden optimize-weights/focus-grid-sai.json --rtol 1e-6 --atol 1e-6 --
-  optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0)
+  optimize-weights --mode SAI --grid 3x2 --pitch 2 --pad 1x1 --at 2,1)
 tp_cli_test(optimize-weights refuses-focus-between-electrodes refuses 1 --says "no spill up to 1 is possible" --
   optimize-weights --mode SAI --at 0)
 tp_cli_test(optimize-weights refuses-focus-outside refuses 2 --says "outside the array" --
@@ -89,7 +89,7 @@ tp_cli_test(optimize-weights refuses-focus-modes-json refuses 2 --says "--format
 tp_cli_test(optimize-weights refuses-focus-certify-csv refuses 2 --says "JSON only" --
   optimize-weights --mode SAI --at -0.5 --format csv --certify)
 tp_cli_test(optimize-weights golden-focus-certify golden optimize-weights/focus-certify-grid-sai.json --rtol 1e-6 --atol 1e-6 --
-  optimize-weights --mode SAI --grid 3x3 --pitch 2 --pad 1x1 --at 0,0 --certify)
+  optimize-weights --mode SAI --grid 3x2 --pitch 2 --pad 1x1 --at 2,1 --certify)
 tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 -- optimize-weights --mode SAI --at -0.5 --objective threshold)
 tp_cli_test(optimize-weights refuses-focus-spill-unreachable refuses 1 --says "the least spill reachable is" --
   optimize-weights --mode SAI --at 0 --model rect3d)
