@@ -239,6 +239,12 @@ double Field::af_3d(const Fibre& fibre, const FibreAxis& axis, double x_mm, doub
   return fibre_factor_mm2_per_ms(fibre) * d;
 }
 
+double Field::from_pads(const std::vector<double>& k, double ff) const {
+  double d = 0.0;
+  for (std::size_t p = 0; p < k.size(); ++p) d += currents_[p] * k[p];
+  return ff * d;
+}
+
 GridValues Field::plane_af(const Receptor& r, double y, double step) const {
   const Region reg = fibre_region(setup_, r);
   const FibreAxis axis = fibre_axis(r);
@@ -274,9 +280,7 @@ GridValues Field::plane_af(const Receptor& r, double y, double step) const {
       const int a = lat->a0 + static_cast<int>(i) - (lat->x0_off ? 1 : 0);
       const int b = lat->b0 + static_cast<int>(j) - (lat->z0_off ? 1 : 0);
       t->pads_at(arr, *lat, a, b, k.data());
-      double d = 0.0;
-      for (std::size_t p = 0; p < ncur; ++p) d += currents_[p] * k[p];
-      g.v.push_back(ff * d);
+      g.v.push_back(from_pads(k, ff));
     }
   }
   return g;
@@ -322,9 +326,7 @@ GridValues Field::wall_af(const Receptor& r, bool along_x, double fixed_mm, doub
         continue;
       }
       t->pads_at(setup_.array, *lat, i0 + static_cast<int>(i) - (off0 ? 1 : 0), j, k.data());
-      double d = 0.0;
-      for (std::size_t p = 0; p < k.size(); ++p) d += currents_[p] * k[p];
-      g.v.push_back(ff * d);
+      g.v.push_back(from_pads(k, ff));
     }
   return g;
 }

@@ -107,6 +107,9 @@ class Field {
 
  private:
   Peak peak_3d(const Receptor& r) const;  // a 2-D array's: over the box of fibres
+  // The AF from every pad's response k (as the array's index): sum of currents x k, times
+  // the fibre factor ff.
+  double from_pads(const std::vector<double>& k, double ff) const;
 
   const Setup& setup_;
   std::unique_ptr<Conductor> conductor_;

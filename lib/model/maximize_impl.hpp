@@ -16,6 +16,11 @@ inline constexpr double kMaxSamples = 1e7;
 // Throws tp::Error (bad input) naming the count and the cap.
 [[noreturn]] void refuse_sample_count(const char* what, double count);
 
+// The refinements' tolerance near x: a bracket of 1e-9 (1 + |x|) mm at the end.
+inline double refine_tol(double x) {
+  return 2.5e-10 * (1.0 + std::fabs(x));
+}
+
 // The maximum of f on [lo, hi] by Brent's method (R. P. Brent, Algorithms for Minimization
 // without Derivatives, 1973, ch. 5: parabolic interpolation through the best three points,
 // a golden-section step where the parabola's step is not trusted), starting from x in
@@ -109,7 +114,7 @@ std::pair<double, double> maximize_1d(F&& f, double a, double b, double step) {
     // trusted) on the bracket around sample i, from the sample.
     const double lo = i == 0 ? a : t - h;
     const double hi = i + 1 == n ? b : t + h;
-    const auto [tm, fm] = brent_max(f, lo, hi, t, v[i], 2.5e-10 * (1.0 + std::fabs(t)));
+    const auto [tm, fm] = brent_max(f, lo, hi, t, v[i], refine_tol(t));
     if (fm > best.second) best = {tm, fm};
   }
   return best;
@@ -167,7 +172,7 @@ Max2d maximize_2d_grid(F&& f, const GridValues& grid) {
       const auto [xn, vn] =
           scan ? maximize_1d(g, std::max(lo, x - cell), std::min(hi, x + cell), cell / 4)
                : brent_max(g, std::max(lo, x - cell / 4), std::min(hi, x + cell / 4), x, val,
-                           2.5e-10 * (1.0 + std::fabs(x)));
+                           refine_tol(x));
       if (vn > val) {
         x = xn;
         val = vn;

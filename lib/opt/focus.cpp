@@ -164,8 +164,7 @@ Eigen::MatrixXd rows_of(const Setup& s, const Conductor& c, const std::vector<La
   return out;
 }
 
-// The samples' rows (row-major), grown by the rounds with an eighth to spare: a round adds
-// a few rows, which then fit without moving the table (and faulting its pages in again).
+// The samples' rows (row-major), grown by the rounds with room to spare (reserve_spare).
 struct Rows {
   using Map =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
@@ -175,8 +174,7 @@ struct Rows {
   Map all() const { return from(0); }
   Map from(Eigen::Index i) const { return Map(v.data() + i * cols, n - i, cols); }
   void append(const Eigen::MatrixXd& m) {
-    const std::size_t need = v.size() + static_cast<std::size_t>(m.size());
-    if (v.capacity() < need) v.reserve(need + need / 8);
+    reserve_spare(v, v.size() + static_cast<std::size_t>(m.size()));
     for (Eigen::Index i = 0; i < m.rows(); ++i)
       for (Eigen::Index j = 0; j < m.cols(); ++j) v.push_back(m(i, j));
     n += m.rows();

@@ -213,10 +213,7 @@ void TargetLp::keep(const Eigen::MatrixXd& rows, const Eigen::VectorXd* caps) {
     failure("linear programme: non-finite coefficients (a model value out of range)");
   const auto nz = static_cast<std::size_t>(nz_);
   const std::size_t at = rows_.size();
-  // An eighth to spare: a focus's later rounds append a few rows each, which then fit
-  // without moving (and faulting in) the whole table every round.
-  const std::size_t need = at + static_cast<std::size_t>(rows.rows()) * nz;
-  if (rows_.capacity() < need) rows_.reserve(need + need / 8);
+  reserve_spare(rows_, at + static_cast<std::size_t>(rows.rows()) * nz);
   for (Eigen::Index i = 0; i < rows.rows(); ++i) {
     for (Eigen::Index j = 0; j < rows.cols(); ++j) rows_.push_back(rows(i, j) / scale_);
     if (caps) {

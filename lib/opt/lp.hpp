@@ -25,6 +25,12 @@ struct glp_prob;
 
 namespace tp {
 
+// Room for need entries in v, with an eighth to spare when it must grow: rows appended a
+// few at a time (a focus's rounds) then fit without moving the whole table each time.
+inline void reserve_spare(std::vector<double>& v, std::size_t need) {
+  if (v.capacity() < need) v.reserve(need + need / 8);
+}
+
 struct LpSolution {
   double value = 0.0;  // t: the largest off-target AF when the target point's AF is 1
   Eigen::VectorXd z;
