@@ -65,9 +65,6 @@ inline constexpr std::uint64_t kMaxLateUs = 100000;
 // The most pulses the start's exact schedule check simulates (Scheduler::worst_slip): a
 // few milliseconds of a firmware's time, well within its watchdog.
 inline constexpr std::uint32_t kMaxCheckedPulses = 16384;
-// The host checks tables with the same rule and the same budget, so that what it sends the
-// device accepts.
-inline constexpr std::uint32_t kMaxCheckedPulsesHost = kMaxCheckedPulses;
 
 class DeviceCore {
  public:

@@ -104,16 +104,6 @@ void check_device(const device::Capabilities& caps) {
 
 SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag) {
-  Mix m;
-  m.patterns.push_back(s);
-  return run_session(transport, m, opt, signal_flag);
-}
-
-SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
-                          const volatile std::sig_atomic_t* signal_flag) {
-  if (m.patterns.empty()) bad_input("stimulus: no patterns");
-  const Stimulus& s = m.patterns[0];
-  const bool table = !m.single();
   StimulatorClient dev(transport);
   SessionReport rep;
   rep.port = transport.name();
@@ -142,7 +132,7 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
     bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
               " channels; the device has " + std::to_string(rep.caps.channels));
   const StimulusLimits lim = device_limits(opt.limits, rep.caps);
-  check_mix(m, lim);
+  check_stimulus(s, lim);
   // Pulse counts in double first (bounded by the duration limit and the rate limit), so
   // that the conversion to the device's 32-bit count cannot wrap.
   const double f = s.shape.frequency_hz;
@@ -189,65 +179,10 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
   // The device always has a pulse budget: it stops by itself after the stimulus' pulses
   // (live mode: --duration, or the duration limit), whatever becomes of the host.
   cfg.max_pulses = static_cast<std::uint32_t>(count);
+  const double expected_s = count * period * 1e-6;  // at the device's (rounded) period
   // No code above the limit in force (the stimulus's, the host's, the device's).
   const std::vector<std::int16_t> codes =
       quantize_currents(s.currents_mA, rep.caps, current_limit_mA(s, lim));
-  // A table: each pattern's timing (its own count) and codes, checked as the device will.
-  std::vector<device::PatternTiming> timings;
-  std::vector<std::vector<std::int16_t>> table_codes;
-  double table_s = 0;
-  if (table) {
-    if (m.patterns.size() > rep.caps.max_patterns)
-      bad_input("stimulus has " + std::to_string(m.patterns.size()) +
-                " patterns; the device holds " + std::to_string(rep.caps.max_patterns));
-    if (m.gap_us < rep.caps.min_gap_us)
-      bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
-                std::to_string(rep.caps.min_gap_us) + " us");
-    device::ChannelLoad load;
-    std::size_t entries = 0;
-    for (const Stimulus& p : m.patterns) {
-      const double f_p = p.shape.frequency_hz;
-      double n_p = static_cast<double>(p.count);
-      if (opt.live)
-        n_p = std::floor((opt.duration_s > 0 ? opt.duration_s : max_s) * f_p + 0.5);
-      else if (opt.duration_s > 0)
-        n_p = std::min(n_p, std::floor(opt.duration_s * f_p + 0.5));
-      if (n_p < 1) bad_input("--duration: shorter than one period of a pattern");
-      if (!(n_p <= max_s * lim.max_frequency_hz + 1))
-        bad_input("stimulus: " + number_text(n_p) + " pulses exceed the duration limit");
-      timings.push_back(pattern_timing(p, static_cast<long>(n_p)));
-      const device::PatternTiming& t = timings.back();
-      if (t.period_us < std::ceil(1e6 / rep.caps.max_rate_hz) || !device::phase_fits(t, rep.caps))
-        bad_input("pattern " + std::to_string(timings.size() - 1) +
-                  ": its period, gap or off time is outside the device's timing (" +
-                  std::to_string(rep.caps.max_rate_hz) + " Hz, shortest phase " +
-                  std::to_string(rep.caps.min_width_us) + " us)");
-      table_codes.push_back(quantize_currents(p.currents_mA, rep.caps, current_limit_mA(p, lim)));
-      std::vector<std::uint8_t> ch;
-      std::vector<std::int16_t> code;
-      for (std::size_t i = 0; i < table_codes.back().size(); ++i)
-        if (table_codes.back()[i] != 0) {
-          ch.push_back(static_cast<std::uint8_t>(i));
-          code.push_back(table_codes.back()[i]);
-        }
-      entries += ch.size();
-      load.add(ch.data(), code.data(), ch.size(), t, +1);
-      table_s = std::max(table_s, (t.phase_us + (t.max_pulses + 0.0) * t.period_us) * 1e-6);
-    }
-    if (entries > rep.caps.code_pool)
-      bad_input("the patterns have " + std::to_string(entries) +
-                " non-zero codes; the device holds " + std::to_string(rep.caps.code_pool));
-    if (!load.within(rep.caps))
-      for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
-        bad_input("electrode " + std::to_string(i) + ": RMS " +
-                  number_text(load.rms_mA(i, rep.caps.dac_step_nA)) + " mA or mean " +
-                  number_text(load.mean_mA(i, rep.caps.dac_step_nA)) +
-                  " mA summed over the patterns, as the DAC makes them, above the device's " +
-                  number_text(rep.caps.max_rms_uA * 1e-3) + " mA or " +
-                  number_text(rep.caps.max_mean_uA * 1e-3) + " mA");
-  }
-  // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.
-  const double expected_s = table ? table_s + 0.001 : count * period * 1e-6;
 
   std::FILE* latency = nullptr;
   if (opt.live && !opt.latency_log.empty()) {
@@ -275,25 +210,11 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
       dev.stop();
       rep.preempted = true;
     }
-    const int steps = table ? 2 + 2 * static_cast<int>(m.patterns.size()) : 3;
-    for (int step = 0; step < steps; ++step) {
+    for (int step = 0; step < 3; ++step) {
       if (interrupted()) break;
-      if (step == 0 && table) {
-        dev.configure_table(static_cast<std::uint16_t>(m.patterns.size()),
-                            static_cast<std::uint8_t>(s.currents_mA.size()),
-                            static_cast<std::uint16_t>(std::lround(m.gap_us)));
-        configured = true;
-      } else if (step == 0) {
+      if (step == 0) {
         dev.configure(cfg);
         configured = true;
-      } else if (step + 1 < steps && table) {
-        const auto i = static_cast<std::uint16_t>((step - 1) / 2);
-        if ((step - 1) % 2 == 0) {
-          dev.set_pattern(i, timings[i]);
-        } else {
-          dev.set_codes(i, table_codes[i]);
-          rep.peak_mA = std::max(rep.peak_mA, peak_of(table_codes[i], rep.caps));
-        }
       } else if (step == 1) {
         dev.set_weights(codes);
         rep.peak_mA = peak_of(codes, rep.caps);
@@ -326,23 +247,10 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
         // One line per turn, so a flood of input never delays the keep-alive below.
         if (input.next(line)) {
           if (line.find_first_not_of(" \t\r") != std::string::npos) {
-            const std::string where = "input line " + std::to_string(input.lines());
-            if (line.find("\"amplitudes\"") != std::string::npos || table) {
-              Json j;
-              try {
-                j = parse_json_strict(line, where);
-              } catch (const nlohmann::json::exception&) {
-                bad_input(where + ": malformed JSON");
-              }
-              if (table && !(j.is_object() && j.contains("amplitudes")))
-                bad_input(where + ": a mix takes {\"amplitudes\": [...]}, one per pattern");
-              dev.set_amplitudes(parse_amplitudes(j, m, where));
-            } else {
-              const auto frame = parse_live_frame(line, input.lines(), s, lim, rep.caps);
-              dev.set_weights(frame);
-              rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));
-            }
+            const auto frame = parse_live_frame(line, input.lines(), s, lim, rep.caps);
+            dev.set_weights(frame);
             ++rep.weight_frames;
+            rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));
             if (latency)
               std::fprintf(latency, "%u %lld\n", rep.weight_frames,
                            static_cast<long long>(dev.last_write_ns()));

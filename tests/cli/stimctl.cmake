@@ -32,10 +32,9 @@ tp_cli_test(stimctl refuses-dev-null-libserialport refuses 2 --stdin ${S} -- sti
 tp_cli_test(stimctl refuses-directory-port refuses 2 --stdin ${S} -- stimctl --port /tmp)
 tp_cli_test(stimctl refuses-65-channels refuses 2 --stdin ${IN}/stimulus-65-channels.json -- stimctl --port emu --emu-channels 64)
 
-foreach(script pipeline-emu mix-emu mix-refusals pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
+foreach(script pipeline-emu pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
                pty-live pty-lost-device list-ports pty-protocol pty-session pty-signal-before-start
-               pty-device-bounds pty-live-limits pty-current-limit pty-replay-keepalive pty-rates
-               pty-mix)
+               pty-device-bounds pty-live-limits pty-current-limit pty-replay-keepalive pty-rates)
   tp_cli_test(stimctl ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(stimctl.${script} PROPERTIES TIMEOUT 120)
 endforeach()
