@@ -73,18 +73,8 @@ std::size_t format_record(const PulseRecord& r, char* out) {
   Writer w(out);
   const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
   const auto step = static_cast<std::int64_t>(r.step_nA);
-  w.text("{\"pattern\": ");
-  w.uint(r.pattern);
-  w.text(", \"t_s\": ");
+  w.text("{\"t_s\": ");
   w.micro(static_cast<std::int64_t>(r.t_us));
-  w.text(", \"slip_us\": ");
-  w.uint(r.slip_us);
-  w.text(", \"width_us\": ");
-  w.uint(r.measured ? r.measured_width_us : r.width_us);
-  w.text(", \"interphase_us\": ");
-  w.uint(r.measured ? r.measured_interphase_us : r.interphase_us);
-  w.text(", \"balance_width_us\": ");
-  w.uint(r.measured ? r.measured_balance_us : r.balance_width_us);
   w.text(", \"currents_mA\": [");
   for (std::size_t i = 0; i < n; ++i) {
     if (i) w.text(", ");
@@ -100,6 +90,12 @@ std::size_t format_record(const PulseRecord& r, char* out) {
   if (r.measured) {
     w.text(", \"start_us\": ");
     w.uint(r.start_us);
+    w.text(", \"width_us\": ");
+    w.uint(r.measured_width_us);
+    w.text(", \"interphase_us\": ");
+    w.uint(r.measured_interphase_us);
+    w.text(", \"balance_width_us\": ");
+    w.uint(r.measured_balance_us);
   }
   if (r.dropped_before) {
     w.text(", \"dropped_before\": ");

@@ -15,7 +15,6 @@
 #include "device/config_block.hpp"
 #include "device/device_core.hpp"
 #include "device/pulse_record.hpp"
-#include "device_support.hpp"
 #include "host/session.hpp"
 #include "host/stimulator.hpp"
 #include "pulse/stimulus.hpp"
@@ -24,6 +23,31 @@ using namespace tp;
 using namespace tp::device;
 
 namespace {
+
+std::vector<std::uint8_t> frame_bytes(std::uint8_t seq, Msg type,
+                                      const std::vector<std::uint8_t>& payload) {
+  std::vector<std::uint8_t> out;
+  encode_frame(Frame{seq, static_cast<std::uint8_t>(type), payload}, out);
+  return out;
+}
+
+// Sends one request to the core and returns the ack's result.
+Result send(DeviceCore& core, std::uint8_t seq, Msg type, const std::vector<std::uint8_t>& payload,
+            std::uint64_t now_us, std::vector<std::uint8_t>* body = nullptr) {
+  const auto bytes = frame_bytes(seq, type, payload);
+  std::vector<std::uint8_t> out;
+  core.receive(bytes.data(), bytes.size(), now_us, out);
+  FrameDecoder d;
+  for (std::uint8_t b : out)
+    if (d.push(b)) {
+      REQUIRE(d.frame().type == static_cast<std::uint8_t>(Msg::ack));
+      REQUIRE(d.frame().seq == seq);
+      if (body) body->assign(d.frame().payload.begin() + 2, d.frame().payload.end());
+      return static_cast<Result>(d.frame().payload[1]);
+    }
+  FAIL("no acknowledgement");
+  return Result::ok;
+}
 
 constexpr std::uint32_t kToken = 0xC0FFEE01u;
 std::vector<std::uint8_t> token() {
@@ -698,14 +722,10 @@ TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
   char line[kMaxRecordLine];
   const std::string s(line, format_record(r, line));
   CHECK(s ==
-        "{\"pattern\": 0, \"t_s\": 1.234567, \"slip_us\": 0, \"width_us\": 200, "
-        "\"interphase_us\": 0, \"balance_width_us\": 800, "
-        "\"currents_mA\": [1.000448, -0.500224, -0.500224], \"net_charge_nC\": [0, 0, 0]}\n");
+        "{\"t_s\": 1.234567, \"currents_mA\": [1.000448, -0.500224, -0.500224], "
+        "\"net_charge_nC\": [0, 0, 0]}\n");
   r.t_us = 5000;
-  r.pattern = 255;
-  r.slip_us = 350;
-  CHECK(std::string(line, format_record(r, line))
-            .rfind("{\"pattern\": 255, \"t_s\": 0.005, \"slip_us\": 350, ", 0) == 0);
+  CHECK(std::string(line, format_record(r, line)).rfind("{\"t_s\": 0.005, ", 0) == 0);
   r.main[0] = 1023;
   r.main[2] = -511;
   balance_codes(CodeSpan{r.main, 3}, 200, 800, r.balance);  // 1023/4: a remainder
@@ -725,8 +745,6 @@ TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
   // The widest record fits.
   PulseRecord big;
   big.t_us = UINT64_MAX / 2;
-  big.pattern = UINT16_MAX;
-  big.slip_us = UINT32_MAX;
   big.channels = kMaxChannels;
   for (auto& c : big.main) c = -32767;
   for (auto& c : big.balance) c = -32767;
