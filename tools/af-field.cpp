@@ -101,8 +101,9 @@ int main(int argc, char** argv) {
       tp::check_model_depth(doc.setup, depth, "--plane-depth");
       const tp::Field field(doc.setup, currents_mA);
       if (!field.conductor().three_d())
-        tp::bad_input("--plane-depth: " + doc.setup.conductor.model +
-                      " does not evaluate points off the fibres' plane; use point3d, rect3d or layered");
+        tp::bad_input(
+            "--plane-depth: " + doc.setup.conductor.model +
+            " does not evaluate points off the fibres' plane; use point3d, rect3d or layered");
       tp::check_plane(doc.setup, field.conductor(), x, z, depth);  // before the first row
       tp::write_af_plane(stdout, field, x, z, depth);
       return;

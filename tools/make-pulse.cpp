@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
       tp::bad_input("--amplitude: " + amplitude + " mA outside (0, " +
                     tp::number_text(tp::StimulusLimits{}.max_current_mA) + "] mA");
     for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
+    s.amplitude_mA = amp;
     s.max_current_mA = doc.max_current_mA;
     s.shape.frequency_hz = tp::parse_finite(frequency, "--frequency");
     s.shape.width_us = tp::parse_finite(width, "--width");

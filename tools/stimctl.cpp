@@ -17,6 +17,7 @@
 #include "host/session.hpp"
 #include "host/signals.hpp"
 #include "io/number.hpp"
+#include "pulse/mix.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -48,7 +49,8 @@ int main(int argc, char** argv) {
   app.add_flag(
       "--live", live,
       "After starting, read weight frames from stdin as JSON lines {\"currents_mA\": [...]}, "
-      "applied at the next pulse; needs --stimulus FILE");
+      "or amplitude frames {\"amplitudes\": [mA, ...]} (one per pattern, each 0 to its "
+      "configured amplitude), applied at each pattern's next pulse; needs --stimulus FILE");
   app.add_option("--record", record, "Emulator only: write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--emu-channels", emu_channels, "Emulator only: channel count, 1 to 64 [8]")
@@ -71,11 +73,19 @@ int main(int argc, char** argv) {
       tp::bad_input("--live: give the stimulus with --stimulus FILE (stdin carries the frames)");
     if (port != "emu" && !record.empty())
       tp::bad_input("--record: only with --port emu (stim-emu has its own)");
-    const tp::Stimulus s = tp::stimulus_from_json(tp::read_json(stimulus_path, "stimulus"));
-    tp::check_stimulus(s, tp::StimulusLimits{});
+    // A stimulus (make-pulse's) or a mix of patterns (mix-stimuli's).
+    const tp::Mix mix = tp::mix_from_json(tp::read_json(stimulus_path, "stimulus"));
+    tp::check_mix(mix, tp::StimulusLimits{});
+    const tp::Stimulus& s = mix.patterns[0];
     // The amplitude against the thresholds the document carries (fiber-threshold's, through
     // make-pulse): said before anything is sent.
-    const std::optional<std::string> against = tp::fibre::stimulus_against_thresholds(s);
+    std::optional<std::string> against;
+    for (std::size_t p = 0; p < mix.patterns.size(); ++p) {
+      const auto one = tp::fibre::stimulus_against_thresholds(mix.patterns[p]);
+      if (one)
+        against = (against ? *against + "; " : std::string()) +
+                  (mix.single() ? "" : "pattern " + std::to_string(p) + ": ") + *one;
+    }
     tp::host::SessionOptions opt;
     opt.live = live;
     opt.latency_log = latency_log;
@@ -100,7 +110,7 @@ int main(int argc, char** argv) {
     const auto transport = tp::host::open_transport(port, baud, emu, backend);
     tp::host::arm_emergency_stop(transport->native_handle());
     if (against) std::fprintf(stderr, "stimctl: %s\n", against->c_str());
-    const tp::host::SessionReport r = tp::host::run_session(*transport, s, opt, signal_flag);
+    const tp::host::SessionReport r = tp::host::run_session(*transport, mix, opt, signal_flag);
     tp::host::arm_emergency_stop(-1);
     if (r.preempted)
       std::fprintf(stderr,
@@ -119,12 +129,15 @@ int main(int argc, char** argv) {
       line = " (the device's receiver so far: " + std::to_string(r.rx_errors) +
              " damaged frames, " + std::to_string(r.line_errors) + " bytes with line errors, " +
              std::to_string(r.overruns) + " overruns)";
+    const std::string rate = mix.single()
+                                 ? "at " + tp::number_text(s.shape.frequency_hz) + " Hz"
+                                 : "of " + std::to_string(mix.patterns.size()) + " patterns";
     std::fprintf(stderr,
-                 "stimctl: %s: %u pulses on %zu channels at %s Hz, peak %s mA, %s s%s, %d "
+                 "stimctl: %s: %u pulses on %zu channels %s, peak %s mA, %s s%s, %d "
                  "retransmissions%s; %s; "
                  "output stopped\n",
-                 r.port.c_str(), r.pulses, s.currents_mA.size(),
-                 tp::number_text(s.shape.frequency_hz).c_str(), tp::number_text(r.peak_mA).c_str(),
+                 r.port.c_str(), r.pulses, s.currents_mA.size(), rate.c_str(),
+                 tp::number_text(r.peak_mA).c_str(),
                  tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
                  live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
                  r.retransmissions, line.c_str(), r.end.c_str());

@@ -186,15 +186,17 @@ extern "C" void firmware_main() {
       const std::size_t channels = p.codes.size() < 8 ? p.codes.size() : 8;  // caps: <= 8
       job.channels = static_cast<std::uint8_t>(channels);
       std::int16_t balance[device::kMaxChannels];
-      device::balance_codes(p.codes, p.config.width_us, p.config.balance_width_us, balance);
+      device::balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, balance);
       for (std::size_t i = 0; i < channels; ++i) {
         job.main[i] = p.codes[i];
         job.balance[i] = balance[i];
       }
-      job.width_us = p.config.width_us;
-      job.interphase_us = p.config.interphase_us;
-      job.balance_width_us = p.config.balance_width_us;
-      job.period_us = p.config.period_us;
+      job.pattern = p.pattern;
+      job.slip_us = p.slip_us;
+      job.width_us = p.timing.width_us;
+      job.interphase_us = p.timing.interphase_us;
+      job.balance_width_us = p.timing.balance_width_us;
+      job.period_us = p.timing.period_us;
       job.step_nA = step_nA;
       if (!g_engine.submit(job)) {
         ++not_queued;

@@ -144,11 +144,17 @@ void PulseEngine::on_alarm() {
         stage_->load(job.main, job.channels);
         loaded_ = true;
       }
-      // Its slot plus the delay, but never sooner than one period after the previous
-      // pulse's start: pulses that queued up behind a late one (a new output waiting for
-      // a stopped one's last balancing phase) never come in a burst.
+      // Its slot plus the delay, but never sooner after the previous pulse's start than
+      // the core's schedule had it: pulses that queued up behind a late one (a new output
+      // waiting for a stopped one's last balancing phase) never come in a burst, nor closer
+      // to another pattern's than its pulse and the gap.
       std::uint64_t due = job.slot_us + kDelayUs;
-      if (have_last_start_) due = std::max(due, last_start_us_ + job.period_us);
+      // Within one output, as the core spaced them; a new output's first pulse, at least
+      // its period after the previous output's last (lateness never carries over).
+      if (have_last_start_ && job.start_us == last_output_us_ && job.slot_us >= last_slot_us_)
+        due = std::max(due, last_start_us_ + (job.slot_us - last_slot_us_));
+      else if (have_last_start_)
+        due = std::max(due, last_start_us_ + job.period_us);
       if (now + early_us_ < due) {
         next = std::min(next, due - early_us_);
         break;
@@ -163,6 +169,8 @@ void PulseEngine::on_alarm() {
       // clock's reading jitter after its due time: propagating a tick of jitter to every
       // later pulse would make them drift later and later (a tick every other pulse).
       last_start_us_ = edges_[0] <= due + kJitterUs ? due : edges_[0];
+      last_slot_us_ = current_.slot_us;
+      last_output_us_ = current_.start_us;
       have_last_start_ = true;
       stage_->output(latched_main_, current_.channels);
       phase_ = Phase::main;
@@ -205,7 +213,9 @@ void PulseEngine::finish_pulse() {
   if (rec_head_ - rec_tail_ < kRecords) {
     device::PulseRecord& r = records_[rec_head_ % kRecords];
     r = device::PulseRecord{};
+    r.pattern = job.pattern;
     r.t_us = job.slot_us - job.start_us;
+    r.slip_us = job.slip_us;
     r.channels = job.channels;
     // The codes the driver wrote and latched for each phase (its copy of the DAC's
     // registers, decoded from the words it sent): the monitor shows its encoding.

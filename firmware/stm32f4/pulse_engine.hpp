@@ -6,8 +6,9 @@
 // microsecond clock for the monitor.
 //
 // Pulses leave kDelayUs after their slot, so that the first pulse after a start is as
-// punctual as the rest, and never sooner than one period after the previous pulse's
-// start; each pulse's later edges follow its measured first edge, so no phase is ever
+// punctual as the rest, and never sooner after the previous pulse's start than the core's
+// schedule put them (its slots: a pattern's period, or another pattern's pulse and the
+// gap); each pulse's later edges follow its measured first edge, so no phase is ever
 // shortened.  Stopping drops every queued pulse; a pulse already in its main phase
 // completes its balancing phase (its charge must be returned), then the outputs go to 0
 // and output-enable low.  An output started meanwhile waits for that.
@@ -21,13 +22,15 @@
 namespace tp::fw {
 
 struct PulseJob {
-  std::uint64_t slot_us = 0;   // the core's slot (device time)
+  std::uint64_t slot_us = 0;  // the core's start (device time): its slot plus its slip
+  std::uint16_t pattern = 0;  // its pattern's index
+  std::uint32_t slip_us = 0;
   std::uint64_t start_us = 0;  // the start command's time
   std::uint8_t channels = 0;
   std::int16_t main[8] = {};
   std::int16_t balance[8] = {};
   std::uint16_t width_us = 0, interphase_us = 0, balance_width_us = 0;
-  std::uint32_t period_us = 0;
+  std::uint32_t period_us = 0;  // its pattern's
   std::uint32_t step_nA = 0;
 };
 
@@ -60,7 +63,7 @@ class PulseEngine {
 
  private:
   enum class Phase : std::uint8_t { idle, main, gap, balance };
-  static constexpr std::uint32_t kJobs = 8, kRecords = 8;
+  static constexpr std::uint32_t kJobs = 32, kRecords = 8;
   void edge(std::uint64_t scheduled, int index);
   void finish_pulse();
 
@@ -86,7 +89,9 @@ class PulseEngine {
   volatile bool stop_requested_ = false;
   volatile bool finish_requested_ = false;
   volatile bool restart_pending_ = false;
-  std::uint64_t last_start_us_ = 0;  // the previous pulse's measured start
+  std::uint64_t last_start_us_ = 0;   // the previous pulse's measured start
+  std::uint64_t last_slot_us_ = 0;    // and its slot
+  std::uint64_t last_output_us_ = 0;  // and its output's start command
   bool have_last_start_ = false;
   void outputs_off();
 };

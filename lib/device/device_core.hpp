@@ -18,6 +18,12 @@
 //    must carry its token; stop ends it, so nothing of an old session can be restarted;
 //  - watchdog: output stops when no frame *of the running session* arrived for
 //    watchdog_ms; identify, status and other sessions' frames do not feed it;
+//  - patterns (version 4): a table of up to kMaxPatterns patterns, each set and checked
+//    like a configuration and its weights (Sum = 0, |code| <= max, shape and rate within
+//    the capabilities); across the table, every electrode's RMS and mean current summed
+//    over the patterns within the capabilities' bounds (ChannelLoad), the utilisation at
+//    most 1 and the worst slip within max_slip_us (Scheduler), or the frame (or start) is
+//    refused and changes nothing; set_amplitudes only scales a pattern's codes down;
 //  - a repeated frame (same seq, type and payload: a retransmission, or a replay of the
 //    same bytes) is answered again from the cache, but neither executed twice nor allowed
 //    to feed the watchdog; nor does a frame of the session whose seq is not newer (ahead by
@@ -29,6 +35,7 @@
 #include "device/fixed_bytes.hpp"
 #include "device/frame.hpp"
 #include "device/protocol.hpp"
+#include "device/scheduler.hpp"
 
 namespace tp::device {
 
@@ -43,16 +50,24 @@ struct CodeSpan {
 };
 
 struct DeliveredPulse {
-  std::uint64_t t_us;      // device time of the pulse's start
+  std::uint64_t t_us;      // device time of the pulse's start (its slot plus its slip)
   std::uint64_t start_us;  // device time of the start command
-  CodeSpan codes;          // main-phase DAC codes, + = cathodic
-  const PulseConfig& config;
+  CodeSpan codes;          // main-phase DAC codes of every channel, + = cathodic
+  const PatternTiming& timing;
   const Capabilities& caps;
+  std::uint16_t pattern = 0;
+  std::uint32_t slip_us = 0;  // how long it was deferred behind another pattern's pulse
 };
 
 // The latest a pulse may come after its slot; older slots are skipped, never delivered in
 // a burst (an emulator whose process was descheduled).
 inline constexpr std::uint64_t kMaxLateUs = 100000;
+// The most pulses the start's exact schedule check simulates (Scheduler::worst_slip): a
+// few milliseconds of a firmware's time, well within its watchdog.
+inline constexpr std::uint32_t kMaxCheckedPulses = 16384;
+// The host checks tables with the same rule and the same budget, so that what it sends the
+// device accepts.
+inline constexpr std::uint32_t kMaxCheckedPulsesHost = kMaxCheckedPulses;
 
 class DeviceCore {
  public:
@@ -78,8 +93,9 @@ class DeviceCore {
   void advance(std::uint64_t now_us, Sink&& sink) {
     if (!begin_advance(now_us)) return;
     while (pulse_due(now_us)) {
-      sink(DeliveredPulse{next_pulse_us_, start_us_, CodeSpan{weights_.begin(), weights_.size()},
-                          config_, caps_});
+      const ScheduledPulse p = sched_.next();
+      sink(DeliveredPulse{p.start_us, start_us_, pulse_codes(p.pattern), timing_[p.pattern], caps_,
+                          p.pattern, static_cast<std::uint32_t>(p.start_us - p.slot_us)});
       pulse_delivered();
     }
     expire(now_us);  // the watchdog
@@ -110,7 +126,20 @@ class DeviceCore {
   bool receive_byte(std::uint8_t byte, std::uint64_t now_us);  // true: a reply is ready
   void handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxPayload>& body);
   Result configure(const FixedBytes<kMaxPayload>& payload);
+  Result configure_table(const FixedBytes<kMaxPayload>& payload);
   Result set_weights(const FixedBytes<kMaxPayload>& payload);
+  Result set_pattern(const FixedBytes<kMaxPayload>& payload);
+  Result set_codes(const FixedBytes<kMaxPayload>& payload);
+  Result set_amplitudes(const FixedBytes<kMaxPayload>& payload);
+  Result start(std::uint64_t now_us);
+  void open_table(std::uint32_t session, std::uint16_t n, std::uint8_t channels,
+                  std::uint16_t gap_us);
+  Result check_timing(const PatternTiming& t) const;
+  Result put_timing(std::uint16_t i, const PatternTiming& t);
+  // Pattern i's codes become these (checked first: |code|, Sum = 0, the load).
+  Result put_codes(std::uint16_t i, const SparseCodes& c, std::uint8_t reserve);
+  void load(std::uint16_t i, int sign);     // pattern i's share of load_, in or out
+  CodeSpan pulse_codes(std::uint16_t i);    // dense, scaled by its amplitude
   bool of_session(const RxFrame& f) const;  // carries the current session's token
   void expire(std::uint64_t now_us);        // the watchdog, at any call
   void end_session();
@@ -122,17 +151,30 @@ class DeviceCore {
   Capabilities caps_;
   FrameDecoder decoder_;
   Status status_;
-  PulseConfig config_;
   std::uint32_t session_ = 0;  // 0: no session
   bool configured_ = false;
   bool faulted_ = false;
   std::uint32_t output_ends_ = 0;
-  bool weights_set_ = false;
-  Codes weights_;
+  // The pattern table.
+  struct Pattern {
+    bool timing_set = false, codes_set = false;
+    std::uint16_t first = 0;  // its codes: pool entries first .. first + count
+    std::uint8_t count = 0, room = 0;
+    std::uint16_t scale = kFullScale;
+  };
+  std::uint16_t patterns_ = 0;
+  std::uint8_t channels_ = 0;
+  Pattern pattern_[kMaxPatterns];
+  PatternTiming timing_[kMaxPatterns];
+  std::uint8_t pool_channel_[kCodePool] = {};
+  std::int16_t pool_code_[kCodePool] = {};
+  std::uint32_t pool_used_ = 0;
+  ChannelLoad load_;
+  Scheduler sched_;
+  std::int16_t dense_[kMaxChannels] = {}, scaled_[kMaxChannels] = {};
   std::uint64_t last_fed_us_ = 0;  // the running session's last frame that fed the watchdog
   std::uint8_t fed_seq_ = 0;       // and its sequence number
   std::uint64_t start_us_ = 0;
-  std::uint64_t next_pulse_us_ = 0;
   bool have_last_ = false;
   RxFrame last_request_;
   FixedBytes<kMaxEncodedFrame> last_reply_;

@@ -24,6 +24,10 @@ const char* to_string(Result r) {
       return "not allowed while running";
     case Result::wrong_session:
       return "not the device's current session (another host's, or already stopped)";
+    case Result::table_full:
+      return "more patterns or pattern codes than the device holds";
+    case Result::no_pattern:
+      return "no such pattern in the table";
   }
   return "unknown result";
 }
@@ -60,6 +64,124 @@ std::int32_t Capabilities::max_code() const {
   return static_cast<std::int32_t>(std::min<std::uint32_t>(code, hard::max_dac_code));
 }
 
+bool phase_fits(const PatternTiming& t, const Capabilities& caps) {
+  if (t.interphase_us != 0 && t.interphase_us < caps.min_width_us) return false;
+  const std::uint64_t length = t.length_us();
+  return t.period_us > length && t.period_us - length >= caps.min_width_us;
+}
+
+PatternTiming timing_of(const PulseConfig& c) {
+  PatternTiming t;
+  t.period_us = c.period_us;
+  t.phase_us = 0;
+  t.width_us = c.width_us;
+  t.interphase_us = c.interphase_us;
+  t.balance_width_us = c.balance_width_us;
+  t.max_pulses = c.max_pulses;
+  return t;
+}
+
+std::optional<PatternTiming> decode_timing(const std::uint8_t* p, std::size_t n) {
+  if (n != kTimingSize) return std::nullopt;
+  PatternTiming t;
+  t.period_us = get_u32(p);
+  t.phase_us = get_u32(p + 4);
+  t.width_us = get_u16(p + 8);
+  t.interphase_us = get_u16(p + 10);
+  t.balance_width_us = get_u16(p + 12);
+  t.max_pulses = get_u32(p + 14);
+  return t;
+}
+
+bool decode_sparse(const std::uint8_t* p, std::size_t n, SparseCodes& out) {
+  if (n == 0 || p[0] > kMaxChannels || n != 1 + 3 * std::size_t{p[0]}) return false;
+  out.count = p[0];
+  for (std::size_t i = 0; i < out.count; ++i) {
+    out.channel[i] = p[1 + 3 * i];
+    out.code[i] = static_cast<std::int16_t>(get_u16(p + 2 + 3 * i));
+    if (i > 0 && out.channel[i] <= out.channel[i - 1]) return false;
+  }
+  return true;
+}
+
+void scale_codes(const std::int16_t* in, std::size_t n, std::uint16_t scale, std::int16_t* out) {
+  std::int32_t rem[kMaxChannels] = {};
+  std::int32_t sum = 0;
+  n = std::min<std::size_t>(n, kMaxChannels);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t exact = std::int32_t{in[i]} * scale;  // in units of 1/kFullScale
+    const std::int32_t q = exact / kFullScale;               // toward zero
+    rem[i] = exact - q * kFullScale;                         // same sign as exact
+    out[i] = static_cast<std::int16_t>(q);
+    sum += q;
+  }
+  // The exact values sum to zero (the inputs do): -sum codes move away from zero, on the
+  // side that makes up the difference, where the remainders are largest.
+  const int dir = sum < 0 ? 1 : -1;
+  for (std::int32_t k = sum < 0 ? -sum : sum; k > 0; --k) {
+    std::size_t best = n;
+    for (std::size_t i = 0; i < n; ++i)
+      if (rem[i] * dir > 0 && (best == n || rem[i] * dir > rem[best] * dir)) best = i;
+    if (best == n) break;
+    out[best] = static_cast<std::int16_t>(out[best] + dir);
+    rem[best] = 0;
+  }
+}
+
+namespace {
+// The largest balancing code balance_codes can give a main code of magnitude a.
+std::uint64_t balance_bound(std::uint64_t a, const PatternTiming& t) {
+  const std::uint64_t bw = t.balance_width_us == 0 ? 1 : t.balance_width_us;
+  return (a * t.width_us + bw - 1) / bw;
+}
+}  // namespace
+
+// a <= 32768, widths <= 65535, and bw >= w (check_timing; the host's check_stimulus), so
+// b <= a: a^2 w + b^2 bw < 2^47, shifted by 16 < 2^63.
+std::uint64_t ChannelLoad::ms_share(std::uint32_t a, const PatternTiming& t) {
+  if (t.period_us == 0) return 0;
+  const std::uint64_t b = balance_bound(a, t);
+  const std::uint64_t e = std::uint64_t{a} * a * t.width_us + b * b * t.balance_width_us;
+  return ((e << 16) + t.period_us - 1) / t.period_us;
+}
+
+std::uint64_t ChannelLoad::mean_share(std::uint32_t a, const PatternTiming& t) {
+  if (t.period_us == 0) return 0;
+  const std::uint64_t b = balance_bound(a, t);
+  const std::uint64_t q = std::uint64_t{a} * t.width_us + b * t.balance_width_us;
+  return ((q << 16) + t.period_us - 1) / t.period_us;
+}
+
+void ChannelLoad::add(const std::uint8_t* channel, const std::int16_t* code, std::size_t n,
+                      const PatternTiming& t, int sign) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t ch = channel[k];
+    if (ch >= kMaxChannels) continue;
+    const auto a = static_cast<std::uint32_t>(code[k] < 0 ? -std::int32_t{code[k]} : code[k]);
+    const std::uint64_t ms = ms_share(a, t), mean = mean_share(a, t);
+    if (sign > 0) {
+      ms_q16[ch] += ms;
+      mean_q16[ch] += mean;
+    } else {
+      ms_q16[ch] -= ms;
+      mean_q16[ch] -= mean;
+    }
+  }
+}
+
+std::size_t ChannelLoad::first_over(const Capabilities& caps) const {
+  const std::uint64_t step = caps.dac_step_nA == 0 ? 1 : caps.dac_step_nA;
+  // Never above the compile-time bounds, whatever a device reports (and no overflow below).
+  const std::uint64_t rms = std::uint64_t{std::min(caps.max_rms_uA, hard::max_rms_uA)} * 1000u;
+  // In codes^2 and codes, x 2^16: (R / step)^2 and M / step, rounded down.
+  const std::uint64_t ms_limit = (rms * rms << 16) / (step * step);
+  const std::uint64_t mean_limit =
+      (std::uint64_t{std::min(caps.max_mean_uA, hard::max_mean_uA)} * 1000u << 16) / step;
+  for (std::size_t i = 0; i < kMaxChannels; ++i)
+    if (ms_q16[i] > ms_limit || mean_q16[i] > mean_limit) return i;
+  return kMaxChannels;
+}
+
 bool phase_fits(const PulseConfig& c, const Capabilities& caps) {
   if (c.interphase_us != 0 && c.interphase_us < caps.min_width_us) return false;
   const std::uint64_t length = std::uint64_t{c.width_us} + c.interphase_us + c.balance_width_us;
@@ -76,6 +198,12 @@ Capabilities within_hard_limits(Capabilities c) {
   c.max_balance_width_us = std::min(c.max_balance_width_us, hard::max_balance_width_us);
   c.max_rate_hz = std::clamp<std::uint16_t>(c.max_rate_hz, 1, hard::max_rate_hz);
   c.watchdog_ms = std::clamp(c.watchdog_ms, hard::min_watchdog_ms, hard::max_watchdog_ms);
+  c.max_patterns = std::clamp<std::uint16_t>(c.max_patterns, 1, kMaxPatterns);
+  c.code_pool = std::min(c.code_pool, static_cast<std::uint16_t>(kCodePool));
+  c.min_gap_us = std::max(c.min_gap_us, hard::min_gap_us);
+  c.max_slip_us = std::min(c.max_slip_us, hard::max_slip_us);
+  c.max_rms_uA = std::min(c.max_rms_uA, hard::max_rms_uA);
+  c.max_mean_uA = std::min(c.max_mean_uA, hard::max_mean_uA);
   return c;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Messages of the stimulator protocol (docs/protocol.md), version 3.  Portable: no OS
+// Messages of the stimulator protocol (docs/protocol.md), version 4.  Portable: no OS
 // calls and, in what the device core uses, no allocation (the std::vector forms at the end
 // are the host's, in protocol_buffers.cpp, which the firmware does not build).  All multi-byte
 // fields are little-endian.  Currents travel as signed DAC codes; a positive code is cathodic.
@@ -10,6 +10,12 @@
 // that started the output feed the watchdog.  `stop` ends the session (it disarms: the
 // configuration, weights and token are forgotten), so a replayed `start` cannot restart an
 // old stimulus.
+//
+// Patterns (version 4): a session holds a table of patterns, each its own codes (stored
+// sparse: only its non-zero channels), pulse shape, period, phase and pulse count, which
+// the device interleaves (scheduler.hpp).  `configure` is a table of one pattern whose
+// codes set_weights gives (version 3's messages, unchanged); configure_table, set_pattern
+// and set_codes build larger ones; set_amplitudes scales patterns down live.
 
 #include <array>
 #include <cstddef>
@@ -19,16 +25,23 @@
 #include <vector>
 
 #include "device/frame.hpp"
+#include "device/scheduler.hpp"
 
 namespace tp::device {
 
-inline constexpr std::uint8_t kProtocolVersion = 3;
+inline constexpr std::uint8_t kProtocolVersion = 4;
 
 // The most channels a set_weights frame carries: token (4) + count (1) + 2 bytes a code
 // must fit kMaxPayload; 64 is the supported maximum (the host's arrays have at most 64
 // electrodes).  Both ends refuse more.
 inline constexpr std::size_t kMaxChannels = 64;
 static_assert(5 + 2 * kMaxChannels <= kMaxPayload, "a set_weights frame must carry every channel");
+// The sparse codes of every pattern of a table share this many entries (a channel and a
+// code each): 256 patterns of 32 non-zero channels, a display's bank of focal pixels.
+inline constexpr std::size_t kCodePool = 8192;
+static_assert(7 + 3 * kMaxChannels <= kMaxPayload, "a set_codes frame must carry every channel");
+// An amplitude scale of 1: a pattern's codes as configured.
+inline constexpr std::uint16_t kFullScale = 32768;
 
 // The device's compile-time safety bounds.  A device's configured capabilities (its
 // Capabilities) can only lower them: DeviceCore clamps what it is given to these.
@@ -42,17 +55,30 @@ inline constexpr std::uint32_t max_period_us = 10000000;  // 10 s: rates down to
 inline constexpr std::uint16_t min_watchdog_ms = 10;
 inline constexpr std::uint16_t max_watchdog_ms = 1000;
 inline constexpr std::int32_t max_dac_code = 32767;  // a 16-bit signed DAC
+// Between pulses of different patterns (docs/protocol.md, "Scheduling").
+inline constexpr std::uint16_t min_gap_us = 100;
+// The most a pulse may be deferred behind another pattern's: tables that could defer more
+// are refused.
+inline constexpr std::uint16_t max_slip_us = 1000;
+// Per electrode, summed over every pattern of a table (docs/safety.md): the RMS current
+// and the mean absolute current (the charge per second both phases carry).
+inline constexpr std::uint16_t max_rms_uA = 1000;
+inline constexpr std::uint16_t max_mean_uA = 800;
 }  // namespace hard
 
 enum class Msg : std::uint8_t {
-  identify = 0x01,     // -> ack + Capabilities
-  configure = 0x02,    // session u32, PulseConfig -> ack (opens the session)
-  set_weights = 0x03,  // session u32, count u8, count x int16 codes -> ack
-  start = 0x04,        // session u32 -> ack
-  stop = 0x05,         // (anything) -> ack; always honoured, ends the session
-  status = 0x06,       // -> ack + Status (a query: never feeds the watchdog)
-  keepalive = 0x07,    // session u32 -> ack + Status
-  ack = 0x80,          // device -> host: acked type u8, Result u8, body
+  identify = 0x01,         // -> ack + Capabilities
+  configure = 0x02,        // session u32, PulseConfig -> ack (opens the session)
+  set_weights = 0x03,      // session u32, count u8, count x int16 codes -> ack
+  start = 0x04,            // session u32 -> ack
+  stop = 0x05,             // (anything) -> ack; always honoured, ends the session
+  status = 0x06,           // -> ack + Status (a query: never feeds the watchdog)
+  keepalive = 0x07,        // session u32 -> ack + Status
+  configure_table = 0x10,  // session u32, patterns u16, channels u8, gap_us u16 -> ack
+  set_pattern = 0x11,      // session u32, index u16, PatternTiming -> ack
+  set_codes = 0x12,        // session u32, index u16, n u8, n x (channel u8, code i16) -> ack
+  set_amplitudes = 0x13,   // session u32, first u16, n u8, n x scale u16 -> ack
+  ack = 0x80,              // device -> host: acked type u8, Result u8, body
 };
 
 enum class Result : std::uint8_t {
@@ -65,6 +91,8 @@ enum class Result : std::uint8_t {
   channel_mismatch = 6,  // more channels than the device has, or not the configured count
   bad_state = 7,         // configure while running
   wrong_session = 8,     // the token is not the current session's (another host's, or stopped)
+  table_full = 9,        // more patterns, or more sparse codes, than the device holds
+  no_pattern = 10,       // a pattern index outside the table
 };
 const char* to_string(Result r);
 
@@ -89,7 +117,14 @@ struct Capabilities {
   std::uint16_t max_balance_width_us = 8000;
   std::uint16_t max_rate_hz = 1000;
   std::uint16_t watchdog_ms = 300;  // output stops this long after the session's last frame
-  std::uint8_t fw_major = 0, fw_minor = 3, fw_patch = 0;
+  std::uint8_t fw_major = 0, fw_minor = 4, fw_patch = 0;
+  // Version 4: the pattern table and the bounds across patterns.
+  std::uint16_t max_patterns = kMaxPatterns;
+  std::uint16_t code_pool = static_cast<std::uint16_t>(kCodePool);
+  std::uint16_t min_gap_us = hard::min_gap_us;
+  std::uint16_t max_slip_us = hard::max_slip_us;
+  std::uint16_t max_rms_uA = hard::max_rms_uA;
+  std::uint16_t max_mean_uA = hard::max_mean_uA;
   // The largest code: max_current_uA / dac_step_nA, never above a 16-bit DAC's.
   std::int32_t max_code() const;
 };
@@ -114,6 +149,22 @@ struct Status {
   std::uint16_t rx_errors = 0;    // damaged frames dropped
   std::uint16_t line_errors = 0;  // bytes received with a framing, noise or parity error
   std::uint16_t overruns = 0;     // bytes lost: receiver overrun or receive buffer full
+  std::uint32_t max_slip_us = 0;  // the largest deferral of any pulse since the last start
+  std::uint32_t deferred = 0;     // pulses deferred behind another pattern's
+};
+
+// A pattern's timing (set_pattern): its pulse shape, period, phase (its first slot after
+// the start) and pulse count (0: no limit).
+struct PatternTiming {
+  std::uint32_t period_us = 5000;
+  std::uint32_t phase_us = 0;
+  std::uint16_t width_us = 200;
+  std::uint16_t interphase_us = 0;
+  std::uint16_t balance_width_us = 200;
+  std::uint32_t max_pulses = 0;
+  std::uint32_t length_us() const {
+    return std::uint32_t{width_us} + interphase_us + balance_width_us;
+  }
 };
 
 // Little-endian fields, appended to any byte buffer with push_back (a FixedBytes in the
@@ -130,9 +181,10 @@ void put_u32(B& b, std::uint32_t v) {
 std::uint16_t get_u16(const std::uint8_t* p);
 std::uint32_t get_u32(const std::uint8_t* p);
 
-inline constexpr std::size_t kCapabilitiesSize = 19;
+inline constexpr std::size_t kCapabilitiesSize = 31;
 inline constexpr std::size_t kConfigSize = 15;
-inline constexpr std::size_t kStatusSize = 16;
+inline constexpr std::size_t kTimingSize = 18;
+inline constexpr std::size_t kStatusSize = 24;
 
 template <class B>
 void put_capabilities(B& b, const Capabilities& c) {
@@ -148,6 +200,21 @@ void put_capabilities(B& b, const Capabilities& c) {
   b.push_back(c.fw_major);
   b.push_back(c.fw_minor);
   b.push_back(c.fw_patch);
+  put_u16(b, c.max_patterns);
+  put_u16(b, c.code_pool);
+  put_u16(b, c.min_gap_us);
+  put_u16(b, c.max_slip_us);
+  put_u16(b, c.max_rms_uA);
+  put_u16(b, c.max_mean_uA);
+}
+template <class B>
+void put_timing(B& b, const PatternTiming& t) {
+  put_u32(b, t.period_us);
+  put_u32(b, t.phase_us);
+  put_u16(b, t.width_us);
+  put_u16(b, t.interphase_us);
+  put_u16(b, t.balance_width_us);
+  put_u32(b, t.max_pulses);
 }
 template <class B>
 void put_config(B& b, const PulseConfig& c) {
@@ -167,9 +234,16 @@ void put_status(B& b, const Status& s) {
   put_u16(b, s.rx_errors);
   put_u16(b, s.line_errors);
   put_u16(b, s.overruns);
+  put_u32(b, s.max_slip_us);
+  put_u32(b, s.deferred);
 }
 
 std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
+std::optional<PatternTiming> decode_timing(const std::uint8_t* p, std::size_t n);
+// A version-3 configuration as the timing of a table's one pattern.
+PatternTiming timing_of(const PulseConfig& c);
+// phase_fits for a pattern's timing.
+bool phase_fits(const PatternTiming& t, const Capabilities& caps);
 
 // The device's timing rule beyond the widths and the rate: a gap, if there is one (> 0),
 // and the off time between one pulse's end and the next one's start (period - width - gap
@@ -191,6 +265,48 @@ struct Codes {
 // length disagrees or count > kMaxChannels.
 bool decode_codes(const std::uint8_t* p, std::size_t n, Codes& out);
 
+// A pattern's codes, sparse: channel indices strictly increasing, each with its code.
+struct SparseCodes {
+  std::array<std::uint8_t, kMaxChannels> channel{};
+  std::array<std::int16_t, kMaxChannels> code{};
+  std::size_t count = 0;
+};
+// The count byte and the entries of a set_codes payload (after token and index); false
+// when the length disagrees, count > kMaxChannels, or the channels do not increase.
+bool decode_sparse(const std::uint8_t* p, std::size_t n, SparseCodes& out);
+
+// codes x scale / kFullScale (scale <= kFullScale), each toward zero, then single codes
+// away from zero where the remainders are largest (lowest channel first on ties) until they
+// sum to zero as the inputs do: each within one code of the exact value and never larger
+// in magnitude than its input.
+void scale_codes(const std::int16_t* in, std::size_t n, std::uint16_t scale, std::int16_t* out);
+
+// What the device bounds across a table, per electrode, summed over its patterns: the
+// mean square current and the mean absolute current (the charge per second both phases
+// carry), in integers so that host and device agree exactly and a pattern's share can be
+// taken out again.  A channel of main code c (|c| = a) has a balancing code of at most
+// b = ceil(a w / bw) in magnitude (balance_codes rounds each to the floor or the ceiling
+// of the exact charge-balancing value), so it adds (a^2 w + b^2 bw) / T code^2 and
+// (a w + b bw) / T codes, each rounded up in units of 2^-16: never under what the DAC
+// delivers.
+struct ChannelLoad {
+  std::uint64_t ms_q16[kMaxChannels] = {};
+  std::uint64_t mean_q16[kMaxChannels] = {};
+  // One channel's share at this timing (|code| a).
+  static std::uint64_t ms_share(std::uint32_t a, const PatternTiming& t);
+  static std::uint64_t mean_share(std::uint32_t a, const PatternTiming& t);
+  // Adds (sign +1) or takes out (-1) a pattern's codes: n entries, channel[k] and code[k].
+  void add(const std::uint8_t* channel, const std::int16_t* code, std::size_t n,
+           const PatternTiming& t, int sign);
+  // false when a channel's RMS or mean current is above the capabilities' bounds.
+  bool within(const Capabilities& caps) const { return first_over(caps) == kMaxChannels; }
+  // The first such channel; kMaxChannels when there is none.
+  std::size_t first_over(const Capabilities& caps) const;
+  // The host's figures, mA, for a DAC step.
+  double rms_mA(std::size_t ch, std::uint32_t step_nA) const;
+  double mean_mA(std::size_t ch, std::uint32_t step_nA) const;
+};
+
 // The current of one code of a signed DAC of dac_bits (2 to 16) spanning
 // +-max_current_uA: the nearest whole nA, or the next one up where the nearest would need
 // more codes than the DAC has (2^(bits-1) - 1).  0 when the protocol's 16-bit field cannot
@@ -204,6 +320,9 @@ std::vector<std::uint8_t> encode(const PulseConfig& c);
 std::vector<std::uint8_t> encode(const Status& s);
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode_weights(const std::vector<std::int16_t>& codes);
+std::vector<std::uint8_t> encode(const PatternTiming& t);
+// A set_codes body after the index: the non-zero codes of a dense list, sparse.
+std::vector<std::uint8_t> encode_sparse(const std::vector<std::int16_t>& dense);
 // The count byte and the codes; nothing when the length disagrees or count > kMaxChannels.
 std::optional<std::vector<std::int16_t>> decode_weights(const std::uint8_t* p, std::size_t n);
 

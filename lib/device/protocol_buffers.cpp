@@ -3,6 +3,8 @@
 
 #include "device/protocol.hpp"
 
+#include <cmath>
+
 namespace tp::device {
 
 std::vector<std::uint8_t> encode(const Capabilities& c) {
@@ -28,6 +30,12 @@ std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>&
   c.fw_major = p[16];
   c.fw_minor = p[17];
   c.fw_patch = p[18];
+  c.max_patterns = get_u16(p + 19);
+  c.code_pool = get_u16(p + 21);
+  c.min_gap_us = get_u16(p + 23);
+  c.max_slip_us = get_u16(p + 25);
+  c.max_rms_uA = get_u16(p + 27);
+  c.max_mean_uA = get_u16(p + 29);
   if (c.channels == 0 || c.dac_step_nA == 0 || c.max_rate_hz == 0) return std::nullopt;
   return c;
 }
@@ -56,6 +64,8 @@ std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::siz
   s.rx_errors = get_u16(p + 10);
   s.line_errors = get_u16(p + 12);
   s.overruns = get_u16(p + 14);
+  s.max_slip_us = get_u32(p + 16);
+  s.deferred = get_u32(p + 20);
   return s;
 }
 
@@ -64,6 +74,30 @@ std::vector<std::uint8_t> encode_weights(const std::vector<std::int16_t>& codes)
   b.push_back(static_cast<std::uint8_t>(codes.size()));
   for (std::int16_t c : codes) put_u16(b, static_cast<std::uint16_t>(c));
   return b;
+}
+
+std::vector<std::uint8_t> encode(const PatternTiming& t) {
+  std::vector<std::uint8_t> b;
+  put_timing(b, t);
+  return b;
+}
+
+std::vector<std::uint8_t> encode_sparse(const std::vector<std::int16_t>& dense) {
+  std::vector<std::uint8_t> b{0};
+  for (std::size_t i = 0; i < dense.size(); ++i)
+    if (dense[i] != 0) {
+      b.push_back(static_cast<std::uint8_t>(i));
+      put_u16(b, static_cast<std::uint16_t>(dense[i]));
+      ++b[0];
+    }
+  return b;
+}
+
+double ChannelLoad::rms_mA(std::size_t ch, std::uint32_t step_nA) const {
+  return std::sqrt(static_cast<double>(ms_q16[ch]) / 65536.0) * step_nA * 1e-6;
+}
+double ChannelLoad::mean_mA(std::size_t ch, std::uint32_t step_nA) const {
+  return static_cast<double>(mean_q16[ch]) / 65536.0 * step_nA * 1e-6;
 }
 
 std::optional<std::vector<std::int16_t>> decode_weights(const std::uint8_t* p, std::size_t n) {

@@ -1,18 +1,21 @@
 #include "device/pulse_record.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace tp::device {
 
 void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_width_us,
                    std::int16_t* out) {
-  const std::int64_t bw = balance_width_us == 0 ? 1 : balance_width_us;
-  std::int64_t rem[kMaxChannels] = {};
+  // In 32-bit arithmetic (|code| x width <= 32768 x 65535 < 2^31): the firmware does this
+  // for every pulse, and a Cortex-M4 divides 64-bit integers in a library routine.
+  const std::int32_t bw = balance_width_us == 0 ? 1 : balance_width_us;
+  std::int32_t rem[kMaxChannels] = {};
   std::int64_t sum = 0;
   const std::size_t n = std::min<std::size_t>(main.size(), kMaxChannels);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::int64_t exact = -std::int64_t{main[i]} * width_us;  // in units of 1/bw codes
-    std::int64_t q = exact / bw;
+    const std::int32_t exact = -std::int32_t{main[i]} * width_us;  // in units of 1/bw codes
+    std::int32_t q = exact / bw;
     if (exact % bw != 0 && exact < 0) --q;  // floor
     rem[i] = exact - q * bw;                // 0 .. bw-1
     out[i] = static_cast<std::int16_t>(q);
@@ -37,25 +40,36 @@ class Writer {
   void text(const char* s) {
     while (*s) out_[n_++] = *s++;
   }
+  // In 32-bit arithmetic wherever the value allows: a Cortex-M4 divides 32-bit integers in
+  // hardware but 64-bit ones in a library routine, and the firmware formats a line for
+  // every pulse (at 1 kHz, 8 channels, the 64-bit version took most of the main loop).
   void uint(std::uint64_t v) {
-    char digits[20];
-    int k = 0;
-    do {
-      digits[k++] = static_cast<char>('0' + v % 10);
-      v /= 10;
-    } while (v != 0);
-    while (k > 0) out_[n_++] = digits[--k];
+    if (v > UINT32_MAX) {  // the digits above the last nine, then those nine
+      const std::uint64_t hi = v / 1000000000u;
+      uint(hi);
+      pad9(static_cast<std::uint32_t>(v - hi * 1000000000u));
+    } else {
+      uint32(static_cast<std::uint32_t>(v));
+    }
   }
   // v x 1e-6 in decimal, exactly, without trailing zeros: "-1.000448", "0.005", "0"
   void micro(std::int64_t v) {
     if (v < 0) out_[n_++] = '-';
     const std::uint64_t a =
         v < 0 ? 0 - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v);
-    uint(a / 1000000u);
-    std::uint64_t frac = a % 1000000u;
+    std::uint64_t whole = 0;
+    std::uint32_t frac = 0;
+    if (a <= UINT32_MAX) {
+      whole = static_cast<std::uint32_t>(a) / 1000000u;
+      frac = static_cast<std::uint32_t>(a) % 1000000u;
+    } else {
+      whole = a / 1000000u;
+      frac = static_cast<std::uint32_t>(a - whole * 1000000u);
+    }
+    uint(whole);
     if (frac == 0) return;
     out_[n_++] = '.';
-    for (std::uint64_t div = 100000; frac != 0; div /= 10) {
+    for (std::uint32_t div = 100000; frac != 0; div /= 10) {
       out_[n_++] = static_cast<char>('0' + frac / div);
       frac %= div;
     }
@@ -63,6 +77,22 @@ class Writer {
   std::size_t size() const { return n_; }
 
  private:
+  void uint32(std::uint32_t v) {
+    char digits[10];
+    int k = 0;
+    do {
+      digits[k++] = static_cast<char>('0' + v % 10);
+      v /= 10;
+    } while (v != 0);
+    while (k > 0) out_[n_++] = digits[--k];
+  }
+  void pad9(std::uint32_t v) {  // exactly nine digits, leading zeros included
+    for (int k = 8; k >= 0; --k) {
+      out_[n_ + static_cast<std::size_t>(k)] = static_cast<char>('0' + v % 10);
+      v /= 10;
+    }
+    n_ += 9;
+  }
   char* out_;
   std::size_t n_ = 0;
 };
@@ -73,8 +103,18 @@ std::size_t format_record(const PulseRecord& r, char* out) {
   Writer w(out);
   const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
   const auto step = static_cast<std::int64_t>(r.step_nA);
-  w.text("{\"t_s\": ");
+  w.text("{\"pattern\": ");
+  w.uint(r.pattern);
+  w.text(", \"t_s\": ");
   w.micro(static_cast<std::int64_t>(r.t_us));
+  w.text(", \"slip_us\": ");
+  w.uint(r.slip_us);
+  w.text(", \"width_us\": ");
+  w.uint(r.measured ? r.measured_width_us : r.width_us);
+  w.text(", \"interphase_us\": ");
+  w.uint(r.measured ? r.measured_interphase_us : r.interphase_us);
+  w.text(", \"balance_width_us\": ");
+  w.uint(r.measured ? r.measured_balance_us : r.balance_width_us);
   w.text(", \"currents_mA\": [");
   for (std::size_t i = 0; i < n; ++i) {
     if (i) w.text(", ");
@@ -90,12 +130,6 @@ std::size_t format_record(const PulseRecord& r, char* out) {
   if (r.measured) {
     w.text(", \"start_us\": ");
     w.uint(r.start_us);
-    w.text(", \"width_us\": ");
-    w.uint(r.measured_width_us);
-    w.text(", \"interphase_us\": ");
-    w.uint(r.measured_interphase_us);
-    w.text(", \"balance_width_us\": ");
-    w.uint(r.measured_balance_us);
   }
   if (r.dropped_before) {
     w.text(", \"dropped_before\": ");

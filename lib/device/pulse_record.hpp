@@ -19,7 +19,9 @@ void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_
                    std::int16_t* out);
 
 struct PulseRecord {
-  std::uint64_t t_us = 0;  // the pulse's slot, from the start command
+  std::uint16_t pattern = 0;  // its pattern's index in the table
+  std::uint64_t t_us = 0;     // the pulse's start as scheduled (slot + slip), from the start
+  std::uint32_t slip_us = 0;  // how long the scheduler deferred it behind another pattern's
   std::uint8_t channels = 0;
   std::int16_t main[kMaxChannels] = {};     // codes of the main phase
   std::int16_t balance[kMaxChannels] = {};  // codes of the balancing phase
@@ -33,11 +35,12 @@ struct PulseRecord {
 };
 
 // The longest line format_record writes (64 channels, every field at its widest).
-inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 160;
+inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 320;
 
 // Writes the record as one JSON line ending in '\n' into out (capacity kMaxRecordLine at
-// least); returns its length.  currents_mA: main codes x step; net_charge_nC: main x
-// width + balance x balance width, per channel, as delivered.
+// least); returns its length.  width_us, interphase_us and balance_width_us are the
+// measured ones when measured, else the configured ones.  currents_mA: main codes x step;
+// net_charge_nC: main x width + balance x balance width, per channel, as delivered.
 std::size_t format_record(const PulseRecord& r, char* out);
 
 }  // namespace tp::device

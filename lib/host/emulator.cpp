@@ -49,14 +49,16 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
   // The device's own record (lib/device/pulse_record.hpp), as the firmware's monitor
   // writes it: the balancing phase in whole DAC codes.
   device::PulseRecord r;
+  r.pattern = p.pattern;
   r.t_us = p.t_us - p.start_us;
+  r.slip_us = p.slip_us;
   r.channels = static_cast<std::uint8_t>(p.codes.size());
   std::copy(p.codes.begin(), p.codes.end(), r.main);
-  device::balance_codes(p.codes, p.config.width_us, p.config.balance_width_us, r.balance);
+  device::balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
   r.step_nA = p.caps.dac_step_nA;
-  r.width_us = p.config.width_us;
-  r.interphase_us = p.config.interphase_us;
-  r.balance_width_us = p.config.balance_width_us;
+  r.width_us = p.timing.width_us;
+  r.interphase_us = p.timing.interphase_us;
+  r.balance_width_us = p.timing.balance_width_us;
   char line[device::kMaxRecordLine];
   std::fwrite(line, 1, device::format_record(r, line), out_);
 }

@@ -33,7 +33,40 @@ StimulusLimits device_limits(StimulusLimits l, const device::Capabilities& c) {
   l.max_balance_width_us =
       std::min(l.max_balance_width_us, static_cast<double>(c.max_balance_width_us));
   l.max_frequency_hz = std::min(l.max_frequency_hz, static_cast<double>(c.max_rate_hz));
+  l.max_rms_current_mA = std::min(l.max_rms_current_mA, c.max_rms_uA * 1e-3);
+  l.max_mean_current_mA = std::min(l.max_mean_current_mA, c.max_mean_uA * 1e-3);
+  l.min_gap_us = std::max(l.min_gap_us, static_cast<double>(c.min_gap_us));
+  l.max_slip_us = std::min(l.max_slip_us, static_cast<double>(c.max_slip_us));
   return l;
+}
+
+// Adds a pattern's dense codes to the load, as the device adds its sparse ones.
+void add_codes(device::ChannelLoad& load, const std::vector<std::int16_t>& codes,
+               const device::PatternTiming& t) {
+  std::vector<std::uint8_t> ch;
+  std::vector<std::int16_t> code;
+  for (std::size_t i = 0; i < codes.size(); ++i)
+    if (codes[i] != 0) {
+      ch.push_back(static_cast<std::uint8_t>(i));
+      code.push_back(codes[i]);
+    }
+  load.add(ch.data(), code.data(), ch.size(), t, +1);
+}
+
+// The device's own check of the codes it is sent (device::ChannelLoad, in integers): each
+// electrode's RMS and mean current, summed over the patterns, as the DAC makes them.  The
+// host's check in mA (check_stimulus, check_mix) can pass a current the codes' rounding
+// puts just over a bound; this one refuses it before anything is sent.
+void check_load(const device::ChannelLoad& load, const device::Capabilities& caps,
+                const std::string& where) {
+  const std::size_t i = load.first_over(caps);
+  if (i == device::kMaxChannels) return;
+  bad_input(where + "electrode " + std::to_string(i) + ": RMS " +
+            number_text(load.rms_mA(i, caps.dac_step_nA)) + " mA, mean " +
+            number_text(load.mean_mA(i, caps.dac_step_nA)) +
+            " mA, as the DAC makes them: above the device's bounds of " +
+            number_text(caps.max_rms_uA * 1e-3) + " mA RMS and " +
+            number_text(caps.max_mean_uA * 1e-3) + " mA mean (docs/safety.md)");
 }
 
 }  // namespace
@@ -65,7 +98,11 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
   shape_of.currents_mA = c;
   try {
     check_stimulus(shape_of, lim);
-    return quantize_currents(c, caps, current_limit_mA(s, lim));
+    auto codes = quantize_currents(c, caps, current_limit_mA(s, lim));
+    device::ChannelLoad load;
+    add_codes(load, codes, pattern_timing(s, 0));
+    check_load(load, caps, "");
+    return codes;
   } catch (const Error& e) {
     bad_input(where + ": " + e.what());
   }
@@ -104,6 +141,16 @@ void check_device(const device::Capabilities& caps) {
 
 SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag) {
+  Mix m;
+  m.patterns.push_back(s);
+  return run_session(transport, m, opt, signal_flag);
+}
+
+SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
+                          const volatile std::sig_atomic_t* signal_flag) {
+  if (m.patterns.empty()) bad_input("stimulus: no patterns");
+  const Stimulus& s = m.patterns[0];
+  const bool table = m.table();
   StimulatorClient dev(transport);
   SessionReport rep;
   rep.port = transport.name();
@@ -132,7 +179,7 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
     bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
               " channels; the device has " + std::to_string(rep.caps.channels));
   const StimulusLimits lim = device_limits(opt.limits, rep.caps);
-  check_stimulus(s, lim);
+  check_mix(m, lim);
   // Pulse counts in double first (bounded by the duration limit and the rate limit), so
   // that the conversion to the device's 32-bit count cannot wrap.
   const double f = s.shape.frequency_hz;
@@ -179,10 +226,56 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   // The device always has a pulse budget: it stops by itself after the stimulus' pulses
   // (live mode: --duration, or the duration limit), whatever becomes of the host.
   cfg.max_pulses = static_cast<std::uint32_t>(count);
-  const double expected_s = count * period * 1e-6;  // at the device's (rounded) period
   // No code above the limit in force (the stimulus's, the host's, the device's).
   const std::vector<std::int16_t> codes =
       quantize_currents(s.currents_mA, rep.caps, current_limit_mA(s, lim));
+  // A table: each pattern's timing (its own count) and codes, checked as the device will.
+  std::vector<device::PatternTiming> timings;
+  std::vector<std::vector<std::int16_t>> table_codes;
+  double table_s = 0;
+  if (table) {
+    if (m.patterns.size() > rep.caps.max_patterns)
+      bad_input("stimulus has " + std::to_string(m.patterns.size()) +
+                " patterns; the device holds " + std::to_string(rep.caps.max_patterns));
+    const double least_gap = std::max(rep.caps.min_gap_us, rep.caps.min_width_us);
+    if (m.gap_us < least_gap)
+      bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
+                number_text(least_gap) + " us");
+    device::ChannelLoad load;
+    std::size_t entries = 0;
+    for (const Stimulus& p : m.patterns) {
+      const double f_p = p.shape.frequency_hz;
+      double n_p = static_cast<double>(p.count);
+      if (opt.live)
+        n_p = std::floor((opt.duration_s > 0 ? opt.duration_s : max_s) * f_p + 0.5);
+      else if (opt.duration_s > 0)
+        n_p = std::min(n_p, std::floor(opt.duration_s * f_p + 0.5));
+      if (n_p < 1) bad_input("--duration: shorter than one period of a pattern");
+      if (!(n_p <= max_s * lim.max_frequency_hz + 1))
+        bad_input("stimulus: " + number_text(n_p) + " pulses exceed the duration limit");
+      timings.push_back(pattern_timing(p, static_cast<long>(n_p)));
+      const device::PatternTiming& t = timings.back();
+      if (t.period_us < std::ceil(1e6 / rep.caps.max_rate_hz) || !device::phase_fits(t, rep.caps))
+        bad_input("pattern " + std::to_string(timings.size() - 1) +
+                  ": its period, gap or off time is outside the device's timing (" +
+                  std::to_string(rep.caps.max_rate_hz) + " Hz, shortest phase " +
+                  std::to_string(rep.caps.min_width_us) + " us)");
+      table_codes.push_back(quantize_currents(p.currents_mA, rep.caps, current_limit_mA(p, lim)));
+      for (std::int16_t c : table_codes.back()) entries += c != 0;
+      add_codes(load, table_codes.back(), t);
+      table_s = std::max(table_s, (t.phase_us + (t.max_pulses + 0.0) * t.period_us) * 1e-6);
+    }
+    if (entries > rep.caps.code_pool)
+      bad_input("the patterns have " + std::to_string(entries) +
+                " non-zero codes; the device holds " + std::to_string(rep.caps.code_pool));
+    check_load(load, rep.caps, "summed over the patterns: ");
+  } else {
+    device::ChannelLoad load;
+    add_codes(load, codes, pattern_timing(s, 0));
+    check_load(load, rep.caps, "");
+  }
+  // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.
+  const double expected_s = table ? table_s + 0.001 : count * period * 1e-6;
 
   std::FILE* latency = nullptr;
   if (opt.live && !opt.latency_log.empty()) {
@@ -199,7 +292,7 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   // 2. A device still running is another host's output (the port is ours alone): stop it.
   //    Then configure a session of our own, set the weights, start.  The stop flag is
   //    checked before every step that leads to output.
-  const std::int64_t t0 = monotonic_ns();
+  std::int64_t t0 = monotonic_ns();  // from the start, once started (a table's upload aside)
   bool configured = false;
   try {
     if (interrupted()) {
@@ -210,17 +303,32 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
       dev.stop();
       rep.preempted = true;
     }
-    for (int step = 0; step < 3; ++step) {
+    const int steps = table ? 2 + 2 * static_cast<int>(m.patterns.size()) : 3;
+    for (int step = 0; step < steps; ++step) {
       if (interrupted()) break;
-      if (step == 0) {
+      if (step == 0 && table) {
+        dev.configure_table(static_cast<std::uint16_t>(m.patterns.size()),
+                            static_cast<std::uint8_t>(s.currents_mA.size()),
+                            static_cast<std::uint16_t>(std::lround(m.gap_us)));
+        configured = true;
+      } else if (step == 0) {
         dev.configure(cfg);
         configured = true;
+      } else if (step + 1 < steps && table) {
+        const auto i = static_cast<std::uint16_t>((step - 1) / 2);
+        if ((step - 1) % 2 == 0) {
+          dev.set_pattern(i, timings[i]);
+        } else {
+          dev.set_codes(i, table_codes[i]);
+          rep.peak_mA = std::max(rep.peak_mA, peak_of(table_codes[i], rep.caps));
+        }
       } else if (step == 1) {
         dev.set_weights(codes);
         rep.peak_mA = peak_of(codes, rep.caps);
       } else {
         dev.start();
         rep.started = true;
+        t0 = monotonic_ns();
       }
     }
     if (!rep.started) {
@@ -247,10 +355,23 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
         // One line per turn, so a flood of input never delays the keep-alive below.
         if (input.next(line)) {
           if (line.find_first_not_of(" \t\r") != std::string::npos) {
-            const auto frame = parse_live_frame(line, input.lines(), s, lim, rep.caps);
-            dev.set_weights(frame);
+            const std::string where = "input line " + std::to_string(input.lines());
+            if (line.find("\"amplitudes\"") != std::string::npos || table) {
+              Json j;
+              try {
+                j = parse_json_strict(line, where);
+              } catch (const nlohmann::json::exception&) {
+                bad_input(where + ": malformed JSON");
+              }
+              if (table && !(j.is_object() && j.contains("amplitudes")))
+                bad_input(where + ": a mix takes {\"amplitudes\": [...]}, one per pattern");
+              dev.set_amplitudes(parse_amplitudes(j, m, where));
+            } else {
+              const auto frame = parse_live_frame(line, input.lines(), s, lim, rep.caps);
+              dev.set_weights(frame);
+              rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));
+            }
             ++rep.weight_frames;
-            rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));
             if (latency)
               std::fprintf(latency, "%u %lld\n", rep.weight_frames,
                            static_cast<long long>(dev.last_write_ns()));

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "host/stimulator.hpp"
+#include "pulse/mix.hpp"
 #include "pulse/stimulus.hpp"
 
 namespace tp::host {
@@ -57,6 +58,12 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
 
 // signal_flag: set (to the signal number) by a signal handler (signals.hpp).  It is checked
 // before every step that could start output, and at every turn of the keep-alive loop.
+// A mix of several patterns goes to the device as a table (protocol 4), after the same
+// checks across patterns the device makes (check_mix, and the codes' load); live mode then
+// takes amplitude frames {"amplitudes": [...]} (a single stimulus takes those and weight
+// frames).
+SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
+                          const volatile std::sig_atomic_t* signal_flag);
 SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag);
 

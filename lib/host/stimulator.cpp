@@ -34,6 +34,14 @@ const char* msg_name(device::Msg m) {
       return "status";
     case device::Msg::keepalive:
       return "keep-alive";
+    case device::Msg::configure_table:
+      return "configure-table";
+    case device::Msg::set_pattern:
+      return "set-pattern";
+    case device::Msg::set_codes:
+      return "set-codes";
+    case device::Msg::set_amplitudes:
+      return "set-amplitudes";
     default:
       return "message";
   }
@@ -100,6 +108,40 @@ void StimulatorClient::configure(const device::PulseConfig& c) {
 }
 void StimulatorClient::set_weights(const std::vector<std::int16_t>& codes) {
   request(device::Msg::set_weights, device::with_session(session_, device::encode_weights(codes)));
+}
+void StimulatorClient::configure_table(std::uint16_t patterns, std::uint8_t channels,
+                                       std::uint16_t gap_us) {
+  const std::uint32_t token = new_session_token();
+  std::vector<std::uint8_t> b;
+  device::put_u16(b, patterns);
+  b.push_back(channels);
+  device::put_u16(b, gap_us);
+  request(device::Msg::configure_table, device::with_session(token, b));
+  session_ = token;
+}
+void StimulatorClient::set_pattern(std::uint16_t index, const device::PatternTiming& t) {
+  std::vector<std::uint8_t> b;
+  device::put_u16(b, index);
+  device::put_timing(b, t);
+  request(device::Msg::set_pattern, device::with_session(session_, b));
+}
+void StimulatorClient::set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense) {
+  std::vector<std::uint8_t> b;
+  device::put_u16(b, index);
+  const auto sparse = device::encode_sparse(dense);
+  b.insert(b.end(), sparse.begin(), sparse.end());
+  request(device::Msg::set_codes, device::with_session(session_, b));
+}
+void StimulatorClient::set_amplitudes(const std::vector<std::uint16_t>& scales) {
+  // At most 96 a frame (the payload's 200 bytes): a long table in several frames.
+  for (std::size_t first = 0; first < scales.size(); first += 96) {
+    const std::size_t n = std::min<std::size_t>(96, scales.size() - first);
+    std::vector<std::uint8_t> b;
+    device::put_u16(b, static_cast<std::uint16_t>(first));
+    b.push_back(static_cast<std::uint8_t>(n));
+    for (std::size_t k = 0; k < n; ++k) device::put_u16(b, scales[first + k]);
+    request(device::Msg::set_amplitudes, device::with_session(session_, b));
+  }
 }
 void StimulatorClient::start() {
   request(device::Msg::start, device::with_session(session_, {}));

@@ -35,6 +35,12 @@ class StimulatorClient {
   // Opens a session: a fresh random non-zero token, carried by every later request.
   void configure(const device::PulseConfig& c);
   void set_weights(const std::vector<std::int16_t>& codes);
+  // Protocol 4's table: opens a session of n patterns (like configure), then each
+  // pattern's timing and its codes (sent sparse), and live amplitude scales.
+  void configure_table(std::uint16_t patterns, std::uint8_t channels, std::uint16_t gap_us);
+  void set_pattern(std::uint16_t index, const device::PatternTiming& t);
+  void set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense);
+  void set_amplitudes(const std::vector<std::uint16_t>& scales);
   void start();
   // Always honoured by the device; ends the session.
   void stop();

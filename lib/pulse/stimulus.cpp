@@ -50,6 +50,20 @@ void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
               " mA, not 0: the current would not stay local (weights must sum to zero)");
   const SafetyFigures f = safety_figures(s);
   if (f.max_net_charge_nC > 1e-9) bad_input("pulse is not charge balanced");
+  for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
+    if (f.rms_current_mA[i] > lim.max_rms_current_mA * (1 + 1e-12))
+      bad_input("channel " + std::to_string(i) + ": RMS current " +
+                number_text(f.rms_current_mA[i]) + " mA above the limit of " +
+                number_text(lim.max_rms_current_mA) + " mA (docs/safety.md)");
+  if (f.max_mean_current_mA > lim.max_mean_current_mA * (1 + 1e-12))
+    bad_input("mean current " + number_text(f.max_mean_current_mA) +
+              " mA (charge per second, both phases) above the limit of " +
+              number_text(lim.max_mean_current_mA) + " mA (docs/safety.md)");
+  if (f.shannon_k > lim.shannon_k)
+    bad_input("charge " + number_text(f.max_charge_per_phase_nC) + " nC per phase at " +
+              number_text(f.max_charge_density_uC_per_cm2) + " uC/cm2: Shannon's k " +
+              number_text(std::round(f.shannon_k * 1000) / 1000) + " above " +
+              number_text(lim.shannon_k) + " (docs/safety.md)");
 }
 
 SafetyFigures safety_figures(const Stimulus& s) {
@@ -69,11 +83,16 @@ SafetyFigures safety_figures(const Stimulus& s) {
         (c * c * p.width_us + balance_mA * balance_mA * p.balance_width_us) / p.period_us();
     f.rms_current_mA.push_back(std::sqrt(ms));
     f.max_rms_current_mA = std::max(f.max_rms_current_mA, std::sqrt(ms));
+    f.max_mean_current_mA = std::max(f.max_mean_current_mA, (main_nC + balance_nC) / p.period_us());
     sum_main += c;
   }
   f.max_instant_sum_mA = std::fabs(sum_main) * std::max(1.0, p.balance_scale());
   // nC / mm^2 -> uC / cm^2: 1 nC/mm^2 = 1e-3 uC / 1e-2 cm^2 = 0.1 uC/cm^2.
   f.max_charge_density_uC_per_cm2 = f.max_charge_per_phase_nC / s.electrode_area_mm2 * 0.1;
+  // Q in uC, D in uC/cm2; 0 for no charge (no log of 0).
+  if (f.max_charge_per_phase_nC > 0)
+    f.shannon_k =
+        std::log10(f.max_charge_density_uC_per_cm2) + std::log10(f.max_charge_per_phase_nC * 1e-3);
   return f;
 }
 
@@ -83,6 +102,7 @@ Json stimulus_to_json(const Stimulus& s) {
   j["channels"] = s.currents_mA.size();
   j["currents_mA"] = s.currents_mA;
   j["max_current_mA"] = s.max_current_mA;
+  if (s.amplitude_mA > 0) j["amplitude_mA"] = s.amplitude_mA;
   j["pulse"] = Json{{"width_us", s.shape.width_us},
                     {"interphase_us", s.shape.interphase_us},
                     {"balance_width_us", s.shape.balance_width_us},
@@ -96,7 +116,9 @@ Json stimulus_to_json(const Stimulus& s) {
                      {"max_charge_density_uC_per_cm2", f.max_charge_density_uC_per_cm2},
                      {"rms_current_mA", f.rms_current_mA},
                      {"net_charge_per_pulse_nC", f.max_net_charge_nC},
-                     {"max_instant_sum_mA", f.max_instant_sum_mA}};
+                     {"max_instant_sum_mA", f.max_instant_sum_mA},
+                     {"mean_current_mA", f.max_mean_current_mA},
+                     {"shannon_k", f.shannon_k}};
   for (auto it = s.carried.begin(); it != s.carried.end(); ++it) j[it.key()] = it.value();
   return j;
 }
@@ -128,6 +150,11 @@ Stimulus stimulus_from_json(const Json& j) {
   s.count = json_int(j["count"], "count");
   if (j.contains("max_current_mA"))
     s.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
+  if (j.contains("amplitude_mA")) {
+    s.amplitude_mA = json_finite(j["amplitude_mA"], "amplitude_mA");
+    if (!(s.amplitude_mA > 0 && s.amplitude_mA <= StimulusLimits{}.max_current_mA))
+      bad_input("amplitude_mA: " + number_text(s.amplitude_mA) + " mA outside (0, 2] mA");
+  }
   if (j.contains("electrode_area_mm2"))
     s.electrode_area_mm2 = json_finite(j["electrode_area_mm2"], "electrode_area_mm2");
   if (!(s.electrode_area_mm2 >= 1e-4 && s.electrode_area_mm2 <= 1e4))
@@ -135,7 +162,7 @@ Stimulus stimulus_from_json(const Json& j) {
               " mm2 outside [0.0001, 10000] mm2");
   static const std::set<std::string> own = {
       "format", "channels",   "currents_mA",        "max_current_mA", "pulse",
-      "count",  "duration_s", "electrode_area_mm2", "safety"};
+      "count",  "duration_s", "electrode_area_mm2", "safety",         "amplitude_mA"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!own.count(it.key())) s.carried[it.key()] = it.value();
   return s;

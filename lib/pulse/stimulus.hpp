@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "device/protocol.hpp"
 #include "io/json.hpp"
 
 namespace tp {
@@ -35,6 +36,20 @@ struct StimulusLimits {
   double min_frequency_hz = 0.1;
   double max_duration_s = 3600.0;
   double sum_tolerance_mA = 1e-6;  // |Sum of channel currents| at any instant
+  // Per electrode, over time (the device's bounds, docs/safety.md): the RMS current and the
+  // mean absolute current (charge per second, both phases), summed over a mix's patterns.
+  double max_rms_current_mA = device_bound_mA(device::hard::max_rms_uA);
+  double max_mean_current_mA = device_bound_mA(device::hard::max_mean_uA);
+  // A mix's scheduling (docs/protocol.md, "Scheduling"): the least gap between pulses of
+  // different patterns and the longest a pulse may be deferred; a device may report
+  // tighter ones.
+  double min_gap_us = device::hard::min_gap_us;
+  double max_slip_us = device::hard::max_slip_us;
+  // Shannon's criterion for the charge per phase Q (uC) and its density D = Q / electrode
+  // area (uC/cm2): log10 D + log10 Q <= k (R. V. Shannon, IEEE Trans. Biomed. Eng. 39(4):
+  // 424-426, 1992: k = 1.85, the usual limit).
+  double shannon_k = 1.85;
+  static double device_bound_mA(std::uint16_t uA) { return uA * 1e-3; }
 };
 
 struct Stimulus {
@@ -43,6 +58,8 @@ struct Stimulus {
   long count = 0;                   // number of pulses
   double electrode_area_mm2 = 5.0;  // for the charge density (paper: 0.5 x 10 mm)
   double max_current_mA = 2.0;      // the limit the stimulus was made for
+  double amplitude_mA = 0.0;        // make-pulse's --amplitude (|weight| 1); 0: not known
+  double phase_us = 0.0;            // in a mix: its first pulse after the start
   Json carried = Json::object();    // e.g. mode, from the weights document
   double duration_s() const { return static_cast<double>(count) / shape.frequency_hz; }
 };
@@ -56,8 +73,10 @@ struct SafetyFigures {
   double max_charge_per_phase_nC = 0;
   double max_charge_density_uC_per_cm2 = 0;
   double max_rms_current_mA = 0;
-  double max_net_charge_nC = 0;   // per pulse per channel, must be 0
-  double max_instant_sum_mA = 0;  // |Sum over channels| at any instant
+  double max_net_charge_nC = 0;    // per pulse per channel, must be 0
+  double max_instant_sum_mA = 0;   // |Sum over channels| at any instant
+  double max_mean_current_mA = 0;  // the charge both phases carry per second
+  double shannon_k = 0;            // log10 D + log10 Q of the largest charge per phase
   std::vector<double> charge_per_phase_nC;
   std::vector<double> rms_current_mA;
 };

@@ -23,12 +23,17 @@ if(NOT TP_SANITIZE)
 foreach(script pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
                pty-live pty-lost-device pty-protocol pty-session pty-signal-before-start
                pty-device-bounds pty-live-limits pty-timing pty-current-limit pty-replay-keepalive
-               pty-rates)
+               pty-rates pty-mix pty-table256)
   add_test(NAME firmware.${script} COMMAND ${TP_CHECK} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(firmware.${script} PROPERTIES
     ENVIRONMENT "${TP_CLI_ENV};TP_DEVICE=firmware;TP_FIRMWARE=${TP_FIRMWARE_ELF}"
     LABELS "firmware" RUN_SERIAL TRUE TIMEOUT 300 SKIP_RETURN_CODE 77)
 endforeach()
+# The device core's scheduling cost on the MCU, bounded (sched_bench.cpp, in QEMU).
+add_test(NAME firmware.sched-bench COMMAND ${TP_CHECK} script ${CMAKE_CURRENT_SOURCE_DIR}/firmware/sched-bench.sh)
+set_tests_properties(firmware.sched-bench PROPERTIES
+  ENVIRONMENT "${TP_CLI_ENV};TP_DEVICE=firmware;TP_FIRMWARE=${TP_FIRMWARE_ELF}"
+  LABELS "firmware" RUN_SERIAL TRUE TIMEOUT 120 SKIP_RETURN_CODE 77)
 # The other board file builds too (a board is a file, not a fork).
 if(TP_ARM_GXX)
   set(dir ${CMAKE_CURRENT_BINARY_DIR}/firmware-stm32f4discovery)

@@ -27,3 +27,15 @@ tp_cli_test(make-pulse plot script ${CMAKE_CURRENT_SOURCE_DIR}/make-pulse/plot.s
 # A stimulator drives at most 64 channels: a 2-D design with more pads is refused.
 tp_cli_test(make-pulse refuses-more-than-64-pads refuses 2 --says "at most 64"
   --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/grid-9x8.json -- make-pulse --amplitude 1)
+# docs/safety.md's bounds on a single stimulus, each alone: Shannon's k (2 mA for 1000 us on
+# 5 mm2: k = 1.90 > 1.85; 800 us, k = 1.71, passes: stimctl.mix-emu's heavy pattern), and the
+# mean current (1.2 mA, 340 + 340 us at 1 kHz: 0.816 mA mean, above 0.8, while its RMS,
+# 0.99 mA, is within 1 mA).
+tp_cli_test(make-pulse refuses-shannon-k refuses 2 --stdin ${W} --says "Shannon's k 1.903 above 1.85"
+  -- make-pulse --amplitude 2 --width 1000 --balance-width 1000 --frequency 10)
+tp_cli_test(make-pulse refuses-mean-current refuses 2 --stdin ${W} --says "mean current 0.816 mA"
+  -- make-pulse --amplitude 1.2 --width 340 --balance-width 340 --frequency 1000)
+# and the RMS current alone: 2 mA, 200 + 200 us at 1 kHz is 1.26 mA RMS (its mean, 0.8 mA,
+# is at the bound).  The limits before issue 22 let it through (docs/safety.md).
+tp_cli_test(make-pulse refuses-rms-current refuses 2 --stdin ${W} --says "RMS current 1.264911064 mA"
+  -- make-pulse --amplitude 2 --frequency 1000)

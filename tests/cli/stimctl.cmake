@@ -3,10 +3,13 @@ tp_cli_smoke(stim-emu)
 set(IN ${CMAKE_CURRENT_SOURCE_DIR}/inputs)
 
 # Refused before anything is started (the pty scripts check that nothing is delivered).
+# rms-as-quantised: RMS 0.99999999 mA in mA, 1.0003 mA as the DAC makes it (1448 codes of
+# 977 nA): the device would refuse it, so the host does first.
 tp_cli_test(stimctl refuses-malformed-json refuses 2 --stdin ${IN}/malformed.json -- stimctl --port emu)
 tp_cli_test(stimctl refuses-weights-document refuses 2 --stdin ${IN}/sai-weights.json -- stimctl --port emu)
 tp_cli_test(stimctl refuses-over-limit refuses 2 --stdin ${IN}/stimulus-over-limit.json -- stimctl --port emu)
 tp_cli_test(stimctl refuses-unbalanced refuses 2 --stdin ${IN}/stimulus-unbalanced.json -- stimctl --port emu)
+tp_cli_test(stimctl refuses-rms-as-quantised refuses 2 --stdin ${IN}/stimulus-rms-as-quantised.json --says "as the DAC makes them" -- stimctl --port emu)
 tp_cli_test(stimctl refuses-live-without-stimulus refuses 2 -- stimctl --port emu --live)
 tp_cli_test(stimctl refuses-missing-port refuses 2 --stdin ${IN}/stimulus-unbalanced.json -- stimctl --port /dev/tp-no-such-port)
 tp_cli_test(stimctl refuses-bad-duration refuses 2 --stdin ${IN}/stimulus-unbalanced.json -- stimctl --port emu --duration -1)
@@ -32,9 +35,10 @@ tp_cli_test(stimctl refuses-dev-null-libserialport refuses 2 --stdin ${S} -- sti
 tp_cli_test(stimctl refuses-directory-port refuses 2 --stdin ${S} -- stimctl --port /tmp)
 tp_cli_test(stimctl refuses-65-channels refuses 2 --stdin ${IN}/stimulus-65-channels.json -- stimctl --port emu --emu-channels 64)
 
-foreach(script pipeline-emu pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
+foreach(script pipeline-emu mix-emu mix-refusals pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
                pty-live pty-lost-device list-ports pty-protocol pty-session pty-signal-before-start
-               pty-device-bounds pty-live-limits pty-current-limit pty-replay-keepalive pty-rates)
+               pty-device-bounds pty-live-limits pty-current-limit pty-replay-keepalive pty-rates
+               pty-mix pty-table256)
   tp_cli_test(stimctl ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(stimctl.${script} PROPERTIES TIMEOUT 120)
 endforeach()

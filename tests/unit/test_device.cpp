@@ -15,6 +15,7 @@
 #include "device/config_block.hpp"
 #include "device/device_core.hpp"
 #include "device/pulse_record.hpp"
+#include "device_support.hpp"
 #include "host/session.hpp"
 #include "host/stimulator.hpp"
 #include "pulse/stimulus.hpp"
@@ -23,31 +24,6 @@ using namespace tp;
 using namespace tp::device;
 
 namespace {
-
-std::vector<std::uint8_t> frame_bytes(std::uint8_t seq, Msg type,
-                                      const std::vector<std::uint8_t>& payload) {
-  std::vector<std::uint8_t> out;
-  encode_frame(Frame{seq, static_cast<std::uint8_t>(type), payload}, out);
-  return out;
-}
-
-// Sends one request to the core and returns the ack's result.
-Result send(DeviceCore& core, std::uint8_t seq, Msg type, const std::vector<std::uint8_t>& payload,
-            std::uint64_t now_us, std::vector<std::uint8_t>* body = nullptr) {
-  const auto bytes = frame_bytes(seq, type, payload);
-  std::vector<std::uint8_t> out;
-  core.receive(bytes.data(), bytes.size(), now_us, out);
-  FrameDecoder d;
-  for (std::uint8_t b : out)
-    if (d.push(b)) {
-      REQUIRE(d.frame().type == static_cast<std::uint8_t>(Msg::ack));
-      REQUIRE(d.frame().seq == seq);
-      if (body) body->assign(d.frame().payload.begin() + 2, d.frame().payload.end());
-      return static_cast<Result>(d.frame().payload[1]);
-    }
-  FAIL("no acknowledgement");
-  return Result::ok;
-}
 
 constexpr std::uint32_t kToken = 0xC0FFEE01u;
 std::vector<std::uint8_t> token() {
@@ -705,6 +681,17 @@ TEST_CASE("balancing codes sum to zero and stay within one code of the exact cha
       if (bw == w) REQUIRE(bal[i] == -main[i]);
     }
   }
+  // At the ends of the ranges: 16-bit codes, widths up to 65535 us (|code| x width just
+  // below 2^31, computed in 32 bits).
+  const std::int16_t ends[4] = {-32767, 32766, 1, 0};  // a device's codes: |code| <= 32767
+  for (std::uint16_t w : {std::uint16_t{1}, std::uint16_t{65535}})
+    for (std::uint16_t bw : {std::uint16_t{65535}, std::uint16_t{65534}, std::uint16_t{1}}) {
+      if (bw < w) continue;
+      std::int16_t bal[4];
+      balance_codes(CodeSpan{ends, 4}, w, bw, bal);
+      CHECK(bal[0] + bal[1] + bal[2] + bal[3] == 0);
+      for (int i = 0; i < 4; ++i) CHECK(std::fabs(bal[i] + double(ends[i]) * w / bw) < 1.0);
+    }
 }
 
 TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
@@ -722,10 +709,14 @@ TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
   char line[kMaxRecordLine];
   const std::string s(line, format_record(r, line));
   CHECK(s ==
-        "{\"t_s\": 1.234567, \"currents_mA\": [1.000448, -0.500224, -0.500224], "
-        "\"net_charge_nC\": [0, 0, 0]}\n");
+        "{\"pattern\": 0, \"t_s\": 1.234567, \"slip_us\": 0, \"width_us\": 200, "
+        "\"interphase_us\": 0, \"balance_width_us\": 800, "
+        "\"currents_mA\": [1.000448, -0.500224, -0.500224], \"net_charge_nC\": [0, 0, 0]}\n");
   r.t_us = 5000;
-  CHECK(std::string(line, format_record(r, line)).rfind("{\"t_s\": 0.005, ", 0) == 0);
+  r.pattern = 255;
+  r.slip_us = 350;
+  CHECK(std::string(line, format_record(r, line))
+            .rfind("{\"pattern\": 255, \"t_s\": 0.005, \"slip_us\": 350, ", 0) == 0);
   r.main[0] = 1023;
   r.main[2] = -511;
   balance_codes(CodeSpan{r.main, 3}, 200, 800, r.balance);  // 1023/4: a remainder
@@ -745,6 +736,8 @@ TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
   // The widest record fits.
   PulseRecord big;
   big.t_us = UINT64_MAX / 2;
+  big.pattern = UINT16_MAX;
+  big.slip_us = UINT32_MAX;
   big.channels = kMaxChannels;
   for (auto& c : big.main) c = -32767;
   for (auto& c : big.balance) c = -32767;
@@ -754,7 +747,24 @@ TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
   big.start_us = UINT64_MAX;
   big.measured_width_us = big.measured_interphase_us = big.measured_balance_us = UINT32_MAX;
   big.dropped_before = UINT32_MAX;
-  CHECK(format_record(big, line) <= kMaxRecordLine);
+  const std::size_t len = format_record(big, line);
+  CHECK(len <= kMaxRecordLine);
+  // Exactly, digit for digit, past 32 bits (the 64-bit paths of the formatter).
+  const std::string b(line, len);
+  CHECK(b.find("\"t_s\": 9223372036854.775807,") != std::string::npos);
+  CHECK(b.find("\"slip_us\": 4294967295,") != std::string::npos);
+  CHECK(b.find("\"currents_mA\": [-2147.385345, ") != std::string::npos);  // -32767 x 65535 nA
+  // -32767 x 65535 nA x 65535 us, twice: -281457797169150 fC, no trailing zero
+  CHECK(b.find("\"net_charge_nC\": [-281457797.16915, ") != std::string::npos);
+  CHECK(b.find("\"start_us\": 18446744073709551615,") != std::string::npos);
+  CHECK(b.find("\"dropped_before\": 4294967295}") != std::string::npos);
+  CHECK_NOTHROW(nlohmann::json::parse(b));
+  big.start_us = 1000000000;  // nine zeros after the leading digits
+  CHECK(std::string(line, format_record(big, line)).find("\"start_us\": 1000000000,") !=
+        std::string::npos);
+  big.start_us = 4294967296;  // 2^32
+  CHECK(std::string(line, format_record(big, line)).find("\"start_us\": 4294967296,") !=
+        std::string::npos);
 }
 
 TEST_CASE("the firmware's configuration block: defaults, a valid block, and refusals",

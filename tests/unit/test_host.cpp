@@ -247,6 +247,27 @@ TEST_CASE("a live frame that names currents_mA twice is refused", "[host][live]"
   }
 }
 
+TEST_CASE("a live frame is checked as the device checks its codes: RMS as the DAC makes it",
+          "[host][live]") {
+  Stimulus s = test_stimulus();
+  s.shape.width_us = s.shape.balance_width_us = 250;
+  s.shape.frequency_hz = 1000;
+  const device::Capabilities caps;  // 977 nA a code
+  const StimulusLimits lim;
+  // 1.41421356 mA, 250 + 250 us at 1 kHz: RMS 0.99999999 mA; 1448 codes make 1.0003 mA.
+  const std::string over = "{\"currents_mA\": [0, 0, 0, 0, -0.70710678, 0, 1.41421356, -0.70710678]}";
+  try {
+    host::parse_live_frame(over, 4, s, lim, caps);
+    FAIL("accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::bad_input);
+    CHECK_THAT(e.what(), Catch::Matchers::StartsWith("input line 4: electrode 6: RMS 1.0003"));
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("as the DAC makes them"));
+  }
+  const std::string under = "{\"currents_mA\": [0, 0, 0, 0, -0.7066, 0, 1.4132, -0.7066]}";
+  CHECK(host::parse_live_frame(under, 5, s, lim, caps)[6] == 1446);
+}
+
 TEST_CASE("live frames: random JSON is a checked frame or bad input, nothing else",
           "[host][live][fuzz]") {
   SplitMix64 rng{7};
@@ -314,6 +335,17 @@ TEST_CASE("live frames: random JSON is a checked frame or bad input, nothing els
       }
       CHECK(sum == 0);
       CHECK(codes.size() == 8);
+      // and what the device's own load check accepts
+      device::ChannelLoad load;
+      std::vector<std::uint8_t> ch;
+      std::vector<std::int16_t> nz;
+      for (std::size_t i = 0; i < codes.size(); ++i)
+        if (codes[i] != 0) {
+          ch.push_back(static_cast<std::uint8_t>(i));
+          nz.push_back(codes[i]);
+        }
+      load.add(ch.data(), nz.data(), ch.size(), pattern_timing(s, 0), +1);
+      CHECK(load.within(caps));
     } catch (const Error& e) {
       CHECK(e.code() == ExitCode::bad_input);
     }

@@ -1,0 +1,82 @@
+// mix-stimuli: several stimulus documents (make-pulse's) as one, whose patterns the device
+// interleaves, each at its own rate and amplitude.
+//
+//   optimize-weights --mode RA  | make-pulse --amplitude 0.8 --frequency 30  --duration 2 > ra.json
+//   optimize-weights --mode SAI | make-pulse --amplitude 1.2 --frequency 200 --duration 2 > sai.json
+//   mix-stimuli ra.json sai.json | stimctl --port emu --duration 2
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli/entry.hpp"
+#include "core/error.hpp"
+#include "io/number.hpp"
+#include "pulse/mix.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Reads stimulus documents (make-pulse's JSON; - for stdin, at most once) and prints one "
+      "stimulus of their patterns, which the device interleaves: pulses in the order of their "
+      "slots, never overlapping, each deferred at most 1 ms behind another's.  Checked as a "
+      "whole before anything is printed: every pattern as a stimulus, one channel count, and "
+      "per electrode the RMS and mean currents summed over the patterns (docs/safety.md), "
+      "the time the pulses and gaps need, and the longest deferral (docs/protocol.md).",
+      "mix-stimuli"};
+  std::vector<std::string> inputs;
+  std::string gap = "100", phases;
+  app.add_option("inputs", inputs, "Stimulus documents, in pattern order (1 to 256)")
+      ->required()
+      ->type_name("FILE");
+  app.add_option("--gap", gap,
+                 "Least time between pulses of different patterns, us, 100 to 1000 [100]")
+      ->type_name("US");
+  app.add_option("--phase", phases,
+                 "Each pattern's first pulse after the start, us, comma-separated, each below "
+                 "its period [staggered: each after the previous patterns' pulses and gaps]")
+      ->type_name("US,...");
+
+  return tp::cli::run(app, argc, argv, [&] {
+    if (inputs.size() > tp::device::kMaxPatterns)
+      tp::bad_input(std::to_string(inputs.size()) + " inputs, more than a device holds (" +
+                    std::to_string(tp::device::kMaxPatterns) + " patterns)");
+    int stdin_uses = 0;
+    for (const std::string& f : inputs) stdin_uses += f == "-";
+    if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
+    tp::Mix mix;
+    mix.gap_us = tp::parse_finite(gap, "--gap");
+    for (const std::string& f : inputs) {
+      const tp::Mix one = tp::mix_from_json(tp::read_json(f, "stimulus"));
+      if (!one.single()) tp::bad_input(f + ": already a mix; give its parts");
+      mix.patterns.push_back(one.patterns[0]);
+    }
+    if (!phases.empty()) {
+      const std::vector<double> p = tp::parse_list(phases, "--phase");
+      if (p.size() != mix.patterns.size())
+        tp::bad_input("--phase: " + std::to_string(p.size()) + " phases for " +
+                      std::to_string(mix.patterns.size()) + " patterns");
+      for (std::size_t i = 0; i < p.size(); ++i) mix.patterns[i].phase_us = p[i];
+    } else {
+      // Staggered: no two first pulses fall due together.
+      double t = 0;
+      for (tp::Stimulus& s : mix.patterns) {
+        s.phase_us = t < s.shape.period_us() ? t : 0;
+        t += s.shape.length_us() + mix.gap_us;
+      }
+    }
+    tp::check_mix(mix, tp::StimulusLimits{});
+    const tp::MixFigures f = tp::mix_figures(mix);
+    double rms = 0, mean = 0;
+    for (double v : f.rms_current_mA) rms = std::max(rms, v);
+    for (double v : f.mean_current_mA) mean = std::max(mean, v);
+    std::fprintf(stderr,
+                 "mix-stimuli: %zu patterns on %zu channels, %s s; per electrode at most RMS %s "
+                 "mA, mean %s mA; pulses and gaps %s %% of the time, deferral at most %s us\n",
+                 mix.patterns.size(), mix.patterns[0].currents_mA.size(),
+                 tp::number_text(mix.duration_s()).c_str(), tp::number_text(rms).c_str(),
+                 tp::number_text(mean).c_str(),
+                 tp::number_text(std::round(f.utilisation * 1000) / 10).c_str(),
+                 tp::number_text(f.worst_slip_us).c_str());
+    tp::cli::write_stdout(tp::dump_json(tp::mix_to_json(mix)));
+  });
+}
