@@ -40,6 +40,24 @@ StimulusLimits device_limits(StimulusLimits l, const device::Capabilities& c) {
   return l;
 }
 
+// A pattern's pulse count: its own, cut by --duration; in live mode --duration's (or the
+// duration limit's).  In double first (bounded by the duration limit and the rate limit),
+// so that the conversion to the device's 32-bit count cannot wrap.
+double pulse_count(const Stimulus& p, const SessionOptions& opt, const StimulusLimits& lim,
+                   const char* too_short) {
+  const double max_s = opt.limits.max_duration_s;
+  const double f = p.shape.frequency_hz;
+  double n = static_cast<double>(p.count);
+  if (opt.live)
+    n = std::floor((opt.duration_s > 0 ? opt.duration_s : max_s) * f + 0.5);
+  else if (opt.duration_s > 0)
+    n = std::min(n, std::floor(opt.duration_s * f + 0.5));
+  if (n < 1) bad_input(too_short);
+  if (!(n <= max_s * lim.max_frequency_hz + 1))
+    bad_input("stimulus: " + number_text(n) + " pulses exceed the duration limit");
+  return n;
+}
+
 // Adds a pattern's dense codes to the load, as the device adds its sparse ones.
 void add_codes(device::ChannelLoad& load, const std::vector<std::int16_t>& codes,
                const device::PatternTiming& t) {
@@ -180,17 +198,7 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
               " channels; the device has " + std::to_string(rep.caps.channels));
   const StimulusLimits lim = device_limits(opt.limits, rep.caps);
   check_mix(m, lim);
-  // Pulse counts in double first (bounded by the duration limit and the rate limit), so
-  // that the conversion to the device's 32-bit count cannot wrap.
-  const double f = s.shape.frequency_hz;
-  double count = static_cast<double>(s.count);
-  if (opt.live)
-    count = std::floor((opt.duration_s > 0 ? opt.duration_s : max_s) * f + 0.5);
-  else if (opt.duration_s > 0)
-    count = std::min(count, std::floor(opt.duration_s * f + 0.5));
-  if (count < 1) bad_input("--duration: shorter than one pulse period");
-  if (!(count <= max_s * lim.max_frequency_hz + 1))
-    bad_input("stimulus: " + number_text(count) + " pulses exceed the duration limit");
+  const double count = pulse_count(s, opt, lim, "--duration: shorter than one pulse period");
   device::PulseConfig cfg;
   cfg.width_us = whole_us(s.shape.width_us, "pulse width");
   cfg.interphase_us = whole_us(s.shape.interphase_us, "interphase gap");
@@ -244,15 +252,8 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
     device::ChannelLoad load;
     std::size_t entries = 0;
     for (const Stimulus& p : m.patterns) {
-      const double f_p = p.shape.frequency_hz;
-      double n_p = static_cast<double>(p.count);
-      if (opt.live)
-        n_p = std::floor((opt.duration_s > 0 ? opt.duration_s : max_s) * f_p + 0.5);
-      else if (opt.duration_s > 0)
-        n_p = std::min(n_p, std::floor(opt.duration_s * f_p + 0.5));
-      if (n_p < 1) bad_input("--duration: shorter than one period of a pattern");
-      if (!(n_p <= max_s * lim.max_frequency_hz + 1))
-        bad_input("stimulus: " + number_text(n_p) + " pulses exceed the duration limit");
+      const double n_p =
+          pulse_count(p, opt, lim, "--duration: shorter than one period of a pattern");
       timings.push_back(pattern_timing(p, static_cast<long>(n_p)));
       const device::PatternTiming& t = timings.back();
       if (t.period_us < std::ceil(1e6 / rep.caps.max_rate_hz) || !device::phase_fits(t, rep.caps))
