@@ -1,0 +1,122 @@
+// The calibration's adaptive procedure (lib/psych/staircase.hpp) against simulated
+// observers: a deterministic one (its threshold found within the final step), stochastic
+// ones (the staircase's mean estimate on the point Levitt's rule converges on), and the
+// safety rules (never above the ceiling, no step up larger than the bound).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.hpp"
+#include "psych/staircase.hpp"
+
+using namespace tp;
+
+namespace {
+
+// Runs a staircase to its end against an observer answer(level).
+template <class Observer>
+Staircase run(const StaircaseOptions& o, Observer&& answer) {
+  Staircase s(o);
+  while (!s.done()) s.respond(answer(s.level_mA()));
+  return s;
+}
+
+void check_safety(const Staircase& s, const StaircaseOptions& o) {
+  const auto& t = s.trials();
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    REQUIRE(t[k].level_mA <= o.ceiling_mA);
+    if (k > 0) REQUIRE(t[k].level_mA <= t[k - 1].level_mA * o.max_step_up * (1 + 1e-12));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a deterministic observer's threshold is found within the final step",
+          "[psych][staircase]") {
+  StaircaseOptions o;
+  o.ceiling_mA = 1.5;
+  for (double hidden : {0.11, 0.37, 0.9, 1.3}) {
+    const Staircase s = run(o, [&](double level) { return level > hidden; });
+    INFO("hidden threshold " << hidden);
+    REQUIRE(s.found());
+    check_safety(s, o);
+    const double final_step = std::sqrt(o.step_factor);
+    CHECK(s.estimate_mA() >= hidden / final_step);
+    CHECK(s.estimate_mA() <= hidden * final_step);
+    CHECK(s.trials().front().ascending);
+    CHECK(s.trials().size() < 60u);
+  }
+}
+
+TEST_CASE("the mean estimate lies on the point the n-down-1-up rule converges on",
+          "[psych][staircase]") {
+  // A logistic psychometric function in log level: P(yes) = 1 / (1 + exp(-(ln L - ln T) /
+  // s)).  n-down-1-up converges where P^n = 1/2 (Levitt 1971): P = 0.5, 0.707, 0.794.
+  const double T = 0.4, slope = 0.08;
+  for (int down : {1, 2, 3}) {
+    StaircaseOptions o;
+    o.down = down;
+    o.reversals = 14;
+    o.max_trials = 300;
+    const double p = std::pow(0.5, 1.0 / down);
+    const double target = T * std::exp(slope * std::log(p / (1 - p)));
+    std::mt19937_64 rng(40 + down);
+    std::uniform_real_distribution<double> u(0, 1);
+    double log_sum = 0;
+    int found = 0;
+    for (int run_k = 0; run_k < 2000; ++run_k) {
+      const Staircase s = run(o, [&](double level) {
+        return u(rng) < 1 / (1 + std::exp(-(std::log(level) - std::log(T)) / slope));
+      });
+      if (!s.found()) continue;
+      check_safety(s, o);
+      log_sum += std::log(s.estimate_mA());
+      ++found;
+    }
+    INFO(down << "-down-1-up: target " << target << " mA");
+    REQUIRE(found > 1900);
+    CHECK(std::exp(log_sum / found) ==
+          Approx(target).epsilon(0.015));  // 2- and 3-down: 3.8 % apart
+  }
+}
+
+TEST_CASE("nothing felt up to the ceiling: not found, and the ceiling never passed",
+          "[psych][staircase]") {
+  StaircaseOptions o;
+  o.start_mA = 0.1;
+  o.ceiling_mA = 0.6;
+  const Staircase s = run(o, [](double) { return false; });
+  CHECK_FALSE(s.found());
+  check_safety(s, o);
+  CHECK(s.trials().back().level_mA == o.ceiling_mA);
+  // 0.1 x 1.25^k while below 0.6 (nine levels, to 0.596), then 0.6 itself
+  CHECK(s.trials().size() == 10u);
+  // Felt only at the ceiling: the staircase runs there, never above.
+  const Staircase t = run(o, [&](double level) { return level >= o.ceiling_mA; });
+  check_safety(t, o);
+  CHECK(t.found());
+  CHECK(t.estimate_mA() <= o.ceiling_mA);
+}
+
+TEST_CASE("staircase options outside their ranges are bad input", "[psych][staircase]") {
+  auto refused = [](auto change, const char* says) {
+    StaircaseOptions o;
+    change(o);
+    try {
+      Staircase s(o);
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::bad_input);
+      CHECK_THAT(e.what(), Catch::Matchers::StartsWith(says));
+    }
+  };
+  refused([](StaircaseOptions& o) { o.ceiling_mA = 2.5; }, "ceiling 2.5 outside (0, 2]");
+  refused([](StaircaseOptions& o) { o.start_mA = 1.2; }, "start level 1.2 outside (0, 1]");
+  refused([](StaircaseOptions& o) { o.ascend_factor = 1.6; }, "ascending step 1.6 outside");
+  refused([](StaircaseOptions& o) { o.step_factor = 1.0; }, "staircase step 1 outside");
+  refused([](StaircaseOptions& o) { o.max_step_up = 3; }, "largest step up 3 outside");
+  refused([](StaircaseOptions& o) { o.down = 4; }, "down count 4 outside [1, 3]");
+  refused([](StaircaseOptions& o) { o.reversals = 2; }, "reversals 2 outside [4, 30]");
+  refused([](StaircaseOptions& o) { o.start_mA = std::nan(""); }, "start level ");
+}
