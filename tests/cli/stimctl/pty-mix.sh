@@ -30,13 +30,18 @@ start_emu --record live.jsonl
 sleep 0.2
 stop_emu
 grep -q "2 weight frames" live.err || fail "live: $(cat live.err)"
-ra() { jq -s "map(select(.pattern == 0 and $1) | .currents_mA[6]) | $2" live.jsonl; }
-[[ $(ra '.t_s < 0.4' 'map(. > 0.799 and . < 0.801) | all and length > 3') == true ]] || fail "RA before the fade: $(ra '.t_s < 0.4' '.')"
-[[ $(ra '.t_s > 0.65 and .t_s < 0.9' 'map(. > 0.399 and . < 0.401) | all and length > 3') == true ]] || fail "RA at 0.4 mA: $(ra '.t_s > 0.65 and .t_s < 0.9' '.')"
-[[ $(ra '.t_s > 1.15' 'map(. == 0) | all and length > 3') == true ]] || fail "RA faded out: $(ra '.t_s > 1.15' '.')"
+# RA's currents in the order delivered, not at fixed times (the device's clock starts when
+# stimctl has started it, later than the frames' producer, by however long that took): a
+# run of 0.8 mA, then of 0.4 mA, then of 0, each of at least 3 pulses, nothing else.
+runs=$(jq -sc 'map(select(.pattern == 0) | .currents_mA[6]
+                   | if . > 0.799 and . < 0.801 then 8 elif . > 0.399 and . < 0.401 then 4
+                     elif . == 0 then 0 else . end)
+               | reduce .[] as $x ([]; if length > 0 and .[-1][0] == $x then .[-1][1] += 1 else . + [[$x, 1]] end)' live.jsonl)
+[[ $(jq -c 'map(.[0])' <<< "$runs") == '[8,4,0]' && $(jq 'map(.[1] >= 3) | all' <<< "$runs") == true ]] \
+  || fail "RA's fade, as [value x 10, pulses] runs: $runs"
 [[ $(jq -s 'map(select(.pattern == 1) | .currents_mA[3] > 1.199 and .currents_mA[3] < 1.201) | all' live.jsonl) == true ]] \
   || fail "SAI did not hold"
-echo "ok: RA faded 0.8 -> 0.4 -> 0 mA while SAI held 1.2 mA"
+echo "ok: RA faded 0.8 -> 0.4 -> 0 mA while SAI held 1.2 mA (runs: $runs)"
 # Each refused frame: stimctl exits 2 naming the problem; RA ran before it at 0.8 mA and
 # nothing ran on after it.
 for case in '{"amplitudes": [0.81, 1.2]}|outside \[0, 0.8\] mA' '{"amplitudes": [0.5]}|1 amplitudes for 2 patterns' \
@@ -44,16 +49,16 @@ for case in '{"amplitudes": [0.81, 1.2]}|outside \[0, 0.8\] mA' '{"amplitudes": 
   bad=${case%|*} says=${case##*|}
   start_emu --record bad.jsonl
   rc=0
-  { sleep 0.3; echo "$bad"; sleep 1; } | stimctl --port "$PORT" --live --stimulus mix.json 2> bad.err || rc=$?
+  { sleep 0.5; echo "$bad"; sleep 1; } | stimctl --port "$PORT" --live --stimulus mix.json 2> bad.err || rc=$?
   sleep 0.1
   stop_emu
   [[ $rc -eq 2 ]] || fail "'$bad': exit $rc: $(cat bad.err)"
   grep -q "$says" bad.err || fail "'$bad': $(cat bad.err)"
-  [[ $(jq -s 'map(select(.pattern == 0)) | length' bad.jsonl) -ge 5 ]] || fail "'$bad': RA did not run before it"
+  [[ $(jq -s 'map(select(.pattern == 0)) | length' bad.jsonl) -ge 3 ]] || fail "'$bad': RA did not run before it"
   [[ $(jq -s 'map(select(.pattern == 0) | .currents_mA[6] > 0.799 and .currents_mA[6] < 0.801) | all' bad.jsonl) == true ]] \
     || fail "'$bad' changed RA's currents"
   last=$(tail -1 bad.jsonl | jq .t_s)
-  awk -v t="$last" 'BEGIN { exit !(t < 0.45) }' || fail "'$bad': output ran on to $last s"
+  awk -v t="$last" 'BEGIN { exit !(t < 0.65) }' || fail "'$bad': output ran on to $last s"
   echo "ok: '$bad' refused: $(tail -1 bad.err)"
 done
 
