@@ -41,7 +41,7 @@ std::string read_capped(int fd, const std::string& what, const std::string& name
 
 }  // namespace
 
-Json read_json(const std::string& path, const std::string& what) {
+std::string read_input(const std::string& path, const std::string& what, const std::string& kind) {
   const std::string name = path == "-" ? "stdin" : "'" + path + "'";
   std::string text;
   if (path == "-") {
@@ -51,23 +51,28 @@ Json read_json(const std::string& path, const std::string& what) {
       bad_input(what + " - and " + first_reader +
                 " - both read stdin, which can be read once: give one of them as a file");
     first_reader = what;
-    text = read_capped(0, what, name);
-  } else {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) bad_input(what + ": cannot open " + name + ": " + std::strerror(errno));
-    struct stat st {};
-    if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
-      ::close(fd);
-      bad_input(what + ": " + name + " is a directory, not a JSON file");
-    }
-    try {
-      text = read_capped(fd, what, name);
-    } catch (...) {
-      ::close(fd);
-      throw;
-    }
-    ::close(fd);
+    return read_capped(0, what, name);
   }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) bad_input(what + ": cannot open " + name + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+    ::close(fd);
+    bad_input(what + ": " + name + " is a directory, not " + kind);
+  }
+  try {
+    text = read_capped(fd, what, name);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  ::close(fd);
+  return text;
+}
+
+Json read_json(const std::string& path, const std::string& what) {
+  const std::string name = path == "-" ? "stdin" : "'" + path + "'";
+  const std::string text = read_input(path, what, "a JSON file");
   return parse_json_text(text, what, name);
 }
 

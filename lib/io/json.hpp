@@ -23,6 +23,9 @@ inline constexpr std::size_t kMaxJsonKeys = 1000;
 // range of a double are bad input (exit 2), with a one-line message.  stdin is read once
 // per process: a second "-" is bad input naming both readers (never "stdin is empty").
 Json read_json(const std::string& path, const std::string& what);
+// The bytes of a file, or of stdin for "-" (once per process), at most kMaxDocumentBytes:
+// bad input naming `what` otherwise (`kind`: what a directory is not, "a JSON file").
+std::string read_input(const std::string& path, const std::string& what, const std::string& kind);
 // The parsing half of read_json: `name` says where the text came from.
 Json parse_json_text(const std::string& text, const std::string& what, const std::string& name);
 // The parser both use: nesting deeper than kMaxJsonDepth and an object key given twice
