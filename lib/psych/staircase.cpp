@@ -21,7 +21,7 @@ void in_range(double v, double lo, double hi, bool lo_open, const std::string& w
 
 void check_staircase_options(const StaircaseOptions& o) {
   in_range(o.ceiling_mA, 0, 2, true, "ceiling");
-  in_range(o.start_mA, 0, o.ceiling_mA, true, "start level");
+  in_range(o.start_mA, kMinLevel_mA, o.ceiling_mA, false, "start level");
   in_range(o.max_step_up, 1, 2, true, "largest step up");
   in_range(o.ascend_factor, 1, o.max_step_up, true, "ascending step");
   in_range(o.step_factor, 1, o.max_step_up, true, "staircase step");
@@ -53,6 +53,11 @@ void Staircase::respond(bool yes) {
   } else {
     // The staircase (the ascending series' first "yes" is its first answer).
     ascending_ = false;
+    no_at_ceiling_ = !yes && level_ >= o_.ceiling_mA ? no_at_ceiling_ + 1 : 0;
+    if (no_at_ceiling_ >= kNoAtCeiling) {
+      done_ = true;  // not found
+      return;
+    }
     int move = 0;
     if (yes) {
       if (++yes_run_ >= o_.down) move = -1;
@@ -72,7 +77,8 @@ void Staircase::respond(bool yes) {
         }
       }
       direction_ = move;
-      level_ = move > 0 ? std::min(level_ * step_, o_.ceiling_mA) : level_ / step_;
+      level_ = move > 0 ? std::min(level_ * step_, o_.ceiling_mA)
+                        : std::max(level_ / step_, kMinLevel_mA);
     }
   }
   if (static_cast<int>(trials_.size()) >= o_.max_trials) finish();

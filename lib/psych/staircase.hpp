@@ -15,6 +15,10 @@
 //
 // Safety: no level is ever above ceiling_mA (a step that would pass it stops there), and no
 // step up is larger than max_step_up (ascend_factor and step_factor are bounded by it).
+// A run that is answered "no" at the ceiling ends there, not found: in the ascending series
+// at once, in the staircase after kNoAtCeiling such answers in a row (one "yes" there, then
+// nothing: a false alarm, or a comfort limit above the ceiling), so it never dwells at the
+// ceiling.
 //
 // "yes" is whatever the question asks: "did you feel it?" for a detection threshold,
 // "is it too strong?" for a comfort limit.
@@ -24,8 +28,14 @@
 
 namespace tp {
 
+// "No" answers in a row at the ceiling that end a staircase, not found.
+inline constexpr int kNoAtCeiling = 3;
+
+// The lowest level a run uses: a start below it is bad input, and no step goes under it.
+inline constexpr double kMinLevel_mA = 0.001;
+
 struct StaircaseOptions {
-  double start_mA = 0.05;       // the ascending series' first level, (0, ceiling]
+  double start_mA = 0.05;       // the ascending series' first level, [kMinLevel_mA, ceiling]
   double ceiling_mA = 1.0;      // never exceeded, (0, 2] mA
   double ascend_factor = 1.25;  // each ascending step, (1, max_step_up]
   double step_factor = 1.25;    // the staircase's first step, (1, max_step_up]
@@ -67,6 +77,7 @@ class Staircase {
   bool ascending_ = true;
   bool done_ = false, found_ = false;
   int yes_run_ = 0;
+  int no_at_ceiling_ = 0;
   int direction_ = 0;  // +1 up, -1 down, 0 none yet
   double step_ = 1;
   std::vector<double> reversal_levels_;

@@ -41,6 +41,27 @@ std::string not_rgb(png_uint_32 format) {
   return "";
 }
 
+// The file's gamma from its gAMA chunk (x 100000), or 0 without one: the chunks before
+// the image data, walked by their lengths.
+std::uint32_t file_gamma(const std::vector<std::uint8_t>& b) {
+  auto be32 = [&](std::size_t at) {
+    return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
+           (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+  };
+  std::size_t at = 8;
+  while (at + 12 <= b.size()) {
+    const std::uint32_t length = be32(at);
+    const char* type = reinterpret_cast<const char*>(b.data() + at + 4);
+    if (std::memcmp(type, "IDAT", 4) == 0 || std::memcmp(type, "IEND", 4) == 0) break;
+    if (std::memcmp(type, "sRGB", 4) == 0) return 0;  // sRGB: what is read already
+    if (std::memcmp(type, "gAMA", 4) == 0 && length == 4 && at + 12 <= b.size())
+      return be32(at + 8);
+    if (length > b.size() - at - 12) break;  // damaged: libpng says so below
+    at += 12 + length;
+  }
+  return 0;
+}
+
 }  // namespace
 
 RgbImage decode_png(const std::vector<std::uint8_t>& bytes, const std::string& what) {
@@ -51,6 +72,13 @@ RgbImage decode_png(const std::vector<std::uint8_t>& bytes, const std::string& w
     bad_input(what + ": the PNG does not decode (" + p.image.message + ")");
   const std::string other = not_rgb(p.image.format);
   if (!other.empty()) bad_input(what + ": " + other + ", expected an 8-bit RGB PNG");
+  // libpng's simplified reader converts a file whose gamma is not sRGB's (1/2.2, within
+  // its 5 % threshold) to sRGB: intensities would not be read as written.
+  const std::uint32_t gamma = file_gamma(bytes);
+  if (gamma != 0 && (gamma < 43182 || gamma > 47728))
+    bad_input(what + ": its gAMA chunk gives a gamma of " + std::to_string(gamma) +
+              "/100000, not sRGB's 45455 (1/2.2): its values would be converted; save it "
+              "without gAMA, or as sRGB");
   if (p.image.width > static_cast<png_uint_32>(kMaxImageSide) ||
       p.image.height > static_cast<png_uint_32>(kMaxImageSide))
     bad_input(what + ": " + std::to_string(p.image.width) + " x " + std::to_string(p.image.height) +
@@ -88,6 +116,12 @@ std::vector<std::uint8_t> encode_png(const RgbImage& image) {
 }
 
 RgbImage resample(const RgbImage& in, int columns, int rows) {
+  if (in.width < 1 || in.height < 1 ||
+      in.rgb.size() != 3 * static_cast<std::size_t>(in.width) * static_cast<std::size_t>(in.height))
+    bad_input("resample: an empty or inconsistent image");
+  if (columns < 1 || rows < 1 || columns > kMaxImageSide || rows > kMaxImageSide)
+    bad_input("resample: " + std::to_string(columns) + " x " + std::to_string(rows) +
+              " outside 1 to " + std::to_string(kMaxImageSide) + " a side");
   RgbImage out;
   out.width = columns;
   out.height = rows;

@@ -47,6 +47,21 @@ std::vector<std::uint8_t> png_of_format(png_uint_32 format, int w, int h) {
   return out;
 }
 
+// The PNG with a gAMA chunk of `gamma` (x 100000) after its IHDR, its CRC-32 computed.
+std::vector<std::uint8_t> with_gamma(std::vector<std::uint8_t> png, std::uint32_t gamma) {
+  std::vector<std::uint8_t> chunk = {0, 0, 0, 4, 'g', 'A', 'M', 'A'};
+  for (int s = 24; s >= 0; s -= 8) chunk.push_back(static_cast<std::uint8_t>(gamma >> s));
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (std::size_t i = 4; i < chunk.size(); ++i) {
+    crc ^= chunk[i];
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  crc ^= 0xFFFFFFFFu;
+  for (int s = 24; s >= 0; s -= 8) chunk.push_back(static_cast<std::uint8_t>(crc >> s));
+  png.insert(png.begin() + 33, chunk.begin(), chunk.end());  // 8 signature + 25 IHDR
+  return png;
+}
+
 void refused(const std::vector<std::uint8_t>& bytes, const char* says) {
   try {
     decode_png(bytes, "image 'x.png'");
@@ -89,6 +104,11 @@ TEST_CASE("a PNG that is not 8-bit RGB, or does not decode, is bad input", "[ren
   damaged[20] ^= 0x5A;  // inside IHDR: its CRC fails
   refused(damaged, "does not decode");
   refused(encode_png(random_image(kMaxImageSide + 1, 1, 3)), "larger than 4096 x 4096");
+  // A gamma other than sRGB's would have libpng convert the values: refused.  sRGB's own
+  // (1/2.2) is read exactly as written.
+  const RgbImage im = random_image(16, 16, 4);
+  refused(with_gamma(encode_png(im), 100000), "gAMA chunk gives a gamma of 100000/100000");
+  CHECK(decode_png(with_gamma(encode_png(im), 45455), "x").rgb == im.rgb);
 }
 
 TEST_CASE("resampling by area: uniform stays uniform, blocks average, factors repeat",

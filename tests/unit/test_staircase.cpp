@@ -4,6 +4,7 @@
 // safety rules (never above the ceiling, no step up larger than the bound).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -26,7 +27,12 @@ void check_safety(const Staircase& s, const StaircaseOptions& o) {
   const auto& t = s.trials();
   for (std::size_t k = 0; k < t.size(); ++k) {
     REQUIRE(t[k].level_mA <= o.ceiling_mA);
-    if (k > 0) REQUIRE(t[k].level_mA <= t[k - 1].level_mA * o.max_step_up * (1 + 1e-12));
+    // No step up beyond the configured steps (themselves within max_step_up), and no
+    // level below the floor.
+    const double step = std::max(o.ascend_factor, o.step_factor);
+    REQUIRE(step <= o.max_step_up);
+    if (k > 0) REQUIRE(t[k].level_mA <= t[k - 1].level_mA * step * (1 + 1e-12));
+    REQUIRE(t[k].level_mA >= kMinLevel_mA);
   }
 }
 
@@ -112,11 +118,52 @@ TEST_CASE("staircase options outside their ranges are bad input", "[psych][stair
     }
   };
   refused([](StaircaseOptions& o) { o.ceiling_mA = 2.5; }, "ceiling 2.5 outside (0, 2]");
-  refused([](StaircaseOptions& o) { o.start_mA = 1.2; }, "start level 1.2 outside (0, 1]");
+  refused([](StaircaseOptions& o) { o.start_mA = 1.2; }, "start level 1.2 outside [0.001, 1]");
+  refused([](StaircaseOptions& o) { o.start_mA = 4.9e-324; }, "start level ");
   refused([](StaircaseOptions& o) { o.ascend_factor = 1.6; }, "ascending step 1.6 outside");
   refused([](StaircaseOptions& o) { o.step_factor = 1.0; }, "staircase step 1 outside");
   refused([](StaircaseOptions& o) { o.max_step_up = 3; }, "largest step up 3 outside");
   refused([](StaircaseOptions& o) { o.down = 4; }, "down count 4 outside [1, 3]");
   refused([](StaircaseOptions& o) { o.reversals = 2; }, "reversals 2 outside [4, 30]");
   refused([](StaircaseOptions& o) { o.start_mA = std::nan(""); }, "start level ");
+}
+
+TEST_CASE("a run never dwells at the ceiling, nor goes under the floor", "[psych][staircase]") {
+  StaircaseOptions o;
+  // One "yes" (a false alarm, or a comfort limit above the ceiling), then only "no": the
+  // staircase climbs to the ceiling and ends there after kNoAtCeiling answers, not found.
+  int calls = 0;
+  const Staircase s = run(o, [&](double) { return calls++ == 0; });
+  CHECK_FALSE(s.found());
+  check_safety(s, o);
+  int at_ceiling = 0;
+  for (const auto& t : s.trials()) at_ceiling += t.level_mA >= o.ceiling_mA;
+  CHECK(at_ceiling == kNoAtCeiling);
+  CHECK(s.trials().size() < 30u);
+  // Always "yes" from the lowest start: the levels stop at the floor, and the run ends
+  // (at its trial limit), not found.
+  o.start_mA = kMinLevel_mA;
+  const Staircase low = run(o, [](double) { return true; });
+  check_safety(low, o);
+  CHECK_FALSE(low.found());
+  CHECK(static_cast<int>(low.trials().size()) == o.max_trials);
+}
+
+TEST_CASE("the largest steps allowed: every run within them, against random observers",
+          "[psych][staircase]") {
+  StaircaseOptions o;
+  o.ascend_factor = o.step_factor = o.max_step_up = 2;
+  o.ceiling_mA = 2;
+  o.start_mA = 0.01;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  int found = 0;
+  for (int k = 0; k < 5000; ++k) {
+    const double threshold = 0.01 + u(rng) * 2;
+    const Staircase s =
+        run(o, [&](double level) { return u(rng) < (level > threshold ? 0.9 : 0.1); });
+    check_safety(s, o);
+    found += s.found();
+  }
+  CHECK(found > 2000);
 }
