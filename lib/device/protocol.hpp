@@ -321,6 +321,10 @@ std::vector<std::uint8_t> encode(const Status& s);
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode_weights(const std::vector<std::int16_t>& codes);
 std::vector<std::uint8_t> encode(const PatternTiming& t);
+// Adds (sign +1) or takes out (-1) a pattern's dense codes, as the device adds its sparse
+// ones (only the non-zero channels).
+void add_dense(ChannelLoad& load, const std::vector<std::int16_t>& codes, const PatternTiming& t,
+               int sign = +1);
 // A set_codes body after the index: the non-zero codes of a dense list, sparse.
 std::vector<std::uint8_t> encode_sparse(const std::vector<std::int16_t>& dense);
 // The count byte and the codes; nothing when the length disagrees or count > kMaxChannels.

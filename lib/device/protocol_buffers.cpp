@@ -82,6 +82,18 @@ std::vector<std::uint8_t> encode(const PatternTiming& t) {
   return b;
 }
 
+void add_dense(ChannelLoad& load, const std::vector<std::int16_t>& codes, const PatternTiming& t,
+               int sign) {
+  std::vector<std::uint8_t> ch;
+  std::vector<std::int16_t> code;
+  for (std::size_t i = 0; i < codes.size(); ++i)
+    if (codes[i] != 0) {
+      ch.push_back(static_cast<std::uint8_t>(i));
+      code.push_back(codes[i]);
+    }
+  load.add(ch.data(), code.data(), ch.size(), t, sign);
+}
+
 std::vector<std::uint8_t> encode_sparse(const std::vector<std::int16_t>& dense) {
   std::vector<std::uint8_t> b{0};
   for (std::size_t i = 0; i < dense.size(); ++i)

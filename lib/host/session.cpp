@@ -58,19 +58,6 @@ double pulse_count(const Stimulus& p, const SessionOptions& opt, const StimulusL
   return n;
 }
 
-// Adds a pattern's dense codes to the load, as the device adds its sparse ones.
-void add_codes(device::ChannelLoad& load, const std::vector<std::int16_t>& codes,
-               const device::PatternTiming& t) {
-  std::vector<std::uint8_t> ch;
-  std::vector<std::int16_t> code;
-  for (std::size_t i = 0; i < codes.size(); ++i)
-    if (codes[i] != 0) {
-      ch.push_back(static_cast<std::uint8_t>(i));
-      code.push_back(codes[i]);
-    }
-  load.add(ch.data(), code.data(), ch.size(), t, +1);
-}
-
 // The device's own check of the codes it is sent (device::ChannelLoad, in integers): each
 // electrode's RMS and mean current, summed over the patterns, as the DAC makes them.  The
 // host's check in mA (check_stimulus, check_mix) can pass a current the codes' rounding
@@ -118,7 +105,7 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
     check_stimulus(shape_of, lim);
     auto codes = quantize_currents(c, caps, current_limit_mA(s, lim));
     device::ChannelLoad load;
-    add_codes(load, codes, pattern_timing(s, 0));
+    device::add_dense(load, codes, pattern_timing(s, 0));
     check_load(load, caps, "");
     return codes;
   } catch (const Error& e) {
@@ -263,7 +250,7 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
                   std::to_string(rep.caps.min_width_us) + " us)");
       table_codes.push_back(quantize_currents(p.currents_mA, rep.caps, current_limit_mA(p, lim)));
       for (std::int16_t c : table_codes.back()) entries += c != 0;
-      add_codes(load, table_codes.back(), t);
+      device::add_dense(load, table_codes.back(), t);
       table_s = std::max(table_s, (t.phase_us + (t.max_pulses + 0.0) * t.period_us) * 1e-6);
     }
     if (entries > rep.caps.code_pool)
@@ -272,7 +259,7 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
     check_load(load, rep.caps, "summed over the patterns: ");
   } else {
     device::ChannelLoad load;
-    add_codes(load, codes, pattern_timing(s, 0));
+    device::add_dense(load, codes, pattern_timing(s, 0));
     check_load(load, rep.caps, "");
   }
   // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.

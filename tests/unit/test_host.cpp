@@ -255,7 +255,8 @@ TEST_CASE("a live frame is checked as the device checks its codes: RMS as the DA
   const device::Capabilities caps;  // 977 nA a code
   const StimulusLimits lim;
   // 1.41421356 mA, 250 + 250 us at 1 kHz: RMS 0.99999999 mA; 1448 codes make 1.0003 mA.
-  const std::string over = "{\"currents_mA\": [0, 0, 0, 0, -0.70710678, 0, 1.41421356, -0.70710678]}";
+  const std::string over =
+      "{\"currents_mA\": [0, 0, 0, 0, -0.70710678, 0, 1.41421356, -0.70710678]}";
   try {
     host::parse_live_frame(over, 4, s, lim, caps);
     FAIL("accepted");
@@ -337,14 +338,7 @@ TEST_CASE("live frames: random JSON is a checked frame or bad input, nothing els
       CHECK(codes.size() == 8);
       // and what the device's own load check accepts
       device::ChannelLoad load;
-      std::vector<std::uint8_t> ch;
-      std::vector<std::int16_t> nz;
-      for (std::size_t i = 0; i < codes.size(); ++i)
-        if (codes[i] != 0) {
-          ch.push_back(static_cast<std::uint8_t>(i));
-          nz.push_back(codes[i]);
-        }
-      load.add(ch.data(), nz.data(), ch.size(), pattern_timing(s, 0), +1);
+      device::add_dense(load, codes, pattern_timing(s, 0));
       CHECK(load.within(caps));
     } catch (const Error& e) {
       CHECK(e.code() == ExitCode::bad_input);
