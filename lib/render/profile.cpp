@@ -1,0 +1,130 @@
+#include "render/profile.hpp"
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+
+namespace tp {
+
+int primary_index(const std::string& name, const std::string& what) {
+  for (std::size_t i = 0; i < kPrimaries.size(); ++i)
+    if (name == kPrimaries[i]) return static_cast<int>(i);
+  bad_input(what + ": '" + name + "' is not a primary (RA, SAI or PC)");
+}
+
+const PrimaryRange& Profile::range(int p, long pad) const {
+  const auto it = pixel.find(pad);
+  if (it != pixel.end() && it->second[static_cast<std::size_t>(p)])
+    return *it->second[static_cast<std::size_t>(p)];
+  if (!primary[static_cast<std::size_t>(p)])
+    bad_input(std::string("profile: no range for ") + kPrimaries[static_cast<std::size_t>(p)]);
+  return *primary[static_cast<std::size_t>(p)];
+}
+
+double Profile::current_mA(int p, long pad, double v) const {
+  if (!(v > 0)) return 0.0;
+  const PrimaryRange& r = range(p, pad);
+  return r.threshold_mA + std::min(v, 1.0) * (r.comfort_mA - r.threshold_mA);
+}
+
+namespace {
+
+PrimaryRange range_from_json(const Json& j, const std::string& where, double max_mA) {
+  if (!j.is_object()) bad_input(where + ": expected an object");
+  for (const char* key : {"threshold_mA", "comfort_mA"})
+    if (!j.contains(key)) bad_input(where + ": no " + key);
+  PrimaryRange r;
+  r.threshold_mA = json_finite(j["threshold_mA"], where + ".threshold_mA");
+  r.comfort_mA = json_finite(j["comfort_mA"], where + ".comfort_mA");
+  if (!(r.threshold_mA > 0 && r.threshold_mA <= max_mA))
+    bad_input(where + ".threshold_mA: " + number_text(r.threshold_mA) + " mA outside (0, " +
+              number_text(max_mA) + "] mA");
+  if (r.comfort_mA > max_mA)
+    bad_input(where + ".comfort_mA: " + number_text(r.comfort_mA) +
+              " mA is above the current limit, " + number_text(max_mA) + " mA");
+  if (r.comfort_mA < r.threshold_mA)
+    bad_input(where + ".comfort_mA: " + number_text(r.comfort_mA) + " mA is below its threshold, " +
+              number_text(r.threshold_mA) + " mA");
+  if (j.contains("trials")) {
+    r.trials = json_int(j["trials"], where + ".trials");
+    if (r.trials < 0) bad_input(where + ".trials: negative");
+  }
+  for (const auto& [key, field] : {std::pair{"threshold_spread_mA", &r.threshold_spread_mA},
+                                   std::pair{"comfort_spread_mA", &r.comfort_spread_mA}})
+    if (j.contains(key)) {
+      *field = json_finite(j[key], where + "." + key);
+      if (*field < 0) bad_input(where + "." + key + ": negative");
+    }
+  return r;
+}
+
+Json range_to_json(const PrimaryRange& r) {
+  Json j = {{"threshold_mA", r.threshold_mA}, {"comfort_mA", r.comfort_mA}};
+  if (r.trials > 0) {
+    j["trials"] = r.trials;
+    j["threshold_spread_mA"] = r.threshold_spread_mA;
+    j["comfort_spread_mA"] = r.comfort_spread_mA;
+  }
+  return j;
+}
+
+std::array<std::optional<PrimaryRange>, 3> ranges_from_json(const Json& j, const std::string& where,
+                                                            double max_mA, bool pixel) {
+  std::array<std::optional<PrimaryRange>, 3> out;
+  for (const auto& [key, value] : j.items()) {
+    if (pixel && key == "pad") continue;
+    const int p = primary_index(key, where);
+    out[static_cast<std::size_t>(p)] = range_from_json(value, where + "." + key, max_mA);
+  }
+  return out;
+}
+
+}  // namespace
+
+Profile profile_from_json(const Json& j, double max_mA, long pads) {
+  if (!j.is_object()) bad_input("profile: expected a JSON object");
+  if (!j.contains("format") || j["format"] != kProfileFormat)
+    bad_input(std::string("profile: format is not \"") + kProfileFormat + "\"");
+  if (!j.contains("primaries") || !j["primaries"].is_object())
+    bad_input("profile: no \"primaries\" object");
+  Profile p;
+  p.primary = ranges_from_json(j["primaries"], "profile: primaries", max_mA, false);
+  if (j.contains("pixels")) {
+    if (!j["pixels"].is_array()) bad_input("profile: pixels: expected an array");
+    for (std::size_t k = 0; k < j["pixels"].size(); ++k) {
+      const Json& e = j["pixels"][k];
+      const std::string where = "profile: pixels[" + std::to_string(k) + "]";
+      if (!e.is_object() || !e.contains("pad")) bad_input(where + ": no pad");
+      const long pad = json_int(e["pad"], where + ".pad");
+      if (pad < 0 || pad >= pads)
+        bad_input(where + ".pad: " + std::to_string(pad) + " is not one of the array's " +
+                  std::to_string(pads) + " pads");
+      if (p.pixel.count(pad)) bad_input(where + ".pad: " + std::to_string(pad) + " given twice");
+      p.pixel[pad] = ranges_from_json(e, where, max_mA, true);
+    }
+  }
+  for (const auto& [key, value] : j.items())
+    if (key != "format" && key != "primaries" && key != "pixels") p.carried[key] = value;
+  return p;
+}
+
+Json profile_to_json(const Profile& p) {
+  Json j = {{"format", kProfileFormat}};
+  Json prim = Json::object();
+  for (std::size_t i = 0; i < 3; ++i)
+    if (p.primary[i]) prim[kPrimaries[i]] = range_to_json(*p.primary[i]);
+  j["primaries"] = prim;
+  if (!p.pixel.empty()) {
+    Json px = Json::array();
+    for (const auto& [pad, r] : p.pixel) {
+      Json e = {{"pad", pad}};
+      for (std::size_t i = 0; i < 3; ++i)
+        if (r[i]) e[kPrimaries[i]] = range_to_json(*r[i]);
+      px.push_back(e);
+    }
+    j["pixels"] = px;
+  }
+  for (const auto& [key, value] : p.carried.items()) j[key] = value;
+  return j;
+}
+
+}  // namespace tp

@@ -1,0 +1,47 @@
+#pragma once
+// A person's calibration (issue 23): per primary, the detection threshold and the comfort
+// limit (mA) that `calibrate` found, and optionally per pixel (`--per-pixel`).  An intensity
+// v in [0, 1] of a primary becomes the current I = threshold + v x (comfort - threshold);
+// v = 0 delivers nothing (docs/calibration.md, "The profile").
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "io/json.hpp"
+
+namespace tp {
+
+// The primaries, in an image's channel order: R = RA, G = SAI, B = PC.
+inline constexpr std::array<const char*, 3> kPrimaries = {"RA", "SAI", "PC"};
+// The index of a primary's name; bad input naming `what` and the known names otherwise.
+int primary_index(const std::string& name, const std::string& what);
+
+struct PrimaryRange {
+  double threshold_mA = 0, comfort_mA = 0;
+  // What calibrate measured (0: not known): its trials, and each level's spread (mA).
+  int trials = 0;
+  double threshold_spread_mA = 0, comfort_spread_mA = 0;
+};
+
+struct Profile {
+  std::array<std::optional<PrimaryRange>, 3> primary;  // by kPrimaries' index
+  // Per pixel (a pad index), where calibrate measured it: overrides the primary's range.
+  std::map<long, std::array<std::optional<PrimaryRange>, 3>> pixel;
+  Json carried = Json::object();  // every other key (e.g. the device, the date)
+  // The range for a primary at a pixel; bad input naming the primary when it has none.
+  const PrimaryRange& range(int primary, long pixel) const;
+  // I = threshold + v (comfort - threshold) for v in (0, 1]; 0 for v = 0.
+  double current_mA(int primary, long pixel, double v) const;
+};
+
+inline constexpr const char* kProfileFormat = "tactile-primaries/profile/1";
+
+// Reads and checks a profile: the format, each range's threshold in (0, max_current_mA]
+// and comfort in [threshold, max_current_mA], the counts and spreads not negative, pixels
+// as pad indices below `pads`.  Bad input naming the field at fault.
+Profile profile_from_json(const Json& j, double max_current_mA, long pads);
+Json profile_to_json(const Profile& p);
+
+}  // namespace tp

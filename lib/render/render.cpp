@@ -1,0 +1,534 @@
+#include "render/render.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numeric>
+
+#include "core/error.hpp"
+#include "device/device_core.hpp"
+#include "device/scheduler.hpp"
+#include "io/number.hpp"
+#include "model/field.hpp"
+
+namespace tp {
+
+namespace {
+
+double get_finite(const Json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) bad_input(where + ": no " + key);
+  return json_finite(j[key], where + "." + key);
+}
+
+}  // namespace
+
+PixelBank pixel_bank_from_json(const Json& j) {
+  if (!j.is_object() || !j.contains("bank") || !j.contains("pixels") || !j["pixels"].is_array())
+    bad_input("bank: not a bank of pixels (optimize-weights --bank)");
+  PixelBank b;
+  b.doc = document_from_json(j);
+  const ElectrodeArray& a = b.doc.setup.array;
+  if (!a.grid()) bad_input("bank: its array is " + a.describe() + ", not a grid of pads");
+  b.columns = a.columns;
+  b.rows = a.rows;
+  b.pad_area_mm2 = a.width_mm * a.length_mm;
+  const Json& px = j["pixels"];
+  if (px.size() != a.size())
+    bad_input("bank: " + std::to_string(px.size()) + " pixels for " + std::to_string(a.size()) +
+              " pads (render-tactile needs every pad's pixel: a bank without --at)");
+  b.entry.resize(a.size());
+  for (std::size_t k = 0; k < px.size(); ++k) {
+    const Json& p = px[k];
+    const std::string where = "bank: pixels[" + std::to_string(k) + "]";
+    const double x = get_finite(p, "x_mm", where), z = get_finite(p, "z_mm", where);
+    if (!p.contains("pad") || !p["pad"].is_number_integer() ||
+        p["pad"].get<long>() != static_cast<long>(k) || std::abs(x - a.positions_mm[k]) > 1e-6 ||
+        std::abs(z - a.z_mm[k]) > 1e-6)
+      bad_input(where + ": not pad " + std::to_string(k) + "'s centre");
+    if (!p.contains("patterns") || !p["patterns"].is_object()) bad_input(where + ": no patterns");
+    for (std::size_t m = 0; m < kPrimaries.size(); ++m) {
+      if (!p["patterns"].contains(kPrimaries[m])) continue;
+      const Json& e = p["patterns"][kPrimaries[m]];
+      const std::string w = where + ".patterns." + kPrimaries[m];
+      BankEntry& out = b.entry[k][m];
+      out.present = true;
+      if (e.is_object() && e.contains("feasible") && e["feasible"] == false) {
+        out.reason = e.contains("reason") && e["reason"].is_string()
+                         ? e["reason"].get<std::string>()
+                         : "no pattern";
+        continue;
+      }
+      out.feasible = true;
+      if (!e.is_object() || !e.contains("weights") || !e["weights"].is_array() ||
+          e["weights"].size() != a.size())
+        bad_input(w + ".weights: expected " + std::to_string(a.size()) + " values, one per pad");
+      double peak = 0;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        const double v = json_finite(e["weights"][i], w + ".weights");
+        if (std::abs(v) > 1 + 1e-9) bad_input(w + ".weights: |w| above 1");
+        peak = std::max(peak, std::abs(v));
+        out.weights.push_back(v);
+      }
+      if (!(peak > 0)) bad_input(w + ".weights: all zero");
+      if (!e.contains("peak")) bad_input(w + ": no peak");
+      out.peak_x_mm = get_finite(e["peak"], "x_mm", w + ".peak");
+      out.peak_y_mm = get_finite(e["peak"], "y_mm", w + ".peak");
+      out.peak_z_mm = get_finite(e["peak"], "z_mm", w + ".peak");
+      receptor_index(b.doc.setup, kPrimaries[m]);  // the bank's receptors name it
+    }
+  }
+  return b;
+}
+
+void check_render_options(const RenderOptions& o) {
+  const StimulusLimits& l = o.limits;
+  for (std::size_t p = 0; p < 3; ++p)
+    if (!(o.rate_hz[p] >= l.min_frequency_hz && o.rate_hz[p] <= l.max_frequency_hz))
+      bad_input(std::string("--rates: ") + kPrimaries[p] + " " + number_text(o.rate_hz[p]) +
+                " Hz outside [" + number_text(l.min_frequency_hz) + ", " +
+                number_text(l.max_frequency_hz) + "] Hz");
+  auto whole = [](double v, double lo, double hi, const char* name) {
+    if (!(v >= lo && v <= hi && v == std::floor(v)))
+      bad_input(std::string(name) + ": " + number_text(v) + " us is not a whole number in [" +
+                number_text(lo) + ", " + number_text(hi) + "] us");
+  };
+  whole(o.width_us, l.min_width_us, l.max_width_us, "--width");
+  whole(o.interphase_us, 0, 1000, "--interphase");
+  whole(o.balance_width_us, o.width_us, l.max_balance_width_us, "--balance-width");
+  whole(o.gap_us, l.min_gap_us, l.max_slip_us, "--gap");
+  if (!(o.crosstalk >= 0 && o.crosstalk <= 1))
+    bad_input("--crosstalk: " + number_text(o.crosstalk) + " outside [0, 1]");
+  if (!(o.duration_s > 0 && o.duration_s <= l.max_duration_s))
+    bad_input("--duration: " + number_text(o.duration_s) + " s outside (0, " +
+              number_text(l.max_duration_s) + "] s");
+}
+
+namespace {
+
+// The fields of the lit patterns, built once.
+struct PatternFields {
+  const PixelBank& bank;
+  const std::vector<LitPattern>& lit;
+  std::vector<std::unique_ptr<Field>> field;
+  std::vector<double> own;  // each pattern's AF at its own peak (weights, max |w| = 1)
+  PatternFields(const PixelBank& b, const std::vector<LitPattern>& l) : bank(b), lit(l) {
+    for (const LitPattern& p : lit) {
+      const BankEntry& e =
+          bank.entry[static_cast<std::size_t>(p.pad)][static_cast<std::size_t>(p.primary)];
+      field.push_back(std::make_unique<Field>(bank.doc.setup, e.weights));
+      own.push_back(af(field.size() - 1, field.size() - 1));
+    }
+  }
+  // AF of pattern a's weights at pattern b's peak, on b's receptor.
+  double af(std::size_t a, std::size_t b) const {
+    const LitPattern& pb = lit[b];
+    const BankEntry& e =
+        bank.entry[static_cast<std::size_t>(pb.pad)][static_cast<std::size_t>(pb.primary)];
+    const Receptor& r = bank.doc.setup.receptors[receptor_index(
+        bank.doc.setup, kPrimaries[static_cast<std::size_t>(pb.primary)])];
+    return field[a]->af_3d(r.fibre, fibre_axis(r), e.peak_x_mm, e.peak_y_mm, e.peak_z_mm);
+  }
+  // Crosstalk of a onto b at their currents (crosstalk_current: the current each is planned at).
+  double onto(std::size_t a, std::size_t b, const std::vector<double>& current) const {
+    if (!(own[b] > 0)) return HUGE_VAL;
+    return std::abs(current[a] * af(a, b)) / (current[b] * own[b]);
+  }
+};
+
+// DSatur (D. Brelaz, "New methods to color the vertices of a graph", Commun. ACM 22(4):
+// 251-256, 1979): the uncoloured vertex with the most distinct colours among its
+// neighbours next (ties: the most uncoloured neighbours, then the lowest index), given the
+// least colour none of its neighbours has.  Deterministic.
+std::vector<int> dsatur(const std::vector<std::vector<std::size_t>>& adj) {
+  const std::size_t n = adj.size();
+  std::vector<int> colour(n, -1);
+  std::vector<std::vector<char>> seen(n);  // seen[v][c]: a neighbour of v has colour c
+  std::vector<int> saturation(n, 0), free_degree(n);
+  for (std::size_t v = 0; v < n; ++v) free_degree[v] = static_cast<int>(adj[v].size());
+  for (std::size_t done = 0; done < n; ++done) {
+    std::size_t best = n;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (colour[v] >= 0) continue;
+      if (best == n || saturation[v] > saturation[best] ||
+          (saturation[v] == saturation[best] && free_degree[v] > free_degree[best]))
+        best = v;
+    }
+    int c = 0;
+    while (static_cast<std::size_t>(c) < seen[best].size() &&
+           seen[best][static_cast<std::size_t>(c)])
+      ++c;
+    colour[best] = c;
+    for (const std::size_t u : adj[best]) {
+      --free_degree[u];
+      if (seen[u].size() <= static_cast<std::size_t>(c))
+        seen[u].resize(static_cast<std::size_t>(c) + 1, 0);
+      if (!seen[u][static_cast<std::size_t>(c)]) {
+        seen[u][static_cast<std::size_t>(c)] = 1;
+        ++saturation[u];
+      }
+    }
+  }
+  return colour;
+}
+
+std::uint64_t gcd_u64(std::uint64_t a, std::uint64_t b) {
+  while (b) {
+    const std::uint64_t t = a % b;
+    a = b;
+    b = t;
+  }
+  return a;
+}
+
+// One frame: a cycle, each primary's period in cycles; scored by the smallest achieved
+// over requested rate, then their sum, then the shorter cycle.
+struct Frame {
+  long cycle_us = 0;
+  std::array<long, 3> k{};
+  double score = -1, sum = 0;
+};
+
+struct FrameProblem {
+  std::array<int, 3> groups{};
+  std::array<double, 3> period_us{};  // requested
+  double slot_us = 0;                 // pulse length + gap
+  // Per primary, per electrode: sum over its groups of the squared current times the
+  // time both phases take (mA^2 us), and of the charge both phases carry (mA us).
+  std::array<std::vector<double>, 3> square, charge;
+  double max_rms_mA = 0, max_mean_mA = 0;
+  bool loads = true;
+};
+
+// The frame for cycle c, if it satisfies every limit.
+bool try_frame(const FrameProblem& fp, long c, Frame& f) {
+  const long slots = static_cast<long>(std::floor(static_cast<double>(c) / fp.slot_us));
+  if (slots < 1) return false;
+  f.cycle_us = c;
+  f.score = HUGE_VAL;
+  f.sum = 0;
+  long columns = 0;
+  for (std::size_t p = 0; p < 3; ++p) {
+    if (fp.groups[p] == 0) {
+      f.k[p] = 0;
+      continue;
+    }
+    long k = std::max(
+        1L, static_cast<long>(std::ceil(fp.period_us[p] / static_cast<double>(c) - 1e-12)));
+    if (static_cast<double>(k) * static_cast<double>(c) < fp.period_us[p] - 1e-9) ++k;
+    if (static_cast<double>(k) * static_cast<double>(c) > 1e7) return false;  // a 10 s period
+    f.k[p] = k;
+    columns += (fp.groups[p] + k - 1) / k;
+    const double ratio = fp.period_us[p] / (static_cast<double>(k) * static_cast<double>(c));
+    f.score = std::min(f.score, ratio);
+    f.sum += ratio;
+  }
+  return columns <= slots;
+}
+
+bool frame_loads_ok(const FrameProblem& fp, const Frame& f) {
+  // The device's exact slip check must be able to run: the pulses in max phase + 2
+  // hyperperiods (device::kMaxCheckedPulsesHost).
+  std::uint64_t lcm = 1;
+  long kmax = 1;
+  for (std::size_t p = 0; p < 3; ++p)
+    if (f.k[p] > 0) {
+      const auto k = static_cast<std::uint64_t>(f.k[p]);
+      lcm = lcm / gcd_u64(lcm, k) * k;
+      kmax = std::max(kmax, f.k[p]);
+      if (lcm > (1u << 20)) return false;
+    }
+  const double end =
+      static_cast<double>(kmax + 2 * static_cast<long>(lcm)) * static_cast<double>(f.cycle_us);
+  double pulses = 0;
+  for (std::size_t p = 0; p < 3; ++p)
+    if (f.k[p] > 0)
+      pulses += fp.groups[p] *
+                (end / (static_cast<double>(f.k[p]) * static_cast<double>(f.cycle_us)) + 1);
+  if (pulses > device::kMaxCheckedPulsesHost) return false;
+  // The utilisation as the device sums it: each pattern's (length + gap) / period rounded
+  // up in units of 2^-20 (device::Scheduler::utilisation_q20).
+  std::uint64_t q20 = 0;
+  const auto work = static_cast<std::uint64_t>(std::ceil(fp.slot_us)) << 20;
+  for (std::size_t p = 0; p < 3; ++p)
+    if (f.k[p] > 0) {
+      const auto period =
+          static_cast<std::uint64_t>(f.k[p]) * static_cast<std::uint64_t>(f.cycle_us);
+      q20 += static_cast<std::uint64_t>(fp.groups[p]) * ((work + period - 1) / period);
+    }
+  if (q20 > device::Scheduler::kOneQ20) return false;
+  if (!fp.loads) return true;
+  const std::size_t n = fp.square[0].size();
+  for (std::size_t e = 0; e < n; ++e) {
+    double sq = 0, q = 0;
+    for (std::size_t p = 0; p < 3; ++p)
+      if (f.k[p] > 0) {
+        const double period = static_cast<double>(f.k[p]) * static_cast<double>(f.cycle_us);
+        sq += fp.square[p][e] / period;
+        q += fp.charge[p][e] / period;
+      }
+    if (sq > fp.max_rms_mA * fp.max_rms_mA || q > fp.max_mean_mA) return false;
+  }
+  return true;
+}
+
+bool better(const Frame& a, const Frame& b) {
+  if (a.score != b.score) return a.score > b.score;
+  if (a.sum != b.sum) return a.sum > b.sum;
+  return a.cycle_us < b.cycle_us;
+}
+
+// The best frame: every whole cycle from one slot up to the longest requested period (or
+// the slots every group needs alone), then, while none fits, longer ones by 1 %.
+Frame plan_frame(const FrameProblem& fp) {
+  Frame best;
+  long lo = static_cast<long>(std::ceil(fp.slot_us));
+  int all = 0;
+  double longest = 0;
+  for (std::size_t p = 0; p < 3; ++p) {
+    all += fp.groups[p];
+    if (fp.groups[p]) longest = std::max(longest, fp.period_us[p]);
+  }
+  const long hi = std::max(static_cast<long>(std::ceil(longest)),
+                           static_cast<long>(std::ceil(all * fp.slot_us)));
+  Frame f;
+  for (long c = lo; c <= hi; ++c) {
+    if (!try_frame(fp, c, f)) continue;
+    if (best.score >= 0 && !better(f, best)) continue;
+    if (frame_loads_ok(fp, f)) best = f;
+  }
+  for (double c = static_cast<double>(hi) * 1.01; best.score < 0 && c <= 1e7; c *= 1.01) {
+    if (try_frame(fp, static_cast<long>(c), f) && frame_loads_ok(fp, f)) best = f;
+  }
+  return best;
+}
+
+}  // namespace
+
+double crosstalk(const PixelBank& bank, int primary, long a, double ia, long b, double ib) {
+  std::vector<LitPattern> lit = {{a, primary, 1, ia}, {b, primary, 1, ib}};
+  const PatternFields f(bank, lit);
+  return f.onto(0, 1, {ia, ib});
+}
+
+RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
+                       const RenderOptions& o) {
+  check_render_options(o);
+  if (image.columns != bank.columns || image.rows != bank.rows)
+    bad_input("image: " + std::to_string(image.columns) + " x " + std::to_string(image.rows) +
+              " pixels for a bank of " + std::to_string(bank.columns) + " x " +
+              std::to_string(bank.rows) + " pads");
+  RenderPlan plan;
+  plan.requested_hz = o.rate_hz;
+  // The lit patterns, pixel-major.
+  std::vector<double> planned_mA;  // the current each pattern's crosstalk is judged at
+  for (std::size_t pad = 0; pad < bank.pads(); ++pad)
+    for (int p = 0; p < 3; ++p) {
+      const BankEntry& e = bank.entry[pad][static_cast<std::size_t>(p)];
+      const double v = o.every_pattern ? (e.feasible ? 1.0 : 0.0)
+                                       : image.value[pad][static_cast<std::size_t>(p)];
+      if (!(v > 0)) continue;
+      const int c = static_cast<int>(pad) % bank.columns, r = static_cast<int>(pad) / bank.columns;
+      const std::string where = "image pixel (" + std::to_string(c) + ", " + std::to_string(r) +
+                                ") lights " + kPrimaries[static_cast<std::size_t>(p)];
+      if (!e.present) bad_input(where + ", which the bank has no patterns for");
+      if (!e.feasible) bad_input(where + ", whose pattern the bank could not find: " + e.reason);
+      LitPattern l;
+      l.pad = static_cast<long>(pad);
+      l.primary = p;
+      l.intensity = v;
+      l.current_mA = profile.current_mA(p, l.pad, v);
+      if (l.current_mA > o.limits.max_current_mA)
+        bad_input(where + " at " + number_text(l.current_mA) + " mA, above the current limit");
+      plan.lit.push_back(l);
+      // A sequence's pattern may run anywhere from its threshold to its comfort current:
+      // judged at the ratio least in its favour (its threshold against the others'
+      // comfort), below.
+      planned_mA.push_back(l.current_mA);
+    }
+  if (plan.lit.empty()) return plan;
+  const std::size_t n = plan.lit.size();
+  const std::size_t pads = bank.pads();
+  const PatternFields fields(bank, plan.lit);
+  // Which pads each pattern uses.
+  std::vector<std::vector<std::uint64_t>> uses(n, std::vector<std::uint64_t>((pads + 63) / 64, 0));
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& w = bank.entry[static_cast<std::size_t>(plan.lit[i].pad)]
+                              [static_cast<std::size_t>(plan.lit[i].primary)]
+                                  .weights;
+    for (std::size_t e = 0; e < pads; ++e)
+      if (w[e] != 0) uses[i][e / 64] |= std::uint64_t{1} << (e % 64);
+  }
+  auto share_pad = [&](std::size_t i, std::size_t j) {
+    for (std::size_t w = 0; w < uses[i].size(); ++w)
+      if (uses[i][w] & uses[j][w]) return true;
+    return false;
+  };
+  // A sequence: the threshold current where judged as the target, comfort as the source.
+  std::vector<double> low(n), high(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const LitPattern& l = plan.lit[i];
+    const PrimaryRange& r = profile.range(l.primary, l.pad);
+    low[i] = o.every_pattern ? r.threshold_mA : l.current_mA;
+    high[i] = o.every_pattern ? r.comfort_mA : l.current_mA;
+  }
+  auto cross = [&](std::size_t i, std::size_t j) {  // i onto j
+    if (!(fields.own[j] > 0)) return HUGE_VAL;
+    return std::abs(high[i] * fields.af(i, j)) / (low[j] * fields.own[j]);
+  };
+  // Groups per primary.
+  for (int p = 0; p < 3; ++p) {
+    std::vector<std::size_t> nodes;
+    for (std::size_t i = 0; i < n; ++i)
+      if (plan.lit[i].primary == p) nodes.push_back(i);
+    std::vector<std::vector<std::size_t>> adj(nodes.size());
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      for (std::size_t b = a + 1; b < nodes.size(); ++b) {
+        const std::size_t i = nodes[a], j = nodes[b];
+        const bool conflict =
+            o.every_pattern || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk;
+        if (conflict) {
+          adj[a].push_back(b);
+          adj[b].push_back(a);
+        }
+      }
+    const std::vector<int> colour = dsatur(adj);
+    const int colours = nodes.empty() ? 0 : *std::max_element(colour.begin(), colour.end()) + 1;
+    plan.groups_per_primary[static_cast<std::size_t>(p)] = colours;
+    for (int c = 0; c < colours; ++c) {
+      RenderGroup g;
+      g.primary = p;
+      for (std::size_t a = 0; a < nodes.size(); ++a)
+        if (colour[a] == c) g.members.push_back(nodes[a]);
+      for (std::size_t a = 0; a < g.members.size(); ++a)
+        for (std::size_t b = 0; b < g.members.size(); ++b)
+          if (a != b)
+            plan.worst_crosstalk =
+                std::max(plan.worst_crosstalk, cross(g.members[a], g.members[b]));
+      plan.groups.push_back(g);
+    }
+  }
+  // Each group's currents (its members share no pad).
+  std::vector<std::vector<double>> currents(plan.groups.size(), std::vector<double>(pads, 0.0));
+  for (std::size_t g = 0; g < plan.groups.size(); ++g)
+    for (const std::size_t i : plan.groups[g].members) {
+      const LitPattern& l = plan.lit[i];
+      const auto& w =
+          bank.entry[static_cast<std::size_t>(l.pad)][static_cast<std::size_t>(l.primary)].weights;
+      for (std::size_t e = 0; e < pads; ++e)
+        currents[g][e] += (o.every_pattern ? high[i] : l.current_mA) * w[e];
+    }
+  // The frame.
+  FrameProblem fp;
+  fp.groups = plan.groups_per_primary;
+  for (std::size_t p = 0; p < 3; ++p) fp.period_us[p] = 1e6 / o.rate_hz[p];
+  const double length = o.width_us + o.interphase_us + o.balance_width_us;
+  fp.slot_us = length + o.gap_us;
+  fp.max_rms_mA = o.load_margin * o.limits.max_rms_current_mA;
+  fp.max_mean_mA = o.load_margin * o.limits.max_mean_current_mA;
+  for (std::size_t p = 0; p < 3; ++p) {
+    fp.square[p].assign(pads, 0.0);
+    fp.charge[p].assign(pads, 0.0);
+  }
+  const double scale = o.width_us / o.balance_width_us;
+  for (std::size_t g = 0; g < plan.groups.size(); ++g) {
+    const auto p = static_cast<std::size_t>(plan.groups[g].primary);
+    for (std::size_t e = 0; e < pads; ++e) {
+      const double i = currents[g][e];
+      fp.square[p][e] += i * i * o.width_us + i * scale * i * scale * o.balance_width_us;
+      fp.charge[p][e] += 2 * std::abs(i) * o.width_us;
+    }
+  }
+  const Frame best = plan_frame(fp);
+  if (best.score < 0)
+    throw Error(ExitCode::failure,
+                "render: no frame of at most 10 s periods keeps every electrode's RMS and mean "
+                "current within the limits");
+  FrameProblem free = fp;
+  free.loads = false;
+  const Frame unloaded = plan_frame(free);
+  plan.cycle_us = static_cast<double>(best.cycle_us);
+  plan.slots = static_cast<int>(std::floor(plan.cycle_us / fp.slot_us));
+  plan.k = best.k;
+  for (std::size_t p = 0; p < 3; ++p)
+    plan.rate_hz[p] = best.k[p] > 0 ? 1e6 / (static_cast<double>(best.k[p]) * plan.cycle_us) : 0.0;
+  plan.lowered = best.score < 0.995;
+  if (plan.lowered)
+    plan.limited_by = best.score < unloaded.score ? "the electrodes' RMS and mean current"
+                                                  : "the device's time (slots)";
+  // Slots and turns, primary by primary, and the mix.
+  int column = 0, turn = 0, previous = -1;
+  plan.mix.gap_us = o.gap_us;
+  for (std::size_t g = 0; g < plan.groups.size(); ++g) {
+    RenderGroup& grp = plan.groups[g];
+    const auto p = static_cast<std::size_t>(grp.primary);
+    if (grp.primary != previous) {
+      if (previous >= 0 && turn > 0) ++column;
+      turn = 0;
+      previous = grp.primary;
+    }
+    grp.slot = column;
+    grp.turn = turn;
+    if (++turn == best.k[p]) {
+      turn = 0;
+      ++column;
+    }
+    Stimulus s;
+    s.currents_mA = currents[g];
+    s.shape.width_us = o.width_us;
+    s.shape.interphase_us = o.interphase_us;
+    s.shape.balance_width_us = o.balance_width_us;
+    const double period = static_cast<double>(best.k[p]) * plan.cycle_us;
+    s.shape.frequency_hz = 1e6 / period;
+    s.count = std::max(1L, static_cast<long>(std::floor(o.duration_s * 1e6 / period + 1e-9)));
+    s.phase_us = grp.turn * plan.cycle_us + grp.slot * fp.slot_us;
+    double peak = 0;
+    for (const double i : s.currents_mA) peak = std::max(peak, std::abs(i));
+    s.amplitude_mA = peak;
+    s.max_current_mA = o.limits.max_current_mA;
+    s.electrode_area_mm2 = bank.pad_area_mm2;
+    Json pixels = Json::array(), intensity = Json::array(), mA = Json::array();
+    for (const std::size_t i : grp.members) {
+      pixels.push_back(plan.lit[i].pad);
+      intensity.push_back(plan.lit[i].intensity);
+      mA.push_back(o.every_pattern ? high[i] : plan.lit[i].current_mA);
+    }
+    s.carried = {{"primary", kPrimaries[p]},
+                 {"pixels", pixels},
+                 {"intensities", intensity},
+                 {"pixel_currents_mA", mA}};
+    plan.mix.patterns.push_back(std::move(s));
+  }
+  return plan;
+}
+
+Json plan_to_json(const RenderPlan& p) {
+  Json j = {{"format", "tactile-primaries/render-plan/1"}};
+  Json rates = Json::object();
+  for (std::size_t i = 0; i < 3; ++i)
+    if (p.groups_per_primary[i] > 0)
+      rates[kPrimaries[i]] = {{"requested_hz", p.requested_hz[i]},
+                              {"rate_hz", p.rate_hz[i]},
+                              {"groups", p.groups_per_primary[i]},
+                              {"period_cycles", p.k[i]}};
+  j["rates"] = rates;
+  j["cycle_us"] = p.cycle_us;
+  j["slots"] = p.slots;
+  j["lit"] = p.lit.size();
+  j["worst_crosstalk"] = p.worst_crosstalk;
+  j["lowered"] = p.lowered;
+  if (p.lowered) j["limited_by"] = p.limited_by;
+  Json groups = Json::array();
+  for (const RenderGroup& g : p.groups) {
+    Json px = Json::array();
+    for (const std::size_t i : g.members) px.push_back(p.lit[i].pad);
+    groups.push_back({{"primary", kPrimaries[static_cast<std::size_t>(g.primary)]},
+                      {"slot", g.slot},
+                      {"turn", g.turn},
+                      {"pixels", px}});
+  }
+  j["groups"] = groups;
+  return j;
+}
+
+}  // namespace tp

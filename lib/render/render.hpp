@@ -1,0 +1,110 @@
+#pragma once
+// Rendering a tactile image (issue 23; docs/rendering.md): a bank of focal pixels
+// (optimize-weights --bank), a person's profile and the pads' intensities become a mix
+// of patterns the device plays.
+//
+// The pulse budget.  Each lit (pixel, primary) is one pattern of the bank at the current
+// the profile gives its intensity.  Two of a primary's patterns may fire at the same
+// instant, as one device pattern (their currents summed), when they share no pad and
+// neither's field reaches the other's target by more than the crosstalk bound:
+//     crosstalk(A -> B) = |I_A AF_A(p_B)| / (I_B AF_B(p_B)),
+// AF_X(p) the activating function of pattern X's weights (max |w| = 1) on the receptor's
+// fibre at p, p_B pattern B's peak as the bank records it, I the currents.  The conflict
+// graph (an edge where a pad is shared or the bound broken, in either direction) is
+// coloured by DSatur (Brelaz 1979); each colour class is a group, one device pattern.
+//
+// The groups take turns in a frame: a cycle of C us holds J = floor(C / (L + gap)) slots
+// (L the pulse's length); a primary's period is k_p x C, so one slot holds k_p of its
+// groups, one in every k_p-th cycle.  No two pulses ever meet: nothing is deferred.  C and
+// the k_p are chosen (plan_frame) to make every primary's rate at most the requested and
+// the smallest achieved / requested as large as possible, within the slots, each
+// electrode's RMS and mean current (summed over the groups) and the device's exact slip
+// check.  When the image asks more than the device can deliver this lowers rates, never
+// drops a lit pixel, and the plan says so.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "io/document.hpp"
+#include "pulse/mix.hpp"
+#include "render/image.hpp"
+#include "render/profile.hpp"
+
+namespace tp {
+
+// One (pixel, primary) of a bank.
+struct BankEntry {
+  bool present = false;  // the bank has this primary's mode
+  bool feasible = false;
+  std::string reason;           // why not feasible
+  std::vector<double> weights;  // one per pad, max |w| = 1
+  double peak_x_mm = 0, peak_y_mm = 0, peak_z_mm = 0;
+};
+
+// A bank of every pad's pixel on a grid (optimize-weights --bank without --at).
+struct PixelBank {
+  Document doc;  // the array, model and receptors
+  int columns = 0, rows = 0;
+  double pad_area_mm2 = 0;
+  std::vector<std::array<BankEntry, 3>> entry;  // by pad, by primary
+  std::size_t pads() const { return entry.size(); }
+};
+// Bad input naming the problem: not a bank, not a grid, a pixel that is not its pad's
+// centre, weights that are not one per pad or not finite.
+PixelBank pixel_bank_from_json(const Json& j);
+
+struct RenderOptions {
+  std::array<double, 3> rate_hz = {30.0, 200.0, 250.0};  // requested, per primary
+  double width_us = 200.0, interphase_us = 0.0, balance_width_us = 200.0;
+  double crosstalk = 0.1;  // the bound for firing together, [0, 1]
+  double duration_s = 1.0;
+  double gap_us = device::hard::min_gap_us;
+  StimulusLimits limits;
+  // Each electrode's RMS and mean current are planned to this share of their limits,
+  // leaving room for the DAC's rounding.
+  double load_margin = 0.99;
+  // A sequence's plan: every feasible pattern, each alone in its group (live amplitude
+  // frames scale whole device patterns), at its comfort current.
+  bool every_pattern = false;
+};
+// Checks each option's range (docs/rendering.md); bad input naming it.
+void check_render_options(const RenderOptions& o);
+
+struct LitPattern {
+  long pad = 0;
+  int primary = 0;
+  double intensity = 0;  // 0 to 1
+  double current_mA = 0;
+};
+struct RenderGroup {
+  int primary = 0;
+  std::vector<std::size_t> members;  // indices into RenderPlan::lit
+  int slot = 0, turn = 0;            // its slot in the cycle, its cycle modulo k
+};
+struct RenderPlan {
+  std::vector<LitPattern> lit;
+  std::vector<RenderGroup> groups;  // device pattern order
+  std::array<int, 3> groups_per_primary{};
+  std::array<double, 3> requested_hz{}, rate_hz{};  // rate_hz: achieved (0: nothing lit)
+  double cycle_us = 0;
+  std::array<long, 3> k{};     // each primary's period in cycles
+  int slots = 0;               // slots per cycle
+  double worst_crosstalk = 0;  // among patterns that fire together
+  bool lowered = false;        // some rate is below the requested by more than 0.5 %
+  std::string limited_by;      // "slots", "RMS current", "mean current" or "slip check"
+  Mix mix;                     // empty when nothing is lit
+};
+// Bad input for a lit pixel whose primary has no pattern (the bank's reason), a profile
+// without that primary's range; a runtime failure when no frame satisfies the limits.
+RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
+                       const RenderOptions& o);
+
+// Crosstalk of A onto B as above (exposed for tests).
+double crosstalk(const PixelBank& bank, int primary, long a, double current_a_mA, long b,
+                 double current_b_mA);
+
+// The plan as JSON (render-tactile --plan): groups, rates, frame, crosstalk.
+Json plan_to_json(const RenderPlan& p);
+
+}  // namespace tp

@@ -1,0 +1,196 @@
+// Rendering (lib/render/profile.hpp, render.hpp): a profile's currents; the plan's groups
+// (no shared pad, crosstalk within its bound on the field evaluated again), its frame (no
+// pulse ever deferred, rates never above the requested, the device's own checks pass),
+// every lit pattern delivered, the same plan for the same input.
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "core/error.hpp"
+#include "io/reports.hpp"
+#include "opt/bank.hpp"
+#include "render/render.hpp"
+
+using namespace tp;
+
+namespace {
+
+Json profile_json(double t = 0.3, double c = 0.9) {
+  return {{"format", "tactile-primaries/profile/1"},
+          {"primaries",
+           {{"RA", {{"threshold_mA", 0.4}, {"comfort_mA", 1.0}}},
+            {"SAI", {{"threshold_mA", t}, {"comfort_mA", c}}},
+            {"PC", {{"threshold_mA", 0.5}, {"comfort_mA", 1.2}}}}}};
+}
+
+// A 6 x 6 grid of 1 x 1 mm pads at 2 mm under rect3d, every pixel's pattern of each mode in
+// a 3 x 3 neighbourhood: computed once.
+const PixelBank& bank6() {
+  static const PixelBank b = [] {
+    Document doc;
+    doc.setup.array = ElectrodeArray::grid_of(6, 6, 2.0, 2.0, 1.0, 1.0);
+    doc.setup.conductor.model = "rect3d";
+    doc.setup.lateral_margin_mm = 2.0;
+    BankOptions o;
+    o.neighbourhood = 3;
+    o.threads = 2;
+    const Bank bank = optimize_bank(doc.setup, o);
+    return pixel_bank_from_json(parse_json_strict(dump_json(bank_to_json(doc, bank, o)), "bank"));
+  }();
+  return b;
+}
+
+PadIntensities random_image(const PixelBank& b, std::mt19937& rng, double lit_share) {
+  PadIntensities im;
+  im.columns = b.columns;
+  im.rows = b.rows;
+  std::uniform_real_distribution<double> u(0, 1);
+  for (std::size_t pad = 0; pad < b.pads(); ++pad) {
+    std::array<double, 3> v{};
+    for (std::size_t p = 0; p < 3; ++p)
+      if (b.entry[pad][p].feasible && u(rng) < lit_share) v[p] = std::round(u(rng) * 255) / 255;
+    im.value.push_back(v);
+  }
+  return im;
+}
+
+}  // namespace
+
+TEST_CASE("a profile: its currents, and every range outside its bounds refused", "[render]") {
+  const Profile p = profile_from_json(profile_json(), 2.0, 64);
+  CHECK(p.current_mA(1, 0, 0.0) == 0.0);
+  CHECK(p.current_mA(1, 0, 1.0) == Approx(0.9));
+  CHECK(p.current_mA(1, 0, 0.5) == Approx(0.6));
+  CHECK(p.current_mA(0, 7, 1.0 / 255) == Approx(0.4 + 0.6 / 255));
+  Json j = profile_json();
+  j["pixels"] = Json::array({{{"pad", 3}, {"SAI", {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}}}}});
+  const Profile q = profile_from_json(j, 2.0, 64);
+  CHECK(q.current_mA(1, 3, 1.0) == Approx(0.2));
+  CHECK(q.current_mA(1, 4, 1.0) == Approx(0.9));
+  CHECK(q.current_mA(0, 3, 1.0) == Approx(1.0));  // its other primaries: the profile's
+  CHECK(profile_to_json(q) == j);
+  auto refused = [](const Json& bad, const std::string& says) {
+    try {
+      profile_from_json(bad, 2.0, 64);
+      FAIL("accepted: " << bad.dump());
+    } catch (const Error& e) {
+      CHECK(e.code() == ExitCode::bad_input);
+      CHECK_THAT(e.what(), Catch::Contains(says));
+    }
+  };
+  refused(profile_json(0.5, 0.4), "below its threshold");
+  refused(profile_json(0.3, 2.5), "above the current limit");
+  refused(profile_json(0.0, 0.4), "outside (0, 2] mA");
+  Json f = profile_json();
+  f["format"] = "tactile-primaries/profile/2";
+  refused(f, "format");
+  Json far = profile_json();
+  far["pixels"] =
+      Json::array({{{"pad", 64}, {"SAI", {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}}}}});
+  refused(far, "not one of the array's 64 pads");
+  Json odd = profile_json();
+  odd["primaries"]["XY"] = {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}};
+  refused(odd, "not a primary");
+  Json partial = profile_json();
+  partial["primaries"].erase("PC");
+  const Profile r = profile_from_json(partial, 2.0, 64);
+  CHECK_THROWS_AS(r.current_mA(2, 0, 1.0), Error);
+}
+
+TEST_CASE("a plan: groups share no pad, keep their crosstalk bound, and never collide",
+          "[render]") {
+  const PixelBank& b = bank6();
+  const Profile profile = profile_from_json(profile_json(), 2.0, 36);
+  std::mt19937 rng(23);
+  int multi = 0;
+  for (int run = 0; run < 12; ++run) {
+    RenderOptions o;
+    o.crosstalk = run % 3 == 0 ? 0.05 : 0.2;
+    const PadIntensities im = random_image(b, rng, run % 2 ? 0.9 : 0.3);
+    const RenderPlan plan = plan_render(b, profile, im, o);
+    INFO("run " << run << ": " << plan.lit.size() << " lit in " << plan.groups.size() << " groups");
+    // Every lit pattern, once.
+    std::vector<int> seen(plan.lit.size(), 0);
+    for (const RenderGroup& g : plan.groups)
+      for (const std::size_t i : g.members) {
+        ++seen[i];
+        CHECK(plan.lit[i].primary == g.primary);
+      }
+    for (const int s : seen) CHECK(s == 1);
+    std::size_t lit = 0;
+    for (const auto& v : im.value)
+      for (const double x : v) lit += x > 0;
+    CHECK(plan.lit.size() == lit);
+    // Members: disjoint pads; crosstalk both ways within the bound (the field built anew).
+    for (std::size_t g = 0; g < plan.groups.size(); ++g) {
+      const auto& m = plan.groups[g].members;
+      multi += m.size() > 1;
+      std::vector<int> pad_users(b.pads(), 0);
+      for (const std::size_t i : m) {
+        const auto& w = b.entry[static_cast<std::size_t>(plan.lit[i].pad)]
+                               [static_cast<std::size_t>(plan.lit[i].primary)]
+                                   .weights;
+        for (std::size_t e = 0; e < w.size(); ++e) pad_users[e] += w[e] != 0;
+      }
+      for (const int u : pad_users) CHECK(u <= 1);
+      for (const std::size_t i : m)
+        for (const std::size_t j : m)
+          if (i != j)
+            CHECK(crosstalk(b, plan.lit[i].primary, plan.lit[i].pad, plan.lit[i].current_mA,
+                            plan.lit[j].pad, plan.lit[j].current_mA) <= o.crosstalk);
+      // The group's currents: its members' currents times their weights.
+      const Stimulus& s = plan.mix.patterns[g];
+      for (std::size_t e = 0; e < b.pads(); ++e) {
+        double want = 0;
+        for (const std::size_t i : m)
+          want += plan.lit[i].current_mA * b.entry[static_cast<std::size_t>(plan.lit[i].pad)]
+                                                  [static_cast<std::size_t>(plan.lit[i].primary)]
+                                                      .weights[e];
+        CHECK(s.currents_mA[e] == Approx(want).margin(1e-12));
+      }
+    }
+    // The frame: rates at most the requested; the device's checks pass and find no slip.
+    for (std::size_t p = 0; p < 3; ++p) CHECK(plan.rate_hz[p] <= o.rate_hz[p] * (1 + 1e-12));
+    CHECK_NOTHROW(check_mix(plan.mix, o.limits));
+    const MixFigures f = mix_figures(plan.mix);
+    CHECK(f.worst_slip_us == 0);
+    CHECK(f.utilisation <= 1.0);
+    // The same input, the same plan.
+    CHECK(plan_to_json(plan_render(b, profile, im, o)) == plan_to_json(plan));
+  }
+  CHECK(multi > 0);  // some patterns did fire together
+}
+
+TEST_CASE("a plan: one pixel at its requested rate; a full image lowered, nothing dropped",
+          "[render]") {
+  const PixelBank& b = bank6();
+  const Profile profile = profile_from_json(profile_json(), 2.0, 36);
+  PadIntensities im;
+  im.columns = im.rows = 6;
+  im.value.assign(36, {0, 0, 0});
+  im.value[14][1] = 128.0 / 255;
+  RenderOptions o;
+  const RenderPlan one = plan_render(b, profile, im, o);
+  REQUIRE(one.groups.size() == 1);
+  CHECK(one.rate_hz[1] == 200.0);
+  CHECK_FALSE(one.lowered);
+  CHECK(one.mix.patterns[0].currents_mA[14] == Approx(0.3 + 0.6 * 128 / 255));
+  // Everything lit that has a pattern.
+  for (std::size_t pad = 0; pad < 36; ++pad)
+    for (std::size_t p = 0; p < 3; ++p) im.value[pad][p] = b.entry[pad][p].feasible ? 1.0 : 0.0;
+  const RenderPlan all = plan_render(b, profile, im, o);
+  CHECK(all.lowered);
+  CHECK_FALSE(all.limited_by.empty());
+  std::size_t members = 0;
+  for (const RenderGroup& g : all.groups) members += g.members.size();
+  CHECK(members == all.lit.size());
+  CHECK_NOTHROW(check_mix(all.mix, o.limits));
+  // A lit pixel whose primary has no pattern is refused, naming it.
+  for (std::size_t pad = 0; pad < 36; ++pad)
+    for (std::size_t p = 0; p < 3; ++p)
+      if (!b.entry[pad][p].feasible) {
+        im.value[pad][p] = 1.0;
+        CHECK_THROWS_WITH(plan_render(b, profile, im, o), Catch::Contains("could not find"));
+        return;
+      }
+}
