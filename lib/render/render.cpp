@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "device/device_core.hpp"
 #include "device/scheduler.hpp"
+#include "core/parallel.hpp"
 #include "io/number.hpp"
 #include "model/field.hpp"
 
@@ -135,6 +136,10 @@ struct PatternFields {
     return std::abs(current[a] * af(a, b)) / (current[b] * own[b]);
   }
 };
+
+const BankEntry& entry_of(const PixelBank& b, const LitPattern& l) {
+  return b.entry[static_cast<std::size_t>(l.pad)][static_cast<std::size_t>(l.primary)];
+}
 
 // DSatur (D. Brelaz, "New methods to color the vertices of a graph", Commun. ACM 22(4):
 // 251-256, 1979): the uncoloured vertex with the most distinct colours among its
@@ -321,7 +326,6 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
   RenderPlan plan;
   plan.requested_hz = o.rate_hz;
   // The lit patterns, pixel-major.
-  std::vector<double> planned_mA;  // the current each pattern's crosstalk is judged at
   for (std::size_t pad = 0; pad < bank.pads(); ++pad)
     for (int p = 0; p < 3; ++p) {
       const BankEntry& e = bank.entry[pad][static_cast<std::size_t>(p)];
@@ -341,21 +345,14 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
       if (l.current_mA > o.limits.max_current_mA)
         bad_input(where + " at " + number_text(l.current_mA) + " mA, above the current limit");
       plan.lit.push_back(l);
-      // A sequence's pattern may run anywhere from its threshold to its comfort current:
-      // judged at the ratio least in its favour (its threshold against the others'
-      // comfort), below.
-      planned_mA.push_back(l.current_mA);
     }
   if (plan.lit.empty()) return plan;
   const std::size_t n = plan.lit.size();
   const std::size_t pads = bank.pads();
-  const PatternFields fields(bank, plan.lit);
   // Which pads each pattern uses.
   std::vector<std::vector<std::uint64_t>> uses(n, std::vector<std::uint64_t>((pads + 63) / 64, 0));
   for (std::size_t i = 0; i < n; ++i) {
-    const auto& w = bank.entry[static_cast<std::size_t>(plan.lit[i].pad)]
-                              [static_cast<std::size_t>(plan.lit[i].primary)]
-                                  .weights;
+    const auto& w = entry_of(bank, plan.lit[i]).weights;
     for (std::size_t e = 0; e < pads; ++e)
       if (w[e] != 0) uses[i][e / 64] |= std::uint64_t{1} << (e % 64);
   }
@@ -364,7 +361,9 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
       if (uses[i][w] & uses[j][w]) return true;
     return false;
   };
-  // A sequence: the threshold current where judged as the target, comfort as the source.
+  // The currents crosstalk is judged at: a still image's own; a sequence's patterns may run
+  // anywhere from threshold to comfort, so the ratio least in the target's favour (the
+  // source at its comfort, the target at its threshold).
   std::vector<double> low(n), high(n);
   for (std::size_t i = 0; i < n; ++i) {
     const LitPattern& l = plan.lit[i];
@@ -372,25 +371,60 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     low[i] = o.every_pattern ? r.threshold_mA : l.current_mA;
     high[i] = o.every_pattern ? r.comfort_mA : l.current_mA;
   }
+  // Each pad's AF alone (1 mA) at every lit pattern's peak, on its receptor: a pattern's
+  // AF anywhere is its weights' sum of these (the field is linear in the currents).
+  std::vector<std::vector<double>> unit(pads, std::vector<double>(n, 0.0));
+  std::vector<const Receptor*> receptor(n);
+  std::vector<FibreAxis> axis(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    receptor[j] = &bank.doc.setup.receptors[receptor_index(
+        bank.doc.setup, kPrimaries[static_cast<std::size_t>(plan.lit[j].primary)])];
+    axis[j] = fibre_axis(*receptor[j]);
+  }
+  parallel_for(pads, o.threads, [&](std::size_t e) {
+    bool used = false;
+    for (std::size_t i = 0; i < n && !used; ++i) used = (uses[i][e / 64] >> (e % 64)) & 1;
+    if (!used) return;
+    std::vector<double> one(pads, 0.0);
+    one[e] = 1.0;
+    const Field f(bank.doc.setup, one);
+    for (std::size_t j = 0; j < n; ++j) {
+      const BankEntry& t = entry_of(bank, plan.lit[j]);
+      unit[e][j] = f.af_3d(receptor[j]->fibre, axis[j], t.peak_x_mm, t.peak_y_mm, t.peak_z_mm);
+    }
+  });
+  auto af = [&](std::size_t i, std::size_t j) {  // pattern i's AF at pattern j's peak
+    const auto& w = entry_of(bank, plan.lit[i]).weights;
+    double sum = 0;
+    for (std::size_t e = 0; e < pads; ++e)
+      if (w[e] != 0) sum += w[e] * unit[e][j];
+    return sum;
+  };
+  std::vector<double> own(n);
+  for (std::size_t j = 0; j < n; ++j) own[j] = af(j, j);
   auto cross = [&](std::size_t i, std::size_t j) {  // i onto j
-    if (!(fields.own[j] > 0)) return HUGE_VAL;
-    return std::abs(high[i] * fields.af(i, j)) / (low[j] * fields.own[j]);
+    if (!(own[j] > 0)) return HUGE_VAL;
+    return std::abs(high[i] * af(i, j)) / (low[j] * own[j]);
   };
   // Groups per primary.
   for (int p = 0; p < 3; ++p) {
     std::vector<std::size_t> nodes;
     for (std::size_t i = 0; i < n; ++i)
       if (plan.lit[i].primary == p) nodes.push_back(i);
-    std::vector<std::vector<std::size_t>> adj(nodes.size());
-    for (std::size_t a = 0; a < nodes.size(); ++a)
+    std::vector<std::vector<std::size_t>> later(nodes.size());  // conflicts with b > a
+    parallel_for(nodes.size(), o.threads, [&](std::size_t a) {
       for (std::size_t b = a + 1; b < nodes.size(); ++b) {
         const std::size_t i = nodes[a], j = nodes[b];
-        const bool conflict =
-            o.every_pattern || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk;
-        if (conflict) {
-          adj[a].push_back(b);
-          adj[b].push_back(a);
-        }
+        if (o.every_pattern || share_pad(i, j) ||
+            std::max(cross(i, j), cross(j, i)) > o.crosstalk)
+          later[a].push_back(b);
+      }
+    });
+    std::vector<std::vector<std::size_t>> adj(nodes.size());
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      for (const std::size_t b : later[a]) {
+        adj[a].push_back(b);
+        adj[b].push_back(a);
       }
     const std::vector<int> colour = dsatur(adj);
     const int colours = nodes.empty() ? 0 : *std::max_element(colour.begin(), colour.end()) + 1;

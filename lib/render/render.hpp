@@ -67,6 +67,7 @@ struct RenderOptions {
   // A sequence's plan: every feasible pattern, each alone in its group (live amplitude
   // frames scale whole device patterns), at its comfort current.
   bool every_pattern = false;
+  unsigned threads = 0;  // for the fields and the conflicts, 0: every core
 };
 // Checks each option's range (docs/rendering.md); bad input naming it.
 void check_render_options(const RenderOptions& o);
