@@ -7,9 +7,9 @@
 #include <numeric>
 
 #include "core/error.hpp"
+#include "core/parallel.hpp"
 #include "device/device_core.hpp"
 #include "device/scheduler.hpp"
-#include "core/parallel.hpp"
 #include "io/number.hpp"
 #include "model/field.hpp"
 
@@ -415,8 +415,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     parallel_for(nodes.size(), o.threads, [&](std::size_t a) {
       for (std::size_t b = a + 1; b < nodes.size(); ++b) {
         const std::size_t i = nodes[a], j = nodes[b];
-        if (o.every_pattern || share_pad(i, j) ||
-            std::max(cross(i, j), cross(j, i)) > o.crosstalk)
+        if (o.every_pattern || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk)
           later[a].push_back(b);
       }
     });

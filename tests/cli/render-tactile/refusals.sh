@@ -1,0 +1,41 @@
+# Bad input: exit 2, one line naming the problem, nothing on stdout, nothing delivered.
+source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
+mkpng ok.png 8 8 "3,2,0,255,0"
+rt=(render-tactile --bank "$BANK" --profile profile.json)
+# Pictures: a palette PNG (few colours: pnmtopng's choice), bytes that do not decode, the
+# wrong size without --resample, nothing lit.
+{ echo P3; echo 8 8; echo 255; for ((k = 0; k < 64; ++k)); do echo "0 0 0"; done; } | pnmtopng > palette.png 2> /dev/null
+refuses 2 --says "a palette image" -- "${rt[@]}" palette.png
+head -c 40 ok.png > cut.png
+refuses 2 --says "cut.png" -- "${rt[@]}" cut.png
+mkpng small.png 4 4 "1,1,255,0,0"
+refuses 2 --says "4 x 4" -- "${rt[@]}" small.png
+mkpng black.png 8 8
+refuses 2 --says "no pixel is lit" -- "${rt[@]}" black.png
+# Profiles: comfort below threshold, above the device's limit, a pixel of another array.
+jq '.primaries.SAI.comfort_mA = 0.2' profile.json > low.json
+refuses 2 --says "below its threshold" -- render-tactile --bank "$BANK" --profile low.json ok.png
+jq '.primaries.SAI.comfort_mA = 2.5' profile.json > high.json
+refuses 2 --says "above the current limit" -- render-tactile --bank "$BANK" --profile high.json ok.png
+jq '.pixels = [{pad: 64, SAI: {threshold_mA: 0.1, comfort_mA: 0.2}}]' profile.json > other.json
+refuses 2 --says "not one of the array's 64 pads" -- render-tactile --bank "$BANK" --profile other.json ok.png
+# Banks: a 4 x 4 grid's for this 8 x 8 image; a weights document, not a bank; a pixel lit
+# in a primary its pattern could not be found for (the corner's PC).
+optimize-weights --bank --mode SAI --grid 4x4 --pitch 2 --pad 1x1 > bank4.json 2> /dev/null || fail "bank 4x4"
+refuses 2 --says "8 x 8 pixels for an array of 4 x 4 pads" -- render-tactile --bank bank4.json --profile profile.json ok.png
+refuses 2 --says "not a bank" -- render-tactile --bank "$TP_INPUTS/sai-weights.json" --profile profile.json ok.png
+mkpng corner.png 8 8 "0,0,0,0,255"
+refuses 2 --says "could not find" -- "${rt[@]}" corner.png
+mkpng ra.png 8 8 "3,3,255,0,0"
+refuses 2 --says "no patterns for" -- render-tactile --bank bank4.json --profile profile.json --resample ra.png
+# Options: rates, widths, crosstalk, duration outside their ranges.
+refuses 2 --says "--rates: PC 2000 Hz" -- "${rt[@]}" --rates PC:2000 ok.png
+refuses 2 --says "not a primary" -- "${rt[@]}" --rates XY:20 ok.png
+refuses 2 --says "--width" -- "${rt[@]}" --width 200.5 ok.png
+refuses 2 --says "--crosstalk" -- "${rt[@]}" --crosstalk 1.5 ok.png
+refuses 2 --says "--duration" -- "${rt[@]}" --duration 0 ok.png
+# Nothing reaches a device: the pipeline's stimctl gets nothing and sends nothing.
+{ render-tactile --bank "$BANK" --profile low.json ok.png 2> /dev/null || true; } \
+  | { stimctl --port emu --emu-channels 64 --record none.jsonl 2> /dev/null || true; }
+[[ ! -s none.jsonl ]] || fail "a pulse was delivered after a refusal"
+echo "ok: nothing delivered"
