@@ -5,13 +5,16 @@
 //   render-tactile --bank bank.json --profile profile.json --duration 2 picture.png
 //     | stimctl --port emu --emu-channels 64   (one line)
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
+#include "host/line_reader.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 #include "render/render.hpp"
@@ -46,6 +49,45 @@ std::string rates_text(const tp::RenderPlan& plan) {
   return out;
 }
 
+// Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
+// given (already checked), or JSON lines read from stdin, each checked before it is
+// written.  After the last, holds it one frame period (so the device delivers it) and ends.
+void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::PixelBank& bank,
+                 const std::vector<std::vector<double>>& given, bool from_stdin, double fps) {
+  using clock = std::chrono::steady_clock;
+  const auto period =
+      std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / fps));
+  const clock::time_point t0 = clock::now();
+  std::size_t k = 0;
+  auto emit = [&](const std::vector<double>& a) {
+    std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
+    std::string text = "{\"amplitudes\": [";
+    for (std::size_t i = 0; i < a.size(); ++i) text += (i ? ", " : "") + tp::number_text(a[i]);
+    tp::cli::write_stdout(text + "]}\n");
+    ++k;
+  };
+  if (!from_stdin) {
+    for (const auto& a : given) emit(a);
+  } else {
+    tp::host::LineReader in(0);
+    std::string line;
+    for (;;) {
+      if (in.next(line)) {
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        const std::string where = "frame " + std::to_string(in.lines());
+        const tp::PadIntensities f =
+            tp::frame_from_json(tp::parse_json_strict(line, where), bank.columns, bank.rows, where);
+        emit(tp::frame_amplitudes(seq, profile, f, where));
+        continue;
+      }
+      if (in.at_end()) break;
+      in.fill(1000);
+    }
+  }
+  if (k > 0) std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
+  std::fprintf(stderr, "render-tactile: %zu frames at %s fps\n", k, tp::number_text(fps).c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -59,13 +101,14 @@ int main(int argc, char** argv) {
       "stderr; no lit pixel is dropped).  Prints one stimulus document of the groups "
       "(stimctl plays it), or with --plan the plan.  docs/rendering.md.",
       "render-tactile"};
-  std::string bank_path, profile_path, rates, duration = "1", crosstalk = "0.1", width = "200",
-                                              balance;
+  std::string bank_path, profile_path, rates, duration, crosstalk = "0.1", width = "200", balance,
+                                                        frames_for, fps_text = "30";
   std::vector<std::string> images;
-  bool resample = false, plan_only = false;
-  app.add_option("image", images, "The picture: an 8-bit RGB PNG, - for stdin")
-      ->required()
-      ->type_name("PNG");
+  bool resample = false, plan_only = false, sequence = false;
+  app.add_option("images", images,
+                 "The picture: an 8-bit RGB PNG, - for stdin; with --sequence or --frames, the "
+                 "frames in order (--frames -: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
+      ->type_name("PNG...");
   app.add_option("--bank", bank_path, "Pattern bank (optimize-weights --bank; every pad's pixel)")
       ->required()
       ->type_name("FILE");
@@ -76,7 +119,10 @@ int main(int argc, char** argv) {
   app.add_option("--rates", rates,
                  "Requested rate per primary, Hz, 0.1 to 1000 [RA:30,SAI:200,PC:250]")
       ->type_name("P:HZ,...");
-  app.add_option("--duration", duration, "Seconds, (0, 3600] [1]")->type_name("S");
+  app.add_option("--duration", duration,
+                 "Seconds, (0, 3600] [a still image: 1; a sequence: its frames and one more "
+                 "frame period, or 3600 for frames on stdin]")
+      ->type_name("S");
   app.add_option("--crosstalk", crosstalk,
                  "Largest crosstalk between patterns that fire together, 0 to 1 [0.1]")
       ->type_name("X");
@@ -89,34 +135,74 @@ int main(int argc, char** argv) {
   app.add_flag("--plan", plan_only,
                "Print the plan (groups, slots, rates) as JSON instead of the stimulus; for "
                "arrays larger than a device");
+  app.add_flag("--sequence", sequence,
+               "A sequence's stimulus, for stimctl --live: each pixel and primary the frames "
+               "light (none given: every one the bank has) its own pattern, uploaded once, "
+               "starting from the first frame");
+  app.add_option("--frames", frames_for,
+                 "Play the frames (the images, or JSON lines on stdin) as live amplitude "
+                 "frames for the sequence's stimulus FILE, one every 1/--fps s")
+      ->type_name("FILE");
+  app.add_option("--fps", fps_text, "Frames per second, 0.1 to 1000 [30]")->type_name("FPS");
 
   return tp::cli::run(app, argc, argv, [&] {
-    if (images.size() != 1)
-      tp::bad_input(std::to_string(images.size()) + " images: a still image takes one");
     tp::RenderOptions o;
     if (!rates.empty()) parse_rates(rates, o.rate_hz);
-    o.duration_s = tp::parse_finite(duration, "--duration");
+    const double fps = tp::parse_finite(fps_text, "--fps");
+    if (!(fps >= 0.1 && fps <= 1000)) tp::bad_input("--fps: " + fps_text + " outside [0.1, 1000]");
+    const bool live_input = images.size() == 1 && images[0] == "-" && !frames_for.empty();
+    o.duration_s = !duration.empty()            ? tp::parse_finite(duration, "--duration")
+                   : sequence && images.empty() ? 3600.0
+                   : sequence                   ? (static_cast<double>(images.size()) + 1) / fps
+                                                : 1.0;
+    o.duration_s = std::min(o.duration_s, o.limits.max_duration_s);
     o.crosstalk = tp::parse_finite(crosstalk, "--crosstalk");
     o.width_us = tp::parse_finite(width, "--width");
     o.balance_width_us =
         balance.empty() ? o.width_us : tp::parse_finite(balance, "--balance-width");
     tp::check_render_options(o);
-    if (bank_path == "-" && profile_path == "-")
-      tp::bad_input("--bank and --profile: - (stdin) given twice");
+    if (sequence && !frames_for.empty()) tp::bad_input("--sequence and --frames: give one");
+    if (!sequence && frames_for.empty() && images.size() != 1)
+      tp::bad_input(std::to_string(images.size()) + " images: a still image takes one");
+    if (!frames_for.empty() && images.empty())
+      tp::bad_input("--frames: no frames (images, or - for JSON lines on stdin)");
+    int stdin_uses = (bank_path == "-") + (profile_path == "-") + (frames_for == "-");
+    for (const std::string& f : images) stdin_uses += f == "-";
+    if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
     const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(bank_path, "bank"));
     o.limits.max_current_mA = std::min(o.limits.max_current_mA, bank.doc.max_current_mA);
     const tp::Profile profile =
         tp::profile_from_json(tp::read_json(profile_path, "profile"), o.limits.max_current_mA,
                               static_cast<long>(bank.pads()));
-    const tp::RgbImage image = tp::read_png(images[0]);
-    const tp::PadIntensities pads = tp::pad_intensities(image, bank.columns, bank.rows, resample);
-    const tp::RenderPlan plan = tp::plan_render(bank, profile, pads, o);
-    if (plan.lit.empty()) tp::bad_input(images[0] + ": no pixel is lit (all black)");
+    // The images, all read and checked before anything is printed (frames on stdin: as
+    // they come, each checked before it is written).
+    std::vector<tp::PadIntensities> frames;
+    if (!live_input)
+      for (const std::string& f : images)
+        frames.push_back(tp::pad_intensities(tp::read_png(f), bank.columns, bank.rows, resample));
+
+    if (!frames_for.empty()) {
+      const tp::Mix seq = tp::mix_from_json(tp::read_json(frames_for, "stimulus"));
+      if (seq.patterns[0].currents_mA.size() != bank.pads())
+        tp::bad_input("--frames: a stimulus of " +
+                      std::to_string(seq.patterns[0].currents_mA.size()) +
+                      " channels for a bank of " + std::to_string(bank.pads()) + " pads");
+      std::vector<std::vector<double>> out;  // PNG frames: every one checked first
+      for (std::size_t k = 0; k < frames.size(); ++k)
+        out.push_back(tp::frame_amplitudes(seq, profile, frames[k], images[k]));
+      play_frames(seq, profile, bank, out, live_input, fps);
+      return;
+    }
+    const tp::RenderPlan plan = sequence ? tp::plan_sequence(bank, profile, frames, o)
+                                         : tp::plan_render(bank, profile, frames[0], o);
+    if (plan.lit.empty())
+      tp::bad_input(sequence ? "no frame lights a pixel"
+                             : images[0] + ": no pixel is lit (all black)");
     if (plan.lowered)
       std::fprintf(stderr,
-                   "render-tactile: the image asks more than the device delivers: rates "
+                   "render-tactile: the %s asks more than the device delivers: rates "
                    "lowered by %s, every lit pixel kept\n",
-                   plan.limited_by.c_str());
+                   sequence ? "sequence" : "image", plan.limited_by.c_str());
     std::fprintf(stderr,
                  "render-tactile: %zu lit patterns in %zu groups, cycle %s us of %d slots, "
                  "worst crosstalk %s; refresh %s\n",

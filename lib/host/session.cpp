@@ -291,7 +291,11 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
       dev.stop();
       rep.preempted = true;
     }
-    const int steps = table ? 2 + 2 * static_cast<int>(m.patterns.size()) : 3;
+    // A table: configure, each pattern's timing and codes, its starting amplitudes (when
+    // the document gives them: after the codes, which reset them), start.
+    const int uploads = 2 * static_cast<int>(m.patterns.size());
+    const bool start_scales = table && !m.start_amplitudes_mA.empty();
+    const int steps = table ? 2 + uploads + (start_scales ? 1 : 0) : 3;
     for (int step = 0; step < steps; ++step) {
       if (interrupted()) break;
       if (step == 0 && table) {
@@ -302,7 +306,7 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
       } else if (step == 0) {
         dev.configure(cfg);
         configured = true;
-      } else if (step + 1 < steps && table) {
+      } else if (table && step <= uploads) {
         const auto i = static_cast<std::uint16_t>((step - 1) / 2);
         if ((step - 1) % 2 == 0) {
           dev.set_pattern(i, timings[i]);
@@ -310,6 +314,9 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
           dev.set_codes(i, table_codes[i]);
           rep.peak_mA = std::max(rep.peak_mA, peak_of(table_codes[i], rep.caps));
         }
+      } else if (start_scales && step == uploads + 1) {
+        dev.set_amplitudes(
+            parse_amplitudes({{"amplitudes", m.start_amplitudes_mA}}, m, "start_amplitudes_mA"));
       } else if (step == 1) {
         dev.set_weights(codes);
         rep.peak_mA = peak_of(codes, rep.caps);

@@ -86,6 +86,8 @@ void check_mix(const Mix& m, const StimulusLimits& lim) {
   if (m.patterns.size() > device::kMaxPatterns)
     bad_input("stimulus: " + std::to_string(m.patterns.size()) +
               " patterns, more than a device holds (" + std::to_string(device::kMaxPatterns) + ")");
+  if (!m.start_amplitudes_mA.empty())
+    parse_amplitudes({{"amplitudes", m.start_amplitudes_mA}}, m, "start_amplitudes_mA");
   const std::size_t channels = m.patterns[0].currents_mA.size();
   for (std::size_t p = 0; p < m.patterns.size(); ++p) {
     const Stimulus& s = m.patterns[p];
@@ -157,6 +159,11 @@ Mix mix_from_json(const Json& j) {
   if (j.contains("channels") &&
       json_int(j["channels"], "channels") != static_cast<int>(m.patterns[0].currents_mA.size()))
     bad_input("stimulus: 'channels' disagrees with the patterns'");
+  if (j.contains("start_amplitudes_mA")) {
+    // Checked as a live frame is: one per pattern, each 0 to its amplitude.
+    parse_amplitudes({{"amplitudes", j["start_amplitudes_mA"]}}, m, "start_amplitudes_mA");
+    for (const Json& a : j["start_amplitudes_mA"]) m.start_amplitudes_mA.push_back(a.get<double>());
+  }
   return m;
 }
 
@@ -167,6 +174,7 @@ Json mix_to_json(const Mix& m) {
   j["channels"] = m.patterns[0].currents_mA.size();
   j["gap_us"] = m.gap_us;
   j["duration_s"] = m.duration_s();
+  if (!m.start_amplitudes_mA.empty()) j["start_amplitudes_mA"] = m.start_amplitudes_mA;
   Json list = Json::array();
   for (const Stimulus& s : m.patterns) {
     Json one = stimulus_to_json(s);

@@ -17,9 +17,15 @@ namespace tp {
 struct Mix {
   std::vector<Stimulus> patterns;            // each its own shape, count, phase_us and amplitude_mA
   double gap_us = device::hard::min_gap_us;  // between pulses of different patterns
+  // Each pattern's amplitude at the start (mA, 0 to its amplitude), set before the output
+  // starts; empty: each as configured.  A live sequence starts from its first frame.
+  std::vector<double> start_amplitudes_mA;
   bool single() const { return patterns.size() == 1; }
-  // Goes to a device as a table of patterns (protocol 4): several, or one with a phase.
-  bool table() const { return !single() || patterns[0].phase_us != 0; }
+  // Goes to a device as a table of patterns (protocol 4): several, or one with a phase or
+  // starting amplitudes.
+  bool table() const {
+    return !single() || patterns[0].phase_us != 0 || !start_amplitudes_mA.empty();
+  }
   double duration_s() const;  // the longest pattern's
 };
 

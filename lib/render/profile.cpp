@@ -23,7 +23,8 @@ const PrimaryRange& Profile::range(int p, long pad) const {
 double Profile::current_mA(int p, long pad, double v) const {
   if (!(v > 0)) return 0.0;
   const PrimaryRange& r = range(p, pad);
-  return r.threshold_mA + std::min(v, 1.0) * (r.comfort_mA - r.threshold_mA);
+  if (v >= 1) return r.comfort_mA;  // exactly, not to a rounding
+  return r.threshold_mA + v * (r.comfort_mA - r.threshold_mA);
 }
 
 namespace {

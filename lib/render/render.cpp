@@ -329,8 +329,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
   for (std::size_t pad = 0; pad < bank.pads(); ++pad)
     for (int p = 0; p < 3; ++p) {
       const BankEntry& e = bank.entry[pad][static_cast<std::size_t>(p)];
-      const double v = o.every_pattern ? (e.feasible ? 1.0 : 0.0)
-                                       : image.value[pad][static_cast<std::size_t>(p)];
+      const double v = image.value[pad][static_cast<std::size_t>(p)];
       if (!(v > 0)) continue;
       const int c = static_cast<int>(pad) % bank.columns, r = static_cast<int>(pad) / bank.columns;
       const std::string where = "image pixel (" + std::to_string(c) + ", " + std::to_string(r) +
@@ -361,16 +360,6 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
       if (uses[i][w] & uses[j][w]) return true;
     return false;
   };
-  // The currents crosstalk is judged at: a still image's own; a sequence's patterns may run
-  // anywhere from threshold to comfort, so the ratio least in the target's favour (the
-  // source at its comfort, the target at its threshold).
-  std::vector<double> low(n), high(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const LitPattern& l = plan.lit[i];
-    const PrimaryRange& r = profile.range(l.primary, l.pad);
-    low[i] = o.every_pattern ? r.threshold_mA : l.current_mA;
-    high[i] = o.every_pattern ? r.comfort_mA : l.current_mA;
-  }
   // Each pad's AF alone (1 mA) at every lit pattern's peak, on its receptor: a pattern's
   // AF anywhere is its weights' sum of these (the field is linear in the currents).
   std::vector<std::vector<double>> unit(pads, std::vector<double>(n, 0.0));
@@ -404,7 +393,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
   for (std::size_t j = 0; j < n; ++j) own[j] = af(j, j);
   auto cross = [&](std::size_t i, std::size_t j) {  // i onto j
     if (!(own[j] > 0)) return HUGE_VAL;
-    return std::abs(high[i] * af(i, j)) / (low[j] * own[j]);
+    return std::abs(plan.lit[i].current_mA * af(i, j)) / (plan.lit[j].current_mA * own[j]);
   };
   // Groups per primary.
   for (int p = 0; p < 3; ++p) {
@@ -415,7 +404,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     parallel_for(nodes.size(), o.threads, [&](std::size_t a) {
       for (std::size_t b = a + 1; b < nodes.size(); ++b) {
         const std::size_t i = nodes[a], j = nodes[b];
-        if (o.every_pattern || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk)
+        if (o.alone || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk)
           later[a].push_back(b);
       }
     });
@@ -448,8 +437,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
       const LitPattern& l = plan.lit[i];
       const auto& w =
           bank.entry[static_cast<std::size_t>(l.pad)][static_cast<std::size_t>(l.primary)].weights;
-      for (std::size_t e = 0; e < pads; ++e)
-        currents[g][e] += (o.every_pattern ? high[i] : l.current_mA) * w[e];
+      for (std::size_t e = 0; e < pads; ++e) currents[g][e] += l.current_mA * w[e];
     }
   // The frame.
   FrameProblem fp;
@@ -524,7 +512,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     for (const std::size_t i : grp.members) {
       pixels.push_back(plan.lit[i].pad);
       intensity.push_back(plan.lit[i].intensity);
-      mA.push_back(o.every_pattern ? high[i] : plan.lit[i].current_mA);
+      mA.push_back(plan.lit[i].current_mA);
     }
     s.carried = {{"primary", kPrimaries[p]},
                  {"pixels", pixels},
@@ -533,6 +521,95 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     plan.mix.patterns.push_back(std::move(s));
   }
   return plan;
+}
+
+RenderPlan plan_sequence(const PixelBank& bank, const Profile& profile,
+                         const std::vector<PadIntensities>& frames, RenderOptions o) {
+  PadIntensities any;
+  any.columns = bank.columns;
+  any.rows = bank.rows;
+  any.value.assign(bank.pads(), {0.0, 0.0, 0.0});
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    if (frames[f].columns != bank.columns || frames[f].rows != bank.rows)
+      bad_input("frame " + std::to_string(f + 1) + ": " + std::to_string(frames[f].columns) +
+                " x " + std::to_string(frames[f].rows) + " pixels for a bank of " +
+                std::to_string(bank.columns) + " x " + std::to_string(bank.rows) + " pads");
+    for (std::size_t pad = 0; pad < bank.pads(); ++pad)
+      for (std::size_t p = 0; p < 3; ++p)
+        if (frames[f].value[pad][p] > 0) any.value[pad][p] = 1.0;
+  }
+  if (frames.empty())
+    for (std::size_t pad = 0; pad < bank.pads(); ++pad)
+      for (std::size_t p = 0; p < 3; ++p)
+        if (bank.entry[pad][p].feasible && profile.primary[p]) any.value[pad][p] = 1.0;
+  o.alone = true;
+  RenderPlan plan = plan_render(bank, profile, any, o);
+  if (plan.lit.empty()) return plan;
+  plan.mix.start_amplitudes_mA = frames.empty()
+                                     ? std::vector<double>(plan.mix.patterns.size(), 0.0)
+                                     : frame_amplitudes(plan.mix, profile, frames[0], "frame 1");
+  return plan;
+}
+
+std::vector<double> frame_amplitudes(const Mix& seq, const Profile& profile,
+                                     const PadIntensities& frame, const std::string& where) {
+  // Which device pattern holds each (pad, primary): a sequence's patterns each carry
+  // their primary and their one pixel.
+  std::vector<std::array<long, 3>> index(frame.value.size(), {-1, -1, -1});
+  for (std::size_t g = 0; g < seq.patterns.size(); ++g) {
+    const Json& c = seq.patterns[g].carried;
+    if (!c.contains("primary") || !c["primary"].is_string() || !c.contains("pixels") ||
+        !c["pixels"].is_array() || c["pixels"].size() != 1 || !c["pixels"][0].is_number_integer())
+      bad_input("stimulus: pattern " + std::to_string(g) +
+                " is not a sequence's (render-tactile --sequence: one primary, one pixel)");
+    const int p = primary_index(c["primary"].get<std::string>(), "stimulus: primary");
+    const long pad = c["pixels"][0].get<long>();
+    if (pad < 0 || static_cast<std::size_t>(pad) >= index.size())
+      bad_input("stimulus: pattern " + std::to_string(g) + "'s pixel " + std::to_string(pad) +
+                " is not one of the frame's " + std::to_string(index.size()));
+    index[static_cast<std::size_t>(pad)][static_cast<std::size_t>(p)] = static_cast<long>(g);
+  }
+  std::vector<double> a(seq.patterns.size(), 0.0);
+  for (std::size_t pad = 0; pad < frame.value.size(); ++pad)
+    for (std::size_t p = 0; p < 3; ++p) {
+      const double v = frame.value[pad][p];
+      if (!(v > 0)) continue;
+      const long g = index[pad][p];
+      if (g < 0)
+        bad_input(where + ": pixel (" +
+                  std::to_string(pad % static_cast<std::size_t>(frame.columns)) + ", " +
+                  std::to_string(pad / static_cast<std::size_t>(frame.columns)) + ") lights " +
+                  kPrimaries[p] + ", which the sequence's stimulus has no pattern for");
+      const auto k = static_cast<std::size_t>(g);
+      a[k] = std::min(profile.current_mA(static_cast<int>(p), static_cast<long>(pad), v),
+                      seq.patterns[k].amplitude_mA);
+    }
+  return a;
+}
+
+PadIntensities frame_from_json(const Json& j, int columns, int rows, const std::string& where) {
+  if (!j.is_object() || !j.contains("rgb") || !j["rgb"].is_array())
+    bad_input(where + ": expected {\"rgb\": [[R, G, B], ...]}");
+  const Json& a = j["rgb"];
+  const auto n = static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows);
+  if (a.size() != n)
+    bad_input(where + ": " + std::to_string(a.size()) + " pixels for " + std::to_string(columns) +
+              " x " + std::to_string(rows) + " pads");
+  PadIntensities f;
+  f.columns = columns;
+  f.rows = rows;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!a[k].is_array() || a[k].size() != 3)
+      bad_input(where + ": pixel " + std::to_string(k) + " is not [R, G, B]");
+    std::array<double, 3> v{};
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (!a[k][c].is_number_integer() || a[k][c].get<long>() < 0 || a[k][c].get<long>() > 255)
+        bad_input(where + ": pixel " + std::to_string(k) + ": not a whole number from 0 to 255");
+      v[c] = static_cast<double>(a[k][c].get<long>()) / 255.0;
+    }
+    f.value.push_back(v);
+  }
+  return f;
 }
 
 Json plan_to_json(const RenderPlan& p) {

@@ -64,9 +64,9 @@ struct RenderOptions {
   // Each electrode's RMS and mean current are planned to this share of their limits,
   // leaving room for the DAC's rounding.
   double load_margin = 0.99;
-  // A sequence's plan: every feasible pattern, each alone in its group (live amplitude
-  // frames scale whole device patterns), at its comfort current.
-  bool every_pattern = false;
+  // Each pattern its own group, fired alone: a sequence's (live amplitude frames scale
+  // whole device patterns).
+  bool alone = false;
   unsigned threads = 0;  // for the fields and the conflicts, 0: every core
 };
 // Checks each option's range (docs/rendering.md); bad input naming it.
@@ -100,6 +100,21 @@ struct RenderPlan {
 // without that primary's range; a runtime failure when no frame satisfies the limits.
 RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
                        const RenderOptions& o);
+
+// A sequence of frames played live (render-tactile --sequence): every (pixel, primary)
+// some frame lights (no frames: every pattern the bank has), each alone at its comfort
+// current, so that an amplitude frame sets each pixel's current; the mix starts from the
+// first frame's amplitudes (none: from nothing) and lasts o.duration_s.
+RenderPlan plan_sequence(const PixelBank& bank, const Profile& profile,
+                         const std::vector<PadIntensities>& frames, RenderOptions o);
+// A frame's amplitudes (mA, one per pattern of a sequence's stimulus, whose patterns each
+// carry their primary and one pixel): the profile's current for each, 0 where dark.  Bad
+// input naming `where` when the frame lights a pixel the stimulus has no pattern for.
+std::vector<double> frame_amplitudes(const Mix& sequence, const Profile& profile,
+                                     const PadIntensities& frame, const std::string& where);
+// A frame given as a JSON line, {"rgb": [[R, G, B], ...]}: columns x rows pixels in the
+// image's order (row-major from the top), whole numbers 0 to 255.  Bad input naming `where`.
+PadIntensities frame_from_json(const Json& j, int columns, int rows, const std::string& where);
 
 // Crosstalk of A onto B as above (exposed for tests).
 double crosstalk(const PixelBank& bank, int primary, long a, double current_a_mA, long b,

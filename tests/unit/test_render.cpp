@@ -194,3 +194,45 @@ TEST_CASE("a plan: one pixel at its requested rate; a full image lowered, nothin
         return;
       }
 }
+
+TEST_CASE("a sequence: each lit pixel alone, its frames' amplitudes, its start", "[render]") {
+  const PixelBank& b = bank6();
+  const Profile profile = profile_from_json(profile_json(), 2.0, 36);
+  std::vector<PadIntensities> frames(2);
+  for (PadIntensities& f : frames) {
+    f.columns = f.rows = 6;
+    f.value.assign(36, {0, 0, 0});
+  }
+  frames[0].value[14] = {0, 1.0, 0};
+  frames[1].value[14] = {0, 0.5, 0};
+  frames[1].value[21] = {1.0 / 255, 0, 0};
+  RenderOptions o;
+  const RenderPlan plan = plan_sequence(b, profile, frames, o);
+  REQUIRE(plan.groups.size() == 2);  // pad 14's SAI, pad 21's RA: nothing else
+  for (const RenderGroup& g : plan.groups) CHECK(g.members.size() == 1);
+  // Each at its comfort current; it starts from the first frame.
+  CHECK(plan.mix.start_amplitudes_mA == std::vector<double>{0.0, 0.9});  // RA first
+  const std::vector<double> a = frame_amplitudes(plan.mix, profile, frames[1], "frame 2");
+  CHECK(a[0] == Approx(0.4 + 0.6 / 255));
+  CHECK(a[1] == Approx(0.6));
+  // Through JSON, as stimctl reads it: the same, and the amplitudes checked.
+  const Mix back = mix_from_json(parse_json_strict(dump_json(mix_to_json(plan.mix)), "mix"));
+  CHECK(back.start_amplitudes_mA == plan.mix.start_amplitudes_mA);
+  CHECK(frame_amplitudes(back, profile, frames[1], "frame 2") == a);
+  Mix loud = plan.mix;
+  loud.start_amplitudes_mA[1] = 0.95;
+  CHECK_THROWS_WITH(check_mix(loud, o.limits), Catch::Contains("start_amplitudes_mA"));
+  // A frame lighting what the sequence does not hold.
+  PadIntensities other = frames[1];
+  other.value[0] = {0, 0, 1};
+  CHECK_THROWS_WITH(frame_amplitudes(plan.mix, profile, other, "frame 3"),
+                    Catch::Contains("frame 3: pixel (0, 0) lights PC"));
+  // No frames: every pattern the bank has.
+  const RenderPlan all = plan_sequence(b, profile, {}, o);
+  std::size_t feasible = 0;
+  for (std::size_t pad = 0; pad < 36; ++pad)
+    for (std::size_t p = 0; p < 3; ++p) feasible += b.entry[pad][p].feasible;
+  CHECK(all.groups.size() == feasible);
+  CHECK_NOTHROW(check_mix(all.mix, o.limits));
+  CHECK(mix_figures(all.mix).worst_slip_us == 0);
+}

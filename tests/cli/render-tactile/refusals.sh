@@ -39,3 +39,18 @@ refuses 2 --says "--duration" -- "${rt[@]}" --duration 0 ok.png
   | { stimctl --port emu --emu-channels 64 --record none.jsonl 2> /dev/null || true; }
 [[ ! -s none.jsonl ]] || fail "a pulse was delivered after a refusal"
 echo "ok: nothing delivered"
+# Sequences: a frame lighting what the sequence's stimulus has no pattern for, a JSON frame
+# of the wrong size or values, --sequence with --frames; a starting amplitude above its
+# pattern's (stimctl too).
+mkpng g1.png 8 8 "3,2,0,255,0"
+render-tactile --bank "$BANK" --profile profile.json --sequence g1.png > seq.json 2> /dev/null || fail "--sequence"
+mkpng r1.png 8 8 "3,2,255,0,0"
+refuses 2 --says "no pattern for" -- "${rt[@]}" --frames seq.json r1.png
+echo '{"rgb": [[0, 0, 0]]}' > short.jsonl
+refuses 2 --says "1 pixels for 8 x 8 pads" --stdin short.jsonl -- "${rt[@]}" --frames seq.json -
+jq -nc '{rgb: [range(0; 64) | [0, 256, 0]]}' > big.jsonl
+refuses 2 --says "0 to 255" --stdin big.jsonl -- "${rt[@]}" --frames seq.json -
+refuses 2 --says "give one" -- "${rt[@]}" --sequence --frames seq.json g1.png
+jq '.start_amplitudes_mA = [1.5]' seq.json > loud.json
+refuses 2 --says "start_amplitudes_mA" --stdin loud.json -- stimctl --port emu --emu-channels 64 --record loud.jsonl
+[[ ! -s loud.jsonl ]] || fail "a pulse was delivered"
