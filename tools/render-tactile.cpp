@@ -21,21 +21,6 @@
 
 namespace {
 
-// "RA:30,SAI:200,PC:250" (any of them; the others keep their defaults).
-void parse_rates(const std::string& text, std::array<double, 3>& rate) {
-  std::size_t at = 0;
-  while (at <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', at), text.size());
-    const std::string item = text.substr(at, comma - at);
-    const std::size_t colon = item.find(':');
-    if (colon == std::string::npos)
-      tp::bad_input("--rates: '" + item + "' is not PRIMARY:HZ (e.g. SAI:200)");
-    const int p = tp::primary_index(item.substr(0, colon), "--rates");
-    rate[static_cast<std::size_t>(p)] = tp::parse_finite(item.substr(colon + 1), "--rates");
-    at = comma + 1;
-  }
-}
-
 std::string rates_text(const tp::RenderPlan& plan) {
   std::string out;
   for (std::size_t p = 0; p < 3; ++p) {
@@ -147,7 +132,7 @@ int main(int argc, char** argv) {
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::RenderOptions o;
-    if (!rates.empty()) parse_rates(rates, o.rate_hz);
+    if (!rates.empty()) tp::parse_rates(rates, o.rate_hz);
     const double fps = tp::parse_finite(fps_text, "--fps");
     if (!(fps >= 0.1 && fps <= 1000)) tp::bad_input("--fps: " + fps_text + " outside [0.1, 1000]");
     const bool live_input = images.size() == 1 && images[0] == "-" && !frames_for.empty();

@@ -38,6 +38,10 @@ int main(int argc, char** argv) {
       ->type_name("FILE");
   app.add_option("--apply-log", o.apply_log_path, "Write 'n t_ns' per applied weight frame")
       ->type_name("FILE");
+  app.add_option("--event-log", o.event_log_path,
+                 "Write 'start t_ns' and 'stop t_ns' (CLOCK_MONOTONIC) as a host's frames start "
+                 "and stop the output")
+      ->type_name("FILE");
   app.add_option("--drop", drop, "Fraction of bytes to drop, each direction [0]")->type_name("P");
   app.add_option("--corrupt", corrupt, "Fraction of bytes to corrupt, each direction [0]")
       ->type_name("P");
@@ -56,8 +60,8 @@ int main(int argc, char** argv) {
                      "injection, to the device on this Unix socket (the firmware "
                      "in QEMU: scripts/firmware-emu); the path is printed once it answers")
           ->type_name("SOCKET");
-  for (const char* device_option :
-       {"--channels", "--max-current", "--dac-bits", "--watchdog-ms", "--record", "--apply-log"})
+  for (const char* device_option : {"--channels", "--max-current", "--dac-bits", "--watchdog-ms",
+                                    "--record", "--apply-log", "--event-log"})
     forward->excludes(app.get_option(device_option));
 
   return tp::cli::run(app, argc, argv, [&] {

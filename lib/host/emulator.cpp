@@ -213,6 +213,12 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     apply_log = std::fopen(opt.apply_log_path.c_str(), "w");
     if (!apply_log) bad_input("--apply-log: cannot open '" + opt.apply_log_path + "'");
   }
+  std::FILE* event_log = nullptr;
+  if (!opt.event_log_path.empty()) {
+    event_log = std::fopen(opt.event_log_path.c_str(), "w");
+    if (!event_log) bad_input("--event-log: cannot open '" + opt.event_log_path + "'");
+  }
+  bool running = false;  // as last logged
   const int master = posix_openpt(O_RDWR | O_NOCTTY);
   if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0)
     failure(std::string("cannot open a pseudo-terminal: ") + std::strerror(errno));
@@ -343,6 +349,12 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
         const std::uint64_t t_rx = monotonic_us();
         core.advance(t_rx, sink);
         core.receive(bytes.data(), bytes.size(), t_rx, out);
+        if (event_log && (core.status().state == device::State::running) != running) {
+          running = !running;
+          std::fprintf(event_log, "%s %lld\n", running ? "start" : "stop",
+                       static_cast<long long>(t_rx) * 1000);
+          std::fflush(event_log);
+        }
         if (apply_log) {
           const auto t = static_cast<long long>(monotonic_ns());
           for (; applied < core.status().weight_updates; ++applied)
@@ -359,6 +371,7 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
   core.link_lost();  // output stops before the emulator goes
   recorder.flush();
   if (apply_log) std::fclose(apply_log);
+  if (event_log) std::fclose(event_log);
   if (device_fd >= 0) close(device_fd);
   close(slave);
   close(master);

@@ -82,6 +82,40 @@ PixelBank pixel_bank_from_json(const Json& j) {
   return b;
 }
 
+namespace {
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  while (true) {
+    const std::size_t end = std::min(text.find(',', at), text.size());
+    out.push_back(text.substr(at, end - at));
+    if (end == text.size()) return out;
+    at = end + 1;
+  }
+}
+}  // namespace
+
+void parse_rates(const std::string& text, std::array<double, 3>& rate) {
+  for (const std::string& item : split_commas(text)) {
+    const std::size_t colon = item.find(':');
+    if (colon == std::string::npos)
+      bad_input("--rates: '" + item + "' is not PRIMARY:HZ (e.g. SAI:200)");
+    const int p = primary_index(item.substr(0, colon), "--rates");
+    rate[static_cast<std::size_t>(p)] = parse_finite(item.substr(colon + 1), "--rates");
+  }
+}
+
+std::vector<int> parse_primaries(const std::string& text, const std::string& what) {
+  std::vector<int> out;
+  for (const std::string& item : split_commas(text)) {
+    const int p = primary_index(item, what);
+    if (std::find(out.begin(), out.end(), p) != out.end())
+      bad_input(what + ": " + item + " given twice");
+    out.push_back(p);
+  }
+  return out;
+}
+
 void check_render_options(const RenderOptions& o) {
   const StimulusLimits& l = o.limits;
   for (std::size_t p = 0; p < 3; ++p)
@@ -319,6 +353,15 @@ double crosstalk(const PixelBank& bank, int primary, long a, double ia, long b, 
 RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
                        const RenderOptions& o) {
   check_render_options(o);
+  // A profile calibrated on an array (calibrate writes its size) fits only that array.
+  if (profile.carried.contains("array")) {
+    const Json& a = profile.carried["array"];
+    const bool same = a.is_object() && a.contains("columns") && a.contains("rows") &&
+                      a["columns"] == bank.columns && a["rows"] == bank.rows;
+    if (!same)
+      bad_input("profile: calibrated on an array of " + a.dump() + ", the bank's is " +
+                std::to_string(bank.columns) + " x " + std::to_string(bank.rows));
+  }
   if (image.columns != bank.columns || image.rows != bank.rows)
     bad_input("image: " + std::to_string(image.columns) + " x " + std::to_string(image.rows) +
               " pixels for a bank of " + std::to_string(bank.columns) + " x " +

@@ -69,6 +69,12 @@ struct RenderOptions {
   bool alone = false;
   unsigned threads = 0;  // for the fields and the conflicts, 0: every core
 };
+// "RA:30,SAI:200,PC:250" (any of them; the others keep theirs) into rate_hz, by
+// kPrimaries' index; bad input naming --rates.
+void parse_rates(const std::string& text, std::array<double, 3>& rate_hz);
+// "RA,PC": kPrimaries' indices in that order; bad input naming `what`.
+std::vector<int> parse_primaries(const std::string& text, const std::string& what);
+
 // Checks each option's range (docs/rendering.md); bad input naming it.
 void check_render_options(const RenderOptions& o);
 

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "io/reports.hpp"
 #include "opt/bank.hpp"
+#include "psych/calibration.hpp"
 #include "render/render.hpp"
 
 using namespace tp;
@@ -235,4 +236,49 @@ TEST_CASE("a sequence: each lit pixel alone, its frames' amplitudes, its start",
   CHECK(all.groups.size() == feasible);
   CHECK_NOTHROW(check_mix(all.mix, o.limits));
   CHECK(mix_figures(all.mix).worst_slip_us == 0);
+}
+
+TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pixel too",
+          "[render][psych]") {
+  const PixelBank& b = bank6();
+  CalibrationOptions o;
+  o.primaries = {1};  // SAI
+  o.pads = {14, 21};
+  const double thr[2] = {0.3, 0.2}, comfort[2] = {0.7, 0.5};
+  Calibration cal(b, o);
+  double top = 0;
+  while (!cal.done()) {
+    const Mix m = cal.stimulus();
+    const std::size_t k = cal.pad() == 14 ? 0 : 1;
+    const auto& w = b.entry[static_cast<std::size_t>(cal.pad())][1].weights;
+    for (std::size_t e = 0; e < w.size(); ++e)
+      REQUIRE(m.patterns[0].currents_mA[e] == Approx(cal.level_mA() * w[e]));
+    top = std::max(top, cal.level_mA());
+    cal.respond(cal.level_mA() > (cal.comfort() ? comfort[k] : thr[k]));
+  }
+  CHECK(top <= o.staircase.ceiling_mA);
+  const Profile p = cal.profile();
+  const double step = std::sqrt(o.staircase.step_factor);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const PrimaryRange& r = *p.pixel.at(k == 0 ? 14 : 21)[1];
+    CHECK(std::abs(std::log(r.threshold_mA / thr[k])) <= std::log(step) + 1e-12);
+    CHECK(std::abs(std::log(r.comfort_mA / comfort[k])) <= std::log(step) + 1e-12);
+  }
+  // The primary's range: the lower middle of the pixels' (here, the lower of two).
+  CHECK(p.primary[1]->threshold_mA == p.pixel.at(21)[1]->threshold_mA);
+  CHECK_FALSE(p.primary[0].has_value());
+  CHECK(profile_from_json(profile_to_json(p), 2.0, 36).primary[1]->threshold_mA ==
+        p.primary[1]->threshold_mA);
+  // Someone who never feels anything: no threshold, a note, no range.
+  CalibrationOptions one = o;
+  one.pads = {14};
+  Calibration none(b, one);
+  while (!none.done()) none.respond(false);
+  CHECK_FALSE(none.profile().primary[1].has_value());
+  REQUIRE(none.notes().size() == 1);
+  CHECK_THAT(none.notes()[0], Catch::Contains("no threshold found"));
+  // Never too strong: comfort is the ceiling.
+  Calibration numb(b, one);
+  while (!numb.done()) numb.respond(numb.comfort() ? false : numb.level_mA() > 0.3);
+  CHECK(numb.profile().primary[1]->comfort_mA == o.staircase.ceiling_mA);
 }

@@ -4,7 +4,7 @@
 : "${TP_BUILD:?}"
 P=$PWD/P
 cmake --install "$TP_BUILD" --prefix "$P" > install.log 2>&1 || fail "install: $(tail -3 install.log)"
-for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-emu bin/fiber-threshold bin/mix-stimuli bin/render-tactile \
+for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-emu bin/fiber-threshold bin/mix-stimuli bin/render-tactile bin/calibrate \
          bin/tp-sweep-spacing bin/tp-compare-models bin/tp-plot-field bin/tp-plot-pulse bin/tp-plot-sweep bin/tp-plot-sd \
          share/tactile-primaries/receptors.json share/tactile-primaries/skin/fingertip.json \
          share/doc/tactile-primaries/README.md share/doc/tactile-primaries/docs/document-format.md \

@@ -54,3 +54,6 @@ refuses 2 --says "give one" -- "${rt[@]}" --sequence --frames seq.json g1.png
 jq '.start_amplitudes_mA = [1.5]' seq.json > loud.json
 refuses 2 --says "start_amplitudes_mA" --stdin loud.json -- stimctl --port emu --emu-channels 64 --record loud.jsonl
 [[ ! -s loud.jsonl ]] || fail "a pulse was delivered"
+# A profile calibrated on another array (calibrate writes its size).
+jq '.array = {columns: 4, rows: 4}' profile.json > other-array.json
+refuses 2 --says "calibrated on an array of" -- render-tactile --bank "$BANK" --profile other-array.json ok.png

@@ -1,0 +1,117 @@
+#include "host/terminal.hpp"
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <exception>
+#include <thread>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+
+namespace tp::host {
+
+static_assert(sizeof(termios) <= 64, "the saved terminal state does not fit");
+
+Terminal::Terminal() {
+  fd_ = open("/dev/tty", O_RDWR | O_NOCTTY | O_CLOEXEC);
+  if (fd_ < 0)
+    throw Error(ExitCode::failure, std::string("no terminal to ask (/dev/tty: ") +
+                                       std::strerror(errno) + "); give --responses -");
+  termios t{};
+  if (tcgetattr(fd_, &t) == 0) {
+    std::memcpy(saved_, &t, sizeof t);
+    restore_ = true;
+    t.c_lflag &= ~static_cast<tcflag_t>(ICANON | ECHO);  // ISIG kept: Ctrl-C is SIGINT
+    t.c_cc[VMIN] = 1;
+    t.c_cc[VTIME] = 0;
+    tcsetattr(fd_, TCSANOW, &t);
+  }
+}
+
+Terminal::~Terminal() {
+  if (restore_) {
+    termios t{};
+    std::memcpy(&t, saved_, sizeof t);
+    tcsetattr(fd_, TCSANOW, &t);
+  }
+  close(fd_);
+}
+
+int Terminal::key(int timeout_ms) {
+  pollfd p{fd_, POLLIN, 0};
+  if (poll(&p, 1, timeout_ms) <= 0) return -1;
+  unsigned char c = 0;
+  if (read(fd_, &c, 1) != 1) return -1;
+  return c;
+}
+
+void Terminal::say(const std::string& text) {
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const ssize_t n = write(fd_, text.data() + at, text.size() - at);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;  // the terminal is gone: nothing more to say
+    at += static_cast<std::size_t>(n);
+  }
+}
+
+SessionReport run_watched(Transport& transport, const Mix& m, const SessionOptions& opt,
+                          const volatile std::sig_atomic_t* signal_flag,
+                          const std::function<bool(int)>& stop, bool& stopped) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0)
+    throw Error(ExitCode::failure, std::string("pipe: ") + std::strerror(errno));
+  SessionOptions o = opt;
+  o.live = true;  // its input: the pipe, closed to stop
+  o.input_fd = fds[0];
+  if (!(o.duration_s > 0)) o.duration_s = m.duration_s();  // live mode's count: the stimulus's
+  SessionReport rep;
+  std::exception_ptr error;
+  std::atomic<bool> done{false};
+  // The session's thread blocks every signal, so that they reach this one (and interrupt
+  // its wait); the handlers' flag is watched by both.
+  sigset_t all, old;
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  std::thread session;
+  try {
+    session = std::thread([&] {
+      try {
+        rep = run_session(transport, m, o, signal_flag);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      done = true;
+    });
+  } catch (...) {
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    close(fds[0]);
+    close(fds[1]);
+    throw;
+  }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  stopped = false;
+  bool open = true;
+  while (!done) {
+    if (open && ((signal_flag && *signal_flag) || stop(5))) {
+      stopped = !(signal_flag && *signal_flag);
+      close(fds[1]);  // the session's input ends: it stops the output
+      open = false;
+    } else if (!open) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  session.join();
+  if (open) close(fds[1]);
+  close(fds[0]);
+  if (error) std::rethrow_exception(error);
+  return rep;
+}
+
+}  // namespace tp::host

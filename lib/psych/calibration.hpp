@@ -1,0 +1,86 @@
+#pragma once
+// Calibration (issue 23; docs/calibration.md): for the person wearing the array, each
+// primary's detection threshold and comfort limit, at one pixel (the array's centre by
+// default) or at every pixel, each by the adaptive procedure of psych/staircase.hpp.
+//
+// For each pixel, for each primary in turn: the detection threshold ("did you feel it?",
+// `threshold`'s rule, 2-down-1-up by default: the 70.7 % point), then, from that
+// threshold, the comfort limit ("is it too strong?", 1-down-1-up: the level called too
+// strong half the time).  A threshold not found below the ceiling leaves the primary out
+// (said in `notes`); a comfort limit not found (never too strong up to the ceiling) is
+// the ceiling; one found below its threshold is the threshold.  No trial is ever above
+// the ceiling, none steps up by more than max_step_up.
+//
+// The class only decides: a program delivers each trial's stimulus and asks the question.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "psych/staircase.hpp"
+#include "pulse/mix.hpp"
+#include "render/profile.hpp"
+#include "render/render.hpp"
+
+namespace tp {
+
+struct CalibrationOptions {
+  StaircaseOptions staircase;                            // the threshold's; comfort: 1-down
+  std::array<double, 3> rate_hz = {30.0, 200.0, 250.0};  // each primary's trials
+  double trial_s = 0.5;                                  // a trial's stimulus, 0.05 to 10 s
+  double width_us = 200.0, balance_width_us = 200.0;
+  std::vector<int> primaries;  // kPrimaries' indices, in order; empty: every one
+  std::vector<long> pads;      // the pixels measured, in order
+};
+// Bad input naming the first option out of range (docs/calibration.md).
+void check_calibration_options(const CalibrationOptions& o, const PixelBank& bank);
+
+struct CalibrationTrial {
+  int n = 0;  // 1, 2, ... over the whole calibration
+  int primary = 0;
+  long pad = 0;
+  bool comfort = false;  // the question: too strong? (else: felt?)
+  double level_mA = 0;
+  bool ascending = true, yes = false, reversal = false;
+};
+
+class Calibration {
+ public:
+  Calibration(const PixelBank& bank, const CalibrationOptions& o);  // checks o
+  bool done() const { return unit_ >= units_.size(); }
+  // The next trial (while !done()).
+  int primary() const { return units_[unit_].primary; }
+  long pad() const { return units_[unit_].pad; }
+  bool comfort() const { return comfort_; }
+  double level_mA() const { return stair_.level_mA(); }
+  // Its stimulus: the pixel's pattern of that primary at the level, at the primary's rate,
+  // for trial_s; checked as any stimulus is.
+  Mix stimulus() const;
+  void respond(bool yes);
+  const std::vector<CalibrationTrial>& trials() const { return trials_; }
+  // After done(): the profile (tactile-primaries/profile/1): per pixel when several were
+  // measured (the primaries' ranges then their medians), with the array's size.
+  Profile profile() const;
+  const std::vector<std::string>& notes() const { return notes_; }
+
+ private:
+  struct Unit {
+    long pad;
+    int primary;
+    bool found = false;
+    PrimaryRange range;
+  };
+  void start_threshold();
+  void finish_unit();
+  const PixelBank& bank_;
+  CalibrationOptions o_;
+  std::vector<Unit> units_;
+  std::size_t unit_ = 0;
+  bool comfort_ = false;
+  Staircase stair_;
+  int unit_trials_ = 0;
+  std::vector<CalibrationTrial> trials_;
+  std::vector<std::string> notes_;
+};
+
+}  // namespace tp

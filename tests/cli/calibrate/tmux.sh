@@ -1,0 +1,83 @@
+# calibrate through a real terminal (tmux: send-keys and capture-pane), against stim-emu on
+# a pty, with a scripted observer who reads each trial's delivered current from the
+# emulator's record: "felt it?" yes above a hidden threshold, "too strong?" yes above a
+# hidden comfort limit.  For three hidden pairs the profile's SAI threshold and comfort lie
+# within the staircase's final step (a factor of sqrt(1.25)) of the hidden ones, and no
+# pulse exceeds the ceiling.  Then q during a long trial stops the output within one pulse
+# period (20 Hz: 50 ms) of the key, by the emulator's clock.
+source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
+command -v tmux > /dev/null || skip TP_REQUIRE_TMUX "tmux is not installed (scripts/setup installs it)"
+sock=tp-calibrate-$$
+tmux_() { tmux -L "$sock" "$@"; }
+trap 'tmux_ kill-server 2> /dev/null || true' EXIT
+now_ns() { python3 -c 'import time; print(time.monotonic_ns())'; }
+
+# observe HIDDEN_THRESHOLD HIDDEN_COMFORT: answers every prompt until calibrate ends.
+observe() {
+  local thr=$1 comfort=$2 last=0 seen=0
+  for ((turn = 0; turn < 20000; ++turn)); do
+    [[ -e rc ]] && return 0
+    local line
+    line=$(tmux_ capture-pane -p -t cal | grep -E '^trial [0-9]+: .*(felt it|too strong)\? \[y/n\] *$' | tail -1 || true)
+    if [[ -n $line ]]; then
+      local n=${line#trial }; n=${n%%:*}
+      if ((n > last)); then
+        # This trial's pulses: the record's new lines (wait for stim-emu's flush).
+        local total level
+        for _ in $(seq 100); do total=$(lines rec.jsonl); ((total > seen)) && break; sleep 0.01; done
+        sleep 0.02; total=$(lines rec.jsonl)
+        level=$(tail -n +$((seen + 1)) rec.jsonl | jq -s 'map(.currents_mA | map(fabs) | max) | max')
+        seen=$total
+        local limit=$thr; [[ $line == *"too strong"* ]] && limit=$comfort
+        if awk -v l="$level" -v h="$limit" 'BEGIN { exit !(l > h) }'; then tmux_ send-keys -t cal y; else tmux_ send-keys -t cal n; fi
+        last=$n
+      fi
+    fi
+    sleep 0.01
+  done
+  fail "the observer gave up (calibrate still running)"
+}
+
+cal=(calibrate --bank "$BANK" --log log.csv --primaries SAI --ceiling 1)
+for pair in "0.13 0.3" "0.31 0.62" "0.55 0.9"; do
+  read -r thr comfort <<< "$pair"
+  rm -f rc rec.jsonl prof.json
+  start_emu --channels "$CHANNELS" --record rec.jsonl
+  tmux_ new-session -d -s cal -x 160 -y 40 \
+    "${cal[*]} --trial-duration 0.05 --port $PORT > prof.json 2> err.txt; echo \$? > rc"
+  observe "$thr" "$comfort"
+  stop_emu
+  [[ $(cat rc) == 0 ]] || fail "calibrate exited $(cat rc): $(cat err.txt)"
+  jq -e --argjson t "$thr" --argjson c "$comfort" '.primaries.SAI as $r
+      | ($r.threshold_mA / $t | log | fabs) <= (1.25 | sqrt | log) + 1e-9
+      and ($r.comfort_mA / $c | log | fabs) <= (1.25 | sqrt | log) + 1e-9' prof.json > /dev/null \
+    || fail "hidden $thr and $comfort mA: profile $(jq -c .primaries prof.json)"
+  peak=$(jq -s 'map(.currents_mA | map(fabs) | max) | max' rec.jsonl)
+  awk -v p="$peak" 'BEGIN { exit !(p <= 1 + 0.000977) }' || fail "a pulse of $peak mA, above the 1 mA ceiling"
+  [[ $(($(lines log.csv) - 1)) == $(jq '.primaries.SAI.trials' prof.json) ]] || fail "log rows against the profile's trials"
+  echo "ok: hidden $thr, $comfort mA -> $(jq -c .primaries.SAI prof.json); peak $peak mA; $(tail -1 err.txt)"
+done
+
+# q during a 10 s trial at 20 Hz, 0.6 s in.
+rm -f rc rec.jsonl
+start_emu --channels "$CHANNELS" --record rec.jsonl --event-log events.txt
+tmux_ new-session -d -s cal -x 160 -y 40 \
+  "${cal[*]} --trial-duration 10 --rates SAI:20 --start 0.2 --port $PORT > prof.json 2> err.txt; echo \$? > rc"
+for _ in $(seq 500); do grep -q '^start' events.txt 2> /dev/null && break; sleep 0.01; done
+sleep 0.6
+t_q=$(now_ns)
+tmux_ send-keys -t cal q
+for _ in $(seq 500); do [[ -e rc ]] && break; sleep 0.01; done
+sleep 0.1
+stop_emu
+[[ $(cat rc) == 1 ]] || fail "q: calibrate exited $(cat rc 2> /dev/null)"
+grep -q "stopped by the user (q) during trial 1" err.txt || fail "q: $(cat err.txt)"
+[[ -s prof.json ]] && fail "q: a profile was written"
+read -r t_start t_stop < <(awk '$1 == "start" { s = $2 } $1 == "stop" { e = $2 } END { print s, e }' events.txt)
+last=$(jq -s 'map(.t_s) | max' rec.jsonl)
+# The output stopped within one period (50 ms) of the key; no pulse began after it.
+awk -v q="$t_q" -v e="$t_stop" -v s="$t_start" -v l="$last" 'BEGIN {
+  stop = (e - q) / 1e6; tail = (s + l * 1e9 - q) / 1e6
+  printf "q -> stop %.1f ms, last pulse %.1f ms after q\n", stop, tail
+  exit !(stop <= 50 && tail <= 50) }' > q.txt || fail "q: $(cat q.txt)"
+echo "ok: $(cat q.txt); $(lines rec.jsonl) pulses of 200; $(cat err.txt)"
