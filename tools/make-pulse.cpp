@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include "io/document.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
+#include "render/profile.hpp"
 #include "pulse/stimulus.hpp"
 
 int main(int argc, char** argv) {
@@ -27,12 +29,23 @@ int main(int argc, char** argv) {
       "checked first: peak current, zero sum at every instant, charge balance, width, rate.",
       "make-pulse"};
   std::string input = "-", amplitude, frequency = "200", width = "200", balance_width,
-              interphase = "0", duration, count, format = "json", csv_pulses = "3";
+              interphase = "0", duration, count, format = "json", csv_pulses = "3", intensity,
+              profile;
   app.add_option("--input", input, "Weights document, - for stdin [-]")->type_name("FILE");
-  app.add_option("--amplitude", amplitude,
-                 "Current of a channel with |weight| = 1, mA, at most 2 (and the document's limit)")
-      ->required()
-      ->type_name("MA");
+  auto* o_amp = app.add_option(
+                      "--amplitude", amplitude,
+                      "Current of a channel with |weight| = 1, mA, at most 2 (and the document's "
+                      "limit)")
+                    ->type_name("MA");
+  auto* o_int = app.add_option("--intensity", intensity,
+                               "Instead of --amplitude: 0 to 1 of the person's range for the "
+                               "document's mode (needs --profile)")
+                    ->type_name("V");
+  app.add_option("--profile", profile,
+                 "The person's calibration (calibrate): --intensity v is threshold + v (comfort "
+                 "- threshold) mA")
+      ->type_name("FILE");
+  o_amp->excludes(o_int);
   app.add_option("--frequency", frequency,
                  "Pulse rate, Hz, 0.1 to 1000 [200; the paper: 200 for SAI, < 100 for RA]")
       ->type_name("HZ");
@@ -60,9 +73,26 @@ int main(int argc, char** argv) {
                     " channels; a stimulator drives at most " +
                     std::to_string(tp::ranges::max_channels));
     tp::Stimulus s;
-    const double amp = tp::parse_finite(amplitude, "--amplitude");
+    if (amplitude.empty() == intensity.empty())
+      tp::bad_input("give --amplitude MA, or --intensity V with --profile");
+    if (!intensity.empty() && profile.empty()) tp::bad_input("--intensity: needs --profile");
+    if (!profile.empty() && intensity.empty()) tp::bad_input("--profile: needs --intensity");
+    if (input == "-" && profile == "-") tp::bad_input("--profile -: stdin carries the weights");
+    double amp = 0;
+    if (!intensity.empty()) {
+      if (!doc.extra.contains("mode") || !doc.extra["mode"].is_string())
+        tp::bad_input("--intensity: the weights document names no mode (optimize-weights "
+                      "--mode writes it)");
+      const tp::Profile p = tp::profile_from_json(tp::read_json(profile, "profile"),
+                                                  doc.max_current_mA,
+                                                  std::numeric_limits<long>::max());
+      amp = tp::profile_amplitude_mA(p, doc.extra["mode"].get<std::string>(),
+                                     tp::parse_finite(intensity, "--intensity"), "--intensity");
+    } else {
+      amp = tp::parse_finite(amplitude, "--amplitude");
+    }
     if (!(amp > 0.0 && amp <= tp::StimulusLimits{}.max_current_mA))
-      tp::bad_input("--amplitude: " + amplitude + " mA outside (0, " +
+      tp::bad_input("--amplitude: " + tp::number_text(amp) + " mA outside (0, " +
                     tp::number_text(tp::StimulusLimits{}.max_current_mA) + "] mA");
     for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
     s.amplitude_mA = amp;

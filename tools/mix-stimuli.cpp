@@ -6,6 +6,7 @@
 //   sai.json mix-stimuli ra.json sai.json | stimctl --port emu --duration 2
 
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/error.hpp"
 #include "io/number.hpp"
 #include "pulse/mix.hpp"
+#include "render/profile.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -24,13 +26,21 @@ int main(int argc, char** argv) {
       "the time the pulses and gaps need, and the longest deferral (docs/protocol.md).",
       "mix-stimuli"};
   std::vector<std::string> inputs;
-  std::string gap = "100", phases;
+  std::string gap = "100", phases, intensities, profile_path;
   app.add_option("inputs", inputs, "Stimulus documents, in pattern order (1 to 256)")
       ->required()
       ->type_name("FILE");
   app.add_option("--gap", gap,
                  "Least time between pulses of different patterns, us, 100 to 1000 [100]")
       ->type_name("US");
+  app.add_option("--intensities", intensities,
+                 "Instead of each input's amplitude: 0 to 1 of the person's range for its mode, "
+                 "comma-separated, one per input (needs --profile)")
+      ->type_name("V,...");
+  app.add_option("--profile", profile_path,
+                 "The person's calibration (calibrate): intensity v is threshold + v (comfort "
+                 "- threshold) mA")
+      ->type_name("FILE");
   app.add_option("--phase", phases,
                  "Each pattern's first pulse after the start, us, comma-separated, each below "
                  "its period [staggered: each after the previous patterns' pulses and gaps]")
@@ -49,6 +59,30 @@ int main(int argc, char** argv) {
       const tp::Mix one = tp::mix_from_json(tp::read_json(f, "stimulus"));
       if (!one.single()) tp::bad_input(f + ": already a mix; give its parts");
       mix.patterns.push_back(one.patterns[0]);
+    }
+    if (intensities.empty() != profile_path.empty())
+      tp::bad_input("--intensities and --profile: give both, or neither");
+    if (!intensities.empty()) {
+      if (profile_path == "-" && stdin_uses > 0)
+        tp::bad_input("--profile -: stdin is an input");
+      const std::vector<double> v = tp::parse_list(intensities, "--intensities");
+      if (v.size() != mix.patterns.size())
+        tp::bad_input("--intensities: " + std::to_string(v.size()) + " for " +
+                      std::to_string(mix.patterns.size()) + " inputs");
+      const tp::Profile p = tp::profile_from_json(tp::read_json(profile_path, "profile"),
+                                                  tp::StimulusLimits{}.max_current_mA,
+                                                  std::numeric_limits<long>::max());
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        tp::Stimulus& s = mix.patterns[i];
+        const std::string what = inputs[i];
+        if (!s.carried.contains("mode") || !s.carried["mode"].is_string())
+          tp::bad_input(what + ": names no mode (make-pulse carries optimize-weights' mode)");
+        if (!(s.amplitude_mA > 0)) tp::bad_input(what + ": no amplitude_mA to rescale");
+        const double a = tp::profile_amplitude_mA(p, s.carried["mode"].get<std::string>(), v[i],
+                                                  what + ": --intensities");
+        for (double& c : s.currents_mA) c *= a / s.amplitude_mA;
+        s.amplitude_mA = a;
+      }
     }
     if (!phases.empty()) {
       const std::vector<double> p = tp::parse_list(phases, "--phase");

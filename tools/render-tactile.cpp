@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
   bool resample = false, plan_only = false, sequence = false;
   app.add_option("images", images,
                  "The picture: an 8-bit RGB PNG, - for stdin; with --sequence or --frames, the "
-                 "frames in order (--frames -: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
+                 "frames in order (-: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
       ->type_name("PNG...");
   app.add_option("--bank", bank_path, "Pattern bank (optimize-weights --bank; every pad's pixel)")
       ->required()
@@ -162,10 +162,38 @@ int main(int argc, char** argv) {
     // The images, all read and checked before anything is printed (frames on stdin: as
     // they come, each checked before it is written).
     std::vector<tp::PadIntensities> frames;
-    if (!live_input)
+    std::size_t frame_count = images.size();
+    if (sequence && images.size() == 1 && images[0] == "-") {
+      // A sequence's frames as JSON lines on stdin: kept are the first (the start) and
+      // what any lights (the patterns), so memory does not grow with their number.
+      tp::host::LineReader in(0);
+      std::string line;
+      frame_count = 0;
+      for (;;) {
+        if (in.next(line)) {
+          if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+          const std::string where = "frame " + std::to_string(in.lines());
+          const tp::PadIntensities f = tp::frame_from_json(tp::parse_json_strict(line, where),
+                                                           bank.columns, bank.rows, where);
+          if (frames.empty()) frames = {f, f};
+          for (std::size_t pad = 0; pad < f.value.size(); ++pad)
+            for (std::size_t p = 0; p < 3; ++p)
+              if (f.value[pad][p] > 0) frames[1].value[pad][p] = 1.0;
+          ++frame_count;
+          continue;
+        }
+        if (in.at_end()) break;
+        in.fill(1000);
+      }
+      if (frames.empty()) tp::bad_input("--sequence -: no frames on stdin");
+    } else if (!live_input) {
       for (const std::string& f : images)
         frames.push_back(tp::pad_intensities(tp::read_png(f), bank.columns, bank.rows, resample));
+    }
 
+    if (sequence && duration.empty() && frame_count > 0)
+      o.duration_s =
+          std::min((static_cast<double>(frame_count) + 1) / fps, o.limits.max_duration_s);
     if (!frames_for.empty()) {
       const tp::Mix seq = tp::mix_from_json(tp::read_json(frames_for, "stimulus"));
       if (seq.patterns[0].currents_mA.size() != bank.pads())
@@ -185,9 +213,11 @@ int main(int argc, char** argv) {
                              : images[0] + ": no pixel is lit (all black)");
     if (plan.lowered)
       std::fprintf(stderr,
-                   "render-tactile: the %s asks more than the device delivers: rates "
-                   "lowered by %s, every lit pixel kept\n",
-                   sequence ? "sequence" : "image", plan.limited_by.c_str());
+                   "render-tactile: the %s's pulses at the requested rates would take %s %% of "
+                   "the device's time: rates lowered by %s, every lit pixel kept\n",
+                   sequence ? "sequence" : "image",
+                   tp::number_text(std::round(plan.requested_utilisation * 1000) / 10).c_str(),
+                   plan.limited_by.c_str());
     std::fprintf(stderr,
                  "render-tactile: %zu lit patterns in %zu groups, cycle %s us of %d slots, "
                  "worst crosstalk %s; refresh %s\n",

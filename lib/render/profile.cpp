@@ -27,6 +27,15 @@ double Profile::current_mA(int p, long pad, double v) const {
   return r.threshold_mA + v * (r.comfort_mA - r.threshold_mA);
 }
 
+double profile_amplitude_mA(const Profile& p, const std::string& mode, double v,
+                            const std::string& what) {
+  if (!(v > 0 && v <= 1)) bad_input(what + ": intensity " + number_text(v) + " outside (0, 1]");
+  const int k = primary_index(mode, what + ": the stimulus's mode");
+  if (!p.primary[static_cast<std::size_t>(k)])
+    bad_input(what + ": the profile has no range for " + mode);
+  return p.current_mA(k, -1, v);
+}
+
 namespace {
 
 PrimaryRange range_from_json(const Json& j, const std::string& where, double max_mA) {

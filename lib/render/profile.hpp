@@ -36,6 +36,12 @@ struct Profile {
   double current_mA(int primary, long pixel, double v) const;
 };
 
+// The current for intensity v in (0, 1] of a stimulus of `mode` (make-pulse --profile,
+// mix-stimuli --profile: the profile's range for that primary); bad input naming `what`
+// when v is outside (0, 1], the mode is not a primary or the profile has no range for it.
+double profile_amplitude_mA(const Profile& p, const std::string& mode, double v,
+                            const std::string& what);
+
 inline constexpr const char* kProfileFormat = "tactile-primaries/profile/1";
 
 // Reads and checks a profile: the format, each range's threshold in (0, max_current_mA]

@@ -517,9 +517,14 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
   for (std::size_t p = 0; p < 3; ++p)
     plan.rate_hz[p] = best.k[p] > 0 ? 1e6 / (static_cast<double>(best.k[p]) * plan.cycle_us) : 0.0;
   plan.lowered = best.score < 0.995;
+  // The share of the device's time the requested rates would take.
+  plan.requested_utilisation = 0;
+  for (std::size_t p = 0; p < 3; ++p)
+    plan.requested_utilisation += fp.groups[p] * fp.slot_us / fp.period_us[p];
   if (plan.lowered)
     plan.limited_by = best.score < unloaded.score ? "the electrodes' RMS and mean current"
-                                                  : "the device's time (slots)";
+                      : plan.requested_utilisation > 1 ? "the device's time"
+                                                       : "the frame's slots";
   // Slots and turns, primary by primary, and the mix.
   int column = 0, turn = 0, previous = -1;
   plan.mix.gap_us = o.gap_us;
@@ -669,6 +674,7 @@ Json plan_to_json(const RenderPlan& p) {
   j["slots"] = p.slots;
   j["lit"] = p.lit.size();
   j["worst_crosstalk"] = p.worst_crosstalk;
+  j["requested_utilisation"] = p.requested_utilisation;
   j["lowered"] = p.lowered;
   if (p.lowered) j["limited_by"] = p.limited_by;
   Json groups = Json::array();

@@ -99,7 +99,11 @@ struct RenderPlan {
   int slots = 0;               // slots per cycle
   double worst_crosstalk = 0;  // among patterns that fire together
   bool lowered = false;        // some rate is below the requested by more than 0.5 %
-  std::string limited_by;      // "slots", "RMS current", "mean current" or "slip check"
+  // What lowered them: "the device's time" (the requested rates' pulses and gaps would
+  // take more than all of it), "the frame's slots" (they would fit, but no collision-free
+  // frame has those rates), or "the electrodes' RMS and mean current".
+  std::string limited_by;
+  double requested_utilisation = 0;  // sum over groups of (pulse + gap) x requested rate
   Mix mix;                     // empty when nothing is lit
 };
 // Bad input for a lit pixel whose primary has no pattern (the bank's reason), a profile

@@ -47,3 +47,10 @@ for primary in RA SAI PC; do
   done; done
 done
 echo "ok: $lit lit patterns, all delivered; $pairs pairs fired together within 0.1 (af-field): $(cat full.err)"
+# The figure of what was delivered (scripts/plot-render), where gnuplot is.
+if command -v gnuplot > /dev/null; then
+  "$TP_SOURCE/scripts/plot-render" full.json rec.jsonl -o fig.png 2> plot.err || fail "plot-render: $(cat plot.err)"
+  [[ $(head -c 4 fig.png | od -An -c | tr -d ' ') == 211PNG ]] || fail "plot-render wrote no PNG"
+  refuses 2 --says "not render-tactile's" -- "$TP_SOURCE/scripts/plot-render" "$TP_INPUTS/stimulus-ok.json" rec.jsonl
+  echo "ok: plot-render: $(cat plot.err)"
+fi
