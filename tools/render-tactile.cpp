@@ -206,8 +206,11 @@ int main(int argc, char** argv) {
       play_frames(seq, profile, bank, out, live_input, fps);
       return;
     }
+    const auto t0 = std::chrono::steady_clock::now();
     const tp::RenderPlan plan = sequence ? tp::plan_sequence(bank, profile, frames, o)
                                          : tp::plan_render(bank, profile, frames[0], o);
+    const double plan_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (plan.lit.empty())
       tp::bad_input(sequence ? "no frame lights a pixel"
                              : images[0] + ": no pixel is lit (all black)");
@@ -220,10 +223,10 @@ int main(int argc, char** argv) {
                    plan.limited_by.c_str());
     std::fprintf(stderr,
                  "render-tactile: %zu lit patterns in %zu groups, cycle %s us of %d slots, "
-                 "worst crosstalk %s; refresh %s\n",
+                 "worst crosstalk %s; refresh %s; planned in %s ms\n",
                  plan.lit.size(), plan.groups.size(), tp::number_text(plan.cycle_us).c_str(),
                  plan.slots, tp::number_text(std::round(plan.worst_crosstalk * 1e4) / 1e4).c_str(),
-                 rates_text(plan).c_str());
+                 rates_text(plan).c_str(), tp::number_text(std::round(plan_ms * 10) / 10).c_str());
     if (plan_only) {
       tp::cli::write_stdout(tp::dump_json(tp::plan_to_json(plan)));
       return;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <climits>
 #include <cstdint>
 #include <memory>
 #include <numeric>
@@ -226,6 +227,10 @@ struct Frame {
   long cycle_us = 0;
   std::array<long, 3> k{};
   double score = -1, sum = 0;
+  // Each primary's groups, in order: (slot, residue): the group fires in that slot of the
+  // cycles whose number is the residue modulo k.
+  std::array<std::vector<std::pair<int, long>>, 3> place;
+  bool packed = false;  // slots shared between primaries (pack_slots)
 };
 
 struct FrameProblem {
@@ -237,7 +242,59 @@ struct FrameProblem {
   std::array<std::vector<double>, 3> square, charge;
   double max_rms_mA = 0, max_mean_mA = 0;
   bool loads = true;
+  mutable long packing_work = 0;  // pack_slots' steps so far, bounded by kMaxPackingWork
 };
+
+// pack_slots' steps over one plan: a bound on its time (about 0.1 s), deterministic.
+constexpr long kMaxPackingWork = 20'000'000;
+
+std::uint64_t gcd_u64(std::uint64_t a, std::uint64_t b);
+
+// The groups in slots that primaries may share: a group of period k (cycles) at residue r
+// and one of period k' at r' in the same slot meet iff r = r' modulo gcd(k, k'), so a slot
+// holds any groups whose residues differ so.  First fit, the primaries of shortest period
+// first; false when some group finds no place (or the work bound is reached).
+bool pack_slots(const FrameProblem& fp, long slots, Frame& f) {
+  std::array<std::size_t, 3> order = {0, 1, 2};
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return (f.k[a] > 0 ? f.k[a] : LONG_MAX) < (f.k[b] > 0 ? f.k[b] : LONG_MAX);
+  });
+  std::array<std::array<long, 3>, 3> g{};  // gcd of the primaries' periods
+  for (std::size_t p = 0; p < 3; ++p)
+    for (std::size_t q = 0; q < 3; ++q)
+      if (f.k[p] > 0 && f.k[q] > 0)
+        g[p][q] = static_cast<long>(
+            gcd_u64(static_cast<std::uint64_t>(f.k[p]), static_cast<std::uint64_t>(f.k[q])));
+  // taken[slot][q][p]: residue classes modulo g[q][p] that q's groups hold in the slot.
+  std::vector<std::array<std::array<std::vector<char>, 3>, 3>> taken(
+      static_cast<std::size_t>(slots));
+  for (std::size_t p = 0; p < 3; ++p) f.place[p].clear();
+  for (const std::size_t p : order) {
+    for (int i = 0; i < fp.groups[p]; ++i) {
+      bool placed = false;
+      for (long j = 0; j < slots && !placed; ++j) {
+        auto& t = taken[static_cast<std::size_t>(j)];
+        for (long r = 0; r < f.k[p] && !placed; ++r) {
+          if ((fp.packing_work += 3) > kMaxPackingWork) return false;
+          bool free = true;
+          for (std::size_t q = 0; q < 3 && free; ++q)
+            if (!t[q][p].empty() && t[q][p][static_cast<std::size_t>(r % g[q][p])]) free = false;
+          if (!free) continue;
+          for (std::size_t q = 0; q < 3; ++q)
+            if (f.k[q] > 0) {
+              auto& mark = t[p][q];
+              if (mark.empty()) mark.assign(static_cast<std::size_t>(g[p][q]), 0);
+              mark[static_cast<std::size_t>(r % g[p][q])] = 1;
+            }
+          f.place[p].emplace_back(static_cast<int>(j), r);
+          placed = true;
+        }
+      }
+      if (!placed) return false;
+    }
+  }
+  return true;
+}
 
 // The frame for cycle c, if it satisfies every limit.
 bool try_frame(const FrameProblem& fp, long c, Frame& f) {
@@ -247,6 +304,7 @@ bool try_frame(const FrameProblem& fp, long c, Frame& f) {
   f.score = HUGE_VAL;
   f.sum = 0;
   long columns = 0;
+  double share = 0;
   for (std::size_t p = 0; p < 3; ++p) {
     if (fp.groups[p] == 0) {
       f.k[p] = 0;
@@ -258,11 +316,27 @@ bool try_frame(const FrameProblem& fp, long c, Frame& f) {
     if (static_cast<double>(k) * static_cast<double>(c) > 1e7) return false;  // a 10 s period
     f.k[p] = k;
     columns += (fp.groups[p] + k - 1) / k;
+    share += static_cast<double>(fp.groups[p]) / static_cast<double>(k);
     const double ratio = fp.period_us[p] / (static_cast<double>(k) * static_cast<double>(c));
     f.score = std::min(f.score, ratio);
     f.sum += ratio;
   }
-  return columns <= slots;
+  f.packed = columns > slots;
+  return share <= static_cast<double>(slots) + 1e-9;  // each group takes 1/k of a slot
+}
+
+// The groups' places: each primary its own slots (when they suffice), else pack_slots.
+bool place_groups(const FrameProblem& fp, Frame& f) {
+  const long slots = static_cast<long>(std::floor(static_cast<double>(f.cycle_us) / fp.slot_us));
+  if (f.packed) return pack_slots(fp, slots, f);
+  int column = 0;
+  for (std::size_t p = 0; p < 3; ++p) {
+    f.place[p].clear();
+    for (int i = 0; i < fp.groups[p]; ++i)
+      f.place[p].emplace_back(column + static_cast<int>(i / f.k[p]), i % f.k[p]);
+    if (fp.groups[p] > 0) column += static_cast<int>((fp.groups[p] + f.k[p] - 1) / f.k[p]);
+  }
+  return true;
 }
 
 bool frame_loads_ok(const FrameProblem& fp, const Frame& f) {
@@ -334,10 +408,11 @@ Frame plan_frame(const FrameProblem& fp) {
   for (long c = lo; c <= hi; ++c) {
     if (!try_frame(fp, c, f)) continue;
     if (best.score >= 0 && !better(f, best)) continue;
-    if (frame_loads_ok(fp, f)) best = f;
+    if (frame_loads_ok(fp, f) && place_groups(fp, f)) best = f;
   }
   for (double c = static_cast<double>(hi) * 1.01; best.score < 0 && c <= 1e7; c *= 1.01) {
-    if (try_frame(fp, static_cast<long>(c), f) && frame_loads_ok(fp, f)) best = f;
+    if (try_frame(fp, static_cast<long>(c), f) && frame_loads_ok(fp, f) && place_groups(fp, f))
+      best = f;
   }
   return best;
 }
@@ -525,23 +600,15 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     plan.limited_by = best.score < unloaded.score ? "the electrodes' RMS and mean current"
                       : plan.requested_utilisation > 1 ? "the device's time"
                                                        : "the frame's slots";
-  // Slots and turns, primary by primary, and the mix.
-  int column = 0, turn = 0, previous = -1;
+  // Slots and turns, as the frame placed them, and the mix.
+  std::array<std::size_t, 3> next{};
   plan.mix.gap_us = o.gap_us;
   for (std::size_t g = 0; g < plan.groups.size(); ++g) {
     RenderGroup& grp = plan.groups[g];
     const auto p = static_cast<std::size_t>(grp.primary);
-    if (grp.primary != previous) {
-      if (previous >= 0 && turn > 0) ++column;
-      turn = 0;
-      previous = grp.primary;
-    }
-    grp.slot = column;
-    grp.turn = turn;
-    if (++turn == best.k[p]) {
-      turn = 0;
-      ++column;
-    }
+    const auto [slot, turn] = best.place[p][next[p]++];
+    grp.slot = slot;
+    grp.turn = static_cast<int>(turn);
     Stimulus s;
     s.currents_mA = currents[g];
     s.shape.width_us = o.width_us;

@@ -282,3 +282,31 @@ TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pi
   while (!numb.done()) numb.respond(numb.comfort() ? false : numb.level_mA() > 0.3);
   CHECK(numb.profile().primary[1]->comfort_mA == o.staircase.ceiling_mA);
 }
+
+TEST_CASE("a plan: primaries share slots where their residues allow, and never collide",
+          "[render]") {
+  // A few pixels of each primary: each primary's own slots would lower SAI to 167 Hz
+  // (the README's face); shared slots keep every rate within 5 % of its request.
+  const PixelBank& b = bank6();
+  const Profile profile = profile_from_json(profile_json(), 2.0, 36);
+  PadIntensities im;
+  im.columns = im.rows = 6;
+  im.value.assign(36, {0, 0, 0});
+  for (const std::size_t pad : {7, 8, 9}) im.value[pad][0] = 1.0;
+  for (const std::size_t pad : {14, 15, 16}) im.value[pad][1] = 1.0;
+  for (const std::size_t pad : {26, 27}) im.value[pad][2] = 1.0;
+  const RenderPlan plan = plan_render(b, profile, im, RenderOptions{});
+  INFO(plan_to_json(plan).dump());
+  for (std::size_t p = 0; p < 3; ++p) {
+    CHECK(plan.rate_hz[p] <= plan.requested_hz[p]);
+    CHECK(plan.rate_hz[p] >= 0.95 * plan.requested_hz[p]);
+  }
+  bool shared = false;  // some slot holds two primaries
+  for (const RenderGroup& g : plan.groups)
+    for (const RenderGroup& h : plan.groups)
+      shared = shared || (g.slot == h.slot && g.primary != h.primary);
+  CHECK(shared);
+  const MixFigures f = mix_figures(plan.mix);
+  CHECK(f.worst_slip_us == 0);
+  CHECK_NOTHROW(check_mix(plan.mix, StimulusLimits{}));
+}
