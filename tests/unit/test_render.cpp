@@ -41,6 +41,14 @@ const PixelBank& bank6() {
   return b;
 }
 
+// A 6 x 6 image, all dark.
+PadIntensities dark6() {
+  PadIntensities im;
+  im.columns = im.rows = 6;
+  im.value.assign(36, {0, 0, 0});
+  return im;
+}
+
 PadIntensities random_image(const PixelBank& b, std::mt19937& rng, double lit_share) {
   PadIntensities im;
   im.columns = b.columns;
@@ -166,9 +174,7 @@ TEST_CASE("a plan: one pixel at its requested rate; a full image lowered, nothin
           "[render]") {
   const PixelBank& b = bank6();
   const Profile profile = profile_from_json(profile_json(), 2.0, 36);
-  PadIntensities im;
-  im.columns = im.rows = 6;
-  im.value.assign(36, {0, 0, 0});
+  PadIntensities im = dark6();
   im.value[14][1] = 128.0 / 255;
   RenderOptions o;
   const RenderPlan one = plan_render(b, profile, im, o);
@@ -199,11 +205,7 @@ TEST_CASE("a plan: one pixel at its requested rate; a full image lowered, nothin
 TEST_CASE("a sequence: each lit pixel alone, its frames' amplitudes, its start", "[render]") {
   const PixelBank& b = bank6();
   const Profile profile = profile_from_json(profile_json(), 2.0, 36);
-  std::vector<PadIntensities> frames(2);
-  for (PadIntensities& f : frames) {
-    f.columns = f.rows = 6;
-    f.value.assign(36, {0, 0, 0});
-  }
+  std::vector<PadIntensities> frames(2, dark6());
   frames[0].value[14] = {0, 1.0, 0};
   frames[1].value[14] = {0, 0.5, 0};
   frames[1].value[21] = {1.0 / 255, 0, 0};
@@ -289,9 +291,7 @@ TEST_CASE("a plan: primaries share slots where their residues allow, and never c
   // (the README's face); shared slots keep every rate within 5 % of its request.
   const PixelBank& b = bank6();
   const Profile profile = profile_from_json(profile_json(), 2.0, 36);
-  PadIntensities im;
-  im.columns = im.rows = 6;
-  im.value.assign(36, {0, 0, 0});
+  PadIntensities im = dark6();
   for (const std::size_t pad : {7, 8, 9}) im.value[pad][0] = 1.0;
   for (const std::size_t pad : {14, 15, 16}) im.value[pad][1] = 1.0;
   for (const std::size_t pad : {26, 27}) im.value[pad][2] = 1.0;
