@@ -17,6 +17,7 @@
 #include "host/line_reader.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
+#include "model/ranges.hpp"
 #include "render/render.hpp"
 
 namespace {
@@ -156,6 +157,10 @@ int main(int argc, char** argv) {
     if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
     const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(bank_path, "bank"));
     o.limits.max_current_mA = std::min(o.limits.max_current_mA, bank.doc.max_current_mA);
+    if (!plan_only && bank.pads() > static_cast<std::size_t>(tp::ranges::max_channels))
+      tp::bad_input("bank: " + std::to_string(bank.pads()) +
+                    " pads, more than a stimulator drives (" +
+                    std::to_string(tp::ranges::max_channels) + "); --plan plans it");
     const tp::Profile profile =
         tp::profile_from_json(tp::read_json(profile_path, "profile"), o.limits.max_current_mA,
                               static_cast<long>(bank.pads()));
@@ -214,6 +219,7 @@ int main(int argc, char** argv) {
     if (plan.lit.empty())
       tp::bad_input(sequence ? "no frame lights a pixel"
                              : images[0] + ": no pixel is lit (all black)");
+    if (!plan_only) tp::check_mix(plan.mix, o.limits);  // before a word is said
     if (plan.lowered)
       std::fprintf(stderr,
                    "render-tactile: the %s's pulses at the requested rates would take %s %% of "
@@ -231,7 +237,6 @@ int main(int argc, char** argv) {
       tp::cli::write_stdout(tp::dump_json(tp::plan_to_json(plan)));
       return;
     }
-    tp::check_mix(plan.mix, o.limits);
     tp::cli::write_stdout(tp::dump_json(tp::mix_to_json(plan.mix)));
   });
 }

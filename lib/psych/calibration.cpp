@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/ranges.hpp"
 
 namespace tp {
 
@@ -17,6 +18,9 @@ void check_calibration_options(const CalibrationOptions& o, const PixelBank& ban
   r.width_us = o.width_us;
   r.balance_width_us = o.balance_width_us;
   check_render_options(r);
+  if (bank.pads() > static_cast<std::size_t>(ranges::max_channels))
+    bad_input("bank: " + std::to_string(bank.pads()) + " pads, more than a stimulator drives (" +
+              std::to_string(ranges::max_channels) + ")");
   if (o.pads.empty()) bad_input("calibrate: no pixel to measure");
   for (const long pad : o.pads)
     if (pad < 0 || static_cast<std::size_t>(pad) >= bank.pads())

@@ -57,3 +57,11 @@ refuses 2 --says "start_amplitudes_mA" --stdin loud.json -- stimctl --port emu -
 # A profile calibrated on another array (calibrate writes its size).
 jq '.array = {columns: 4, rows: 4}' profile.json > other-array.json
 refuses 2 --says "calibrated on an array of" -- render-tactile --bank "$BANK" --profile other-array.json ok.png
+# A bank larger than a stimulator (more than 64 pads): render-tactile plans it (--plan)
+# but prints no stimulus; calibrate refuses it before writing its log.
+optimize-weights --bank --mode SAI --grid 9x8 --pitch 2 --pad 1x1 --neighbourhood 3 > bank72.json 2> /dev/null || fail "bank 9x8"
+mkpng nine.png 9 8 "4,4,0,255,0"
+refuses 2 --says "72 pads, more than a stimulator drives" -- render-tactile --bank bank72.json --profile profile.json nine.png
+render-tactile --bank bank72.json --profile profile.json --plan nine.png > plan72.json 2> /dev/null || fail "--plan on 72 pads"
+refuses 2 --says "72 pads" -- calibrate --bank bank72.json --log never.csv --responses -
+[[ ! -e never.csv ]] || fail "calibrate wrote its log before refusing"
