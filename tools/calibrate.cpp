@@ -54,13 +54,17 @@ class Answers {
       return false;
     }
     const int k = tty_->key(timeout_ms);
-    return k == 'q' || k == 'Q' || k == kEsc;
+    if (k == tp::host::Terminal::kGone) gone_ = true;
+    return gone_ || k == 'q' || k == 'Q' || k == kEsc;
   }
+  bool gone() const { return gone_; }
   // The answer: 'y', 'n' or 'q' (q, Q or Esc); empty when a signal interrupted the wait.
   std::optional<char> answer(const volatile std::sig_atomic_t* flag) {
     while (!*flag) {
       if (tty_) {
         const int k = tty_->key(100);
+        if (k == tp::host::Terminal::kGone)
+          throw tp::Error(tp::ExitCode::failure, "the terminal is gone; nothing running");
         if (k == 'y' || k == 'Y') return 'y';
         if (k == 'n' || k == 'N') return 'n';
         if (k == 'q' || k == 'Q' || k == kEsc) return 'q';
@@ -89,6 +93,7 @@ class Answers {
  private:
   std::unique_ptr<tp::host::Terminal> tty_;
   std::unique_ptr<tp::host::LineReader> lines_;
+  bool gone_ = false;
 };
 
 [[noreturn]] void stopped_by_signal(int sig) {
@@ -218,6 +223,9 @@ int main(int argc, char** argv) {
       const tp::host::SessionReport r = tp::host::run_watched(
           *transport, m, session, flag, [&](int ms) { return answers.stop_key(ms); }, by_key);
       if (*flag) stopped_by_signal(*flag);
+      if (by_key && answers.gone())
+        throw tp::Error(tp::ExitCode::failure, "the terminal is gone during trial " +
+                                                   std::to_string(n) + "; output stopped");
       if (by_key) {
         answers.say("stopped\n");
         throw tp::Error(tp::ExitCode::failure, "stopped by the user (q) during trial " +

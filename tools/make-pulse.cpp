@@ -18,8 +18,8 @@
 #include "io/document.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
-#include "render/profile.hpp"
 #include "pulse/stimulus.hpp"
+#include "render/profile.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -32,11 +32,11 @@ int main(int argc, char** argv) {
               interphase = "0", duration, count, format = "json", csv_pulses = "3", intensity,
               profile;
   app.add_option("--input", input, "Weights document, - for stdin [-]")->type_name("FILE");
-  auto* o_amp = app.add_option(
-                      "--amplitude", amplitude,
-                      "Current of a channel with |weight| = 1, mA, at most 2 (and the document's "
-                      "limit)")
-                    ->type_name("MA");
+  auto* o_amp =
+      app.add_option("--amplitude", amplitude,
+                     "Current of a channel with |weight| = 1, mA, at most 2 (and the document's "
+                     "limit)")
+          ->type_name("MA");
   auto* o_int = app.add_option("--intensity", intensity,
                                "Instead of --amplitude: 0 to 1 of the person's range for the "
                                "document's mode (needs --profile)")
@@ -81,11 +81,11 @@ int main(int argc, char** argv) {
     double amp = 0;
     if (!intensity.empty()) {
       if (!doc.extra.contains("mode") || !doc.extra["mode"].is_string())
-        tp::bad_input("--intensity: the weights document names no mode (optimize-weights "
-                      "--mode writes it)");
-      const tp::Profile p = tp::profile_from_json(tp::read_json(profile, "profile"),
-                                                  doc.max_current_mA,
-                                                  std::numeric_limits<long>::max());
+        tp::bad_input(
+            "--intensity: the weights document names no mode (optimize-weights "
+            "--mode writes it)");
+      const tp::Profile p = tp::profile_from_json(
+          tp::read_json(profile, "profile"), doc.max_current_mA, std::numeric_limits<long>::max());
       amp = tp::profile_amplitude_mA(p, doc.extra["mode"].get<std::string>(),
                                      tp::parse_finite(intensity, "--intensity"), "--intensity");
     } else {

@@ -63,8 +63,7 @@ int main(int argc, char** argv) {
     if (intensities.empty() != profile_path.empty())
       tp::bad_input("--intensities and --profile: give both, or neither");
     if (!intensities.empty()) {
-      if (profile_path == "-" && stdin_uses > 0)
-        tp::bad_input("--profile -: stdin is an input");
+      if (profile_path == "-" && stdin_uses > 0) tp::bad_input("--profile -: stdin is an input");
       const std::vector<double> v = tp::parse_list(intensities, "--intensities");
       if (v.size() != mix.patterns.size())
         tp::bad_input("--intensities: " + std::to_string(v.size()) + " for " +

@@ -61,8 +61,8 @@ void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::Pixel
       if (in.next(line)) {
         if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
         const std::string where = "frame " + std::to_string(in.lines());
-        const tp::PadIntensities f =
-            tp::frame_from_json(tp::parse_json_strict(line, where), bank.columns, bank.rows, where);
+        const tp::PadIntensities f = tp::frame_from_json(
+            tp::parse_json_text(line, where, "its line"), bank.columns, bank.rows, where);
         emit(tp::frame_amplitudes(seq, profile, f, where));
         continue;
       }
@@ -178,8 +178,8 @@ int main(int argc, char** argv) {
         if (in.next(line)) {
           if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
           const std::string where = "frame " + std::to_string(in.lines());
-          const tp::PadIntensities f = tp::frame_from_json(tp::parse_json_strict(line, where),
-                                                           bank.columns, bank.rows, where);
+          const tp::PadIntensities f = tp::frame_from_json(
+              tp::parse_json_text(line, where, "its line"), bank.columns, bank.rows, where);
           if (frames.empty()) frames = {f, f};
           for (std::size_t pad = 0; pad < f.value.size(); ++pad)
             for (std::size_t p = 0; p < 3; ++p)
@@ -219,7 +219,10 @@ int main(int argc, char** argv) {
     if (plan.lit.empty())
       tp::bad_input(sequence ? "no frame lights a pixel"
                              : images[0] + ": no pixel is lit (all black)");
-    if (!plan_only) tp::check_mix(plan.mix, o.limits);  // before a word is said
+    // Before a word is said: every check a device's mix gets (a plan for more pads than a
+    // stimulator drives is only a plan, and skips them).
+    if (bank.pads() <= static_cast<std::size_t>(tp::ranges::max_channels))
+      tp::check_mix(plan.mix, o.limits);
     if (plan.lowered)
       std::fprintf(stderr,
                    "render-tactile: the %s's pulses at the requested rates would take %s %% of "

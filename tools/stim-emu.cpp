@@ -39,8 +39,8 @@ int main(int argc, char** argv) {
   app.add_option("--apply-log", o.apply_log_path, "Write 'n t_ns' per applied weight frame")
       ->type_name("FILE");
   app.add_option("--event-log", o.event_log_path,
-                 "Write 'start t_ns' and 'stop t_ns' (CLOCK_MONOTONIC) as a host's frames start "
-                 "and stop the output")
+                 "Write 'start t_ns wall_ns' and 'stop t_ns wall_ns' (CLOCK_MONOTONIC, "
+                 "CLOCK_REALTIME) as a host's frames start and stop the output")
       ->type_name("FILE");
   app.add_option("--drop", drop, "Fraction of bytes to drop, each direction [0]")->type_name("P");
   app.add_option("--corrupt", corrupt, "Fraction of bytes to corrupt, each direction [0]")

@@ -351,8 +351,11 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
         core.receive(bytes.data(), bytes.size(), t_rx, out);
         if (event_log && (core.status().state == device::State::running) != running) {
           running = !running;
-          std::fprintf(event_log, "%s %lld\n", running ? "start" : "stop",
-                       static_cast<long long>(t_rx) * 1000);
+          timespec wall{};
+          clock_gettime(CLOCK_REALTIME, &wall);
+          std::fprintf(event_log, "%s %lld %lld\n", running ? "start" : "stop",
+                       static_cast<long long>(t_rx) * 1000,
+                       static_cast<long long>(wall.tv_sec) * 1000000000LL + wall.tv_nsec);
           std::fflush(event_log);
         }
         if (apply_log) {

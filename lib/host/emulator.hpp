@@ -48,8 +48,9 @@ struct PtyEmulatorOptions {
   std::string forward_socket;
   std::string record_path;
   std::string apply_log_path;  // "n t_ns" per applied weight frame (benchmarks)
-  // "start t_ns" / "stop t_ns" (CLOCK_MONOTONIC) when a host's frame starts or stops the
-  // output (tests: a record's t_s is from the start).
+  // "start t_ns wall_ns" / "stop t_ns wall_ns" (CLOCK_MONOTONIC, and CLOCK_REALTIME for
+  // a shell's $EPOCHREALTIME) when a host's frame starts or stops the output (tests: a
+  // record's t_s is from the start).
   std::string event_log_path;
   FaultInjection faults;
 };

@@ -45,10 +45,14 @@ Terminal::~Terminal() {
 
 int Terminal::key(int timeout_ms) {
   pollfd p{fd_, POLLIN, 0};
-  if (poll(&p, 1, timeout_ms) <= 0) return -1;
+  const int n = poll(&p, 1, timeout_ms);
+  if (n < 0) return -1;  // a signal: the caller looks at its flag
+  if (n == 0) return -1;
+  if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) return kGone;
   unsigned char c = 0;
-  if (read(fd_, &c, 1) != 1) return -1;
-  return c;
+  const ssize_t r = read(fd_, &c, 1);
+  if (r == 0 || (r < 0 && errno != EINTR && errno != EAGAIN)) return kGone;
+  return r == 1 ? c : -1;
 }
 
 void Terminal::say(const std::string& text) {
@@ -78,6 +82,10 @@ SessionReport run_watched(Transport& transport, const Mix& m, const SessionOptio
   // its wait); the handlers' flag is watched by both.
   sigset_t all, old;
   sigfillset(&all);
+  // A crash on the session's thread must still reach its handler (the stop frame), which
+  // a blocked synchronous signal would not.
+  for (const int crash : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGTRAP, SIGSYS})
+    sigdelset(&all, crash);
   pthread_sigmask(SIG_BLOCK, &all, &old);
   std::thread session;
   try {

@@ -18,8 +18,10 @@ class Terminal {
   ~Terminal();
   Terminal(const Terminal&) = delete;
   Terminal& operator=(const Terminal&) = delete;
-  // The next key within timeout_ms (0: do not wait), else -1.  Interrupted by a signal: -1.
+  // The next key within timeout_ms (0: do not wait), else -1 (also when a signal
+  // interrupted the wait); kGone when the terminal has hung up or fails.
   int key(int timeout_ms);
+  static constexpr int kGone = -2;
   void say(const std::string& text);  // written to the terminal
 
  private:

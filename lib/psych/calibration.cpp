@@ -28,6 +28,10 @@ void check_calibration_options(const CalibrationOptions& o, const PixelBank& ban
                 std::to_string(bank.pads()));
   for (const int p : o.primaries)
     if (p < 0 || p > 2) bad_input("--primaries: not a primary");
+  if (o.staircase.ceiling_mA > bank.doc.max_current_mA)
+    bad_input("--ceiling: " + number_text(o.staircase.ceiling_mA) +
+              " mA is above the bank's current limit, " + number_text(bank.doc.max_current_mA) +
+              " mA");
 }
 
 Calibration::Calibration(const PixelBank& bank, const CalibrationOptions& o)
@@ -54,6 +58,9 @@ Calibration::Calibration(const PixelBank& bank, const CalibrationOptions& o)
       units_.push_back({pad, p, false, PrimaryRange{}});
     }
   if (units_.empty()) bad_input("calibrate: no pattern to measure at the pixels given");
+  // Every trial a unit may give, checked before anything is sent: its stimulus at the
+  // ceiling (each limit grows with the level: current, charge, RMS and mean).
+  for (std::size_t u = 0; u < units_.size(); ++u) trial_stimulus(u, o.staircase.ceiling_mA);
   start_threshold();
 }
 
@@ -64,11 +71,14 @@ void Calibration::start_threshold() {
 }
 
 Mix Calibration::stimulus() const {
-  const Unit& u = units_[unit_];
+  return trial_stimulus(unit_, stair_.level_mA());
+}
+
+Mix Calibration::trial_stimulus(std::size_t unit, double level) const {
+  const Unit& u = units_[unit];
   const BankEntry& e =
       bank_.entry[static_cast<std::size_t>(u.pad)][static_cast<std::size_t>(u.primary)];
   Stimulus s;
-  const double level = stair_.level_mA();
   for (const double w : e.weights) s.currents_mA.push_back(level * w);
   s.shape.width_us = o_.width_us;
   s.shape.balance_width_us = o_.balance_width_us;
@@ -76,11 +86,14 @@ Mix Calibration::stimulus() const {
   s.count = std::max(1L, std::lround(o_.trial_s * s.shape.frequency_hz));
   s.amplitude_mA = level;
   s.electrode_area_mm2 = bank_.pad_area_mm2;
+  StimulusLimits limits;  // the bank's current limit, where it is lower
+  limits.max_current_mA = std::min(limits.max_current_mA, bank_.doc.max_current_mA);
+  s.max_current_mA = limits.max_current_mA;
   s.carried = {{"primary", kPrimaries[static_cast<std::size_t>(u.primary)]},
                {"pixels", Json::array({u.pad})}};
   Mix m;
   m.patterns.push_back(s);
-  check_mix(m, StimulusLimits{});
+  check_mix(m, limits);
   return m;
 }
 

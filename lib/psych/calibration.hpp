@@ -72,6 +72,7 @@ class Calibration {
   };
   void start_threshold();
   void finish_unit();
+  Mix trial_stimulus(std::size_t unit, double level_mA) const;  // checked
   const PixelBank& bank_;
   CalibrationOptions o_;
   std::vector<Unit> units_;

@@ -45,9 +45,9 @@ PrimaryRange range_from_json(const Json& j, const std::string& where, double max
   PrimaryRange r;
   r.threshold_mA = json_finite(j["threshold_mA"], where + ".threshold_mA");
   r.comfort_mA = json_finite(j["comfort_mA"], where + ".comfort_mA");
-  if (!(r.threshold_mA > 0 && r.threshold_mA <= max_mA))
-    bad_input(where + ".threshold_mA: " + number_text(r.threshold_mA) + " mA outside (0, " +
-              number_text(max_mA) + "] mA");
+  if (!(r.threshold_mA >= kMinProfile_mA && r.threshold_mA <= max_mA))
+    bad_input(where + ".threshold_mA: " + number_text(r.threshold_mA) + " mA outside [" +
+              number_text(kMinProfile_mA) + ", " + number_text(max_mA) + "] mA");
   if (r.comfort_mA > max_mA)
     bad_input(where + ".comfort_mA: " + number_text(r.comfort_mA) +
               " mA is above the current limit, " + number_text(max_mA) + " mA");

@@ -42,9 +42,13 @@ struct Profile {
 double profile_amplitude_mA(const Profile& p, const std::string& mode, double v,
                             const std::string& what);
 
+// The least threshold a profile may give (calibrate's floor, psych/staircase.hpp: 1 uA,
+// about one DAC step).
+inline constexpr double kMinProfile_mA = 0.001;
+
 inline constexpr const char* kProfileFormat = "tactile-primaries/profile/1";
 
-// Reads and checks a profile: the format, each range's threshold in (0, max_current_mA]
+// Reads and checks a profile: the format, each range's threshold in [0.001, max_current_mA]
 // and comfort in [threshold, max_current_mA], the counts and spreads not negative, pixels
 // as pad indices below `pads`.  Bad input naming the field at fault.
 Profile profile_from_json(const Json& j, double max_current_mA, long pads);

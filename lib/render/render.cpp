@@ -1,8 +1,8 @@
 #include "render/render.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <numeric>
@@ -55,6 +55,8 @@ PixelBank pixel_bank_from_json(const Json& j) {
       const std::string w = where + ".patterns." + kPrimaries[m];
       BankEntry& out = b.entry[k][m];
       out.present = true;
+      if (e.is_object() && e.contains("feasible") && !e["feasible"].is_boolean())
+        bad_input(w + ".feasible: not true or false");
       if (e.is_object() && e.contains("feasible") && e["feasible"] == false) {
         out.reason = e.contains("reason") && e["reason"].is_string()
                          ? e["reason"].get<std::string>()
@@ -584,6 +586,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
                 "render: no frame of at most 10 s periods keeps every electrode's RMS and mean "
                 "current within the limits");
   FrameProblem free = fp;
+  free.packing_work = 0;  // a budget of its own
   free.loads = false;
   const Frame unloaded = plan_frame(free);
   plan.cycle_us = static_cast<double>(best.cycle_us);
@@ -597,7 +600,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
   for (std::size_t p = 0; p < 3; ++p)
     plan.requested_utilisation += fp.groups[p] * fp.slot_us / fp.period_us[p];
   if (plan.lowered)
-    plan.limited_by = best.score < unloaded.score ? "the electrodes' RMS and mean current"
+    plan.limited_by = best.score < unloaded.score      ? "the electrodes' RMS and mean current"
                       : plan.requested_utilisation > 1 ? "the device's time"
                                                        : "the frame's slots";
   // Slots and turns, as the frame placed them, and the mix.

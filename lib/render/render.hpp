@@ -104,7 +104,7 @@ struct RenderPlan {
   // frame has those rates), or "the electrodes' RMS and mean current".
   std::string limited_by;
   double requested_utilisation = 0;  // sum over groups of (pulse + gap) x requested rate
-  Mix mix;                     // empty when nothing is lit
+  Mix mix;                           // empty when nothing is lit
 };
 // Bad input for a lit pixel whose primary has no pattern (the bank's reason), a profile
 // without that primary's range; a runtime failure when no frame satisfies the limits.

@@ -89,7 +89,8 @@ TEST_CASE("a profile: its currents, and every range outside its bounds refused",
   };
   refused(profile_json(0.5, 0.4), "below its threshold");
   refused(profile_json(0.3, 2.5), "above the current limit");
-  refused(profile_json(0.0, 0.4), "outside (0, 2] mA");
+  refused(profile_json(0.0, 0.4), "outside [0.001, 2] mA");
+  refused(profile_json(0.0005, 0.4), "outside [0.001, 2] mA");
   Json f = profile_json();
   f["format"] = "tactile-primaries/profile/2";
   refused(f, "format");
@@ -279,6 +280,15 @@ TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pi
   CHECK_FALSE(none.profile().primary[1].has_value());
   REQUIRE(none.notes().size() == 1);
   CHECK_THAT(none.notes()[0], Catch::Contains("no threshold found"));
+  // The bank's own current limit bounds the ceiling; a trial that some limit refuses at
+  // the ceiling (the RMS current, with 1000 us phases at 2 mA) is refused before any trial.
+  PixelBank low = b;
+  low.doc.max_current_mA = 0.5;
+  CHECK_THROWS_WITH(Calibration(low, one), Catch::Contains("above the bank's current limit"));
+  CalibrationOptions wide = one;
+  wide.width_us = wide.balance_width_us = 1000;
+  wide.staircase.ceiling_mA = 2.0;
+  CHECK_THROWS_WITH(Calibration(b, wide), Catch::Contains("above the limit"));
   // Never too strong: comfort is the ceiling.
   Calibration numb(b, one);
   while (!numb.done()) numb.respond(numb.comfort() ? false : numb.level_mA() > 0.3);

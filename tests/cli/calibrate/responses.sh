@@ -26,3 +26,6 @@ refuses 2 --says "not a bank" -- calibrate --bank "$TP_INPUTS/sai-weights.json" 
 refuses 2 --says "--log" -- calibrate --bank "$BANK" --log /nonexistent/dir/x.csv --responses -
 refuses 2 --says "could not find" -- calibrate --bank "$BANK" --log x.csv --pixel 0,0 --primaries PC --responses -
 refuses 2 --says "--trial-duration" -- calibrate --bank "$BANK" --log x.csv --trial-duration 20 --responses -
+# The bank's own current limit bounds the ceiling (found by the review).
+jq '.max_current_mA = 0.5' "$BANK" > low-bank.json
+refuses 2 --says "above the bank's current limit" -- calibrate --bank low-bank.json --log x.csv --ceiling 1 --responses -

@@ -4,13 +4,12 @@
 # hidden comfort limit.  For three hidden pairs the profile's SAI threshold and comfort lie
 # within the staircase's final step (a factor of sqrt(1.25)) of the hidden ones, and no
 # pulse exceeds the ceiling.  Then q during a long trial stops the output within one pulse
-# period (20 Hz: 50 ms) of the key, by the emulator's clock.
+# period (10 Hz: 100 ms) of the key, by the emulator's clock.
 source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
 command -v tmux > /dev/null || skip TP_REQUIRE_TMUX "tmux is not installed (scripts/setup installs it)"
 sock=tp-calibrate-$$
 tmux_() { tmux -L "$sock" "$@"; }
-trap 'tmux_ kill-server 2> /dev/null || true' EXIT
-now_ns() { python3 -c 'import time; print(time.monotonic_ns())'; }
+trap 'tmux_ kill-server 2> /dev/null || true; cleanup' EXIT  # and the harness's own
 
 # observe HIDDEN_THRESHOLD HIDDEN_COMFORT: answers every prompt until calibrate ends.
 observe() {
@@ -58,14 +57,17 @@ for pair in "0.13 0.3" "0.31 0.62" "0.55 0.9"; do
   echo "ok: hidden $thr, $comfort mA -> $(jq -c .primaries.SAI prof.json); peak $peak mA; $(tail -1 err.txt)"
 done
 
-# q during a 10 s trial at 20 Hz, 0.6 s in.
+# q during a 10 s trial at 10 Hz, 0.6 s in: from just before tmux sends the key (the
+# shell's $EPOCHREALTIME, no process started in between) to the device's stop frame (the
+# emulator's event log, CLOCK_REALTIME), within one pulse period, 100 ms.  That includes
+# the tmux client's start and the key's way through the pty.
 rm -f rc rec.jsonl
 start_emu --channels "$CHANNELS" --record rec.jsonl --event-log events.txt
 tmux_ new-session -d -s cal -x 160 -y 40 \
-  "${cal[*]} --trial-duration 10 --rates SAI:20 --start 0.2 --port $PORT > prof.json 2> err.txt; echo \$? > rc"
+  "${cal[*]} --trial-duration 10 --rates SAI:10 --start 0.2 --port $PORT > prof.json 2> err.txt; echo \$? > rc"
 for _ in $(seq 500); do grep -q '^start' events.txt 2> /dev/null && break; sleep 0.01; done
 sleep 0.6
-t_q=$(now_ns)
+t_q=$EPOCHREALTIME
 tmux_ send-keys -t cal q
 for _ in $(seq 500); do [[ -e rc ]] && break; sleep 0.01; done
 sleep 0.1
@@ -73,11 +75,10 @@ stop_emu
 [[ $(cat rc) == 1 ]] || fail "q: calibrate exited $(cat rc 2> /dev/null)"
 grep -q "stopped by the user (q) during trial 1" err.txt || fail "q: $(cat err.txt)"
 [[ -s prof.json ]] && fail "q: a profile was written"
-read -r t_start t_stop < <(awk '$1 == "start" { s = $2 } $1 == "stop" { e = $2 } END { print s, e }' events.txt)
+read -r t_start t_stop < <(awk '$1 == "start" { s = $3 } $1 == "stop" { e = $3 } END { print s, e }' events.txt)
 last=$(jq -s 'map(.t_s) | max' rec.jsonl)
-# The output stopped within one period (50 ms) of the key; no pulse began after it.
 awk -v q="$t_q" -v e="$t_stop" -v s="$t_start" -v l="$last" 'BEGIN {
-  stop = (e - q) / 1e6; tail = (s + l * 1e9 - q) / 1e6
-  printf "q -> stop %.1f ms, last pulse %.1f ms after q\n", stop, tail
-  exit !(stop <= 50 && tail <= 50) }' > q.txt || fail "q: $(cat q.txt)"
-echo "ok: $(cat q.txt); $(lines rec.jsonl) pulses of 200; $(cat err.txt)"
+  stop = (e / 1e9 - q) * 1e3; tail = (s / 1e9 + l - q) * 1e3
+  printf "q -> stop %.1f ms, the last pulse %.1f ms after q\n", stop, tail
+  exit !(stop <= 100 && tail <= 100) }' > q.txt || fail "q: $(cat q.txt)"
+echo "ok: $(cat q.txt); $(lines rec.jsonl) pulses of 100; $(cat err.txt)"

@@ -65,3 +65,9 @@ refuses 2 --says "72 pads, more than a stimulator drives" -- render-tactile --ba
 render-tactile --bank bank72.json --profile profile.json --plan nine.png > plan72.json 2> /dev/null || fail "--plan on 72 pads"
 refuses 2 --says "72 pads" -- calibrate --bank bank72.json --log never.csv --responses -
 [[ ! -e never.csv ]] || fail "calibrate wrote its log before refusing"
+# Found by the review: a malformed JSON frame is bad input (2), not a failure; a bank's
+# "feasible" that is not true or false.
+printf '{"rgb": [1,\n' > broken.jsonl
+refuses 2 --says "frame 1: malformed JSON" --stdin broken.jsonl -- "${rt[@]}" --sequence -
+jq '.pixels[19].patterns.SAI.feasible = "no"' "$BANK" > odd-bank.json
+refuses 2 --says "feasible: not true or false" -- render-tactile --bank odd-bank.json --profile profile.json ok.png
