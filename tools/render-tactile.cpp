@@ -35,6 +35,26 @@ std::string rates_text(const tp::RenderPlan& plan) {
   return out;
 }
 
+// Each JSON-line frame on stdin ({"rgb": [...]}, blank lines skipped), checked, in order,
+// with its name ("frame N") for messages.
+template <class F>
+void for_each_stdin_frame(const tp::PixelBank& bank, F&& f) {
+  tp::host::LineReader in(0);
+  std::string line;
+  for (;;) {
+    if (in.next(line)) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      const std::string where = "frame " + std::to_string(in.lines());
+      f(tp::frame_from_json(tp::parse_json_text(line, where, "its line"), bank.columns, bank.rows,
+                            where),
+        where);
+      continue;
+    }
+    if (in.at_end()) return;
+    in.fill(1000);
+  }
+}
+
 // Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
 // given (already checked), or JSON lines read from stdin, each checked before it is
 // written.  After the last, holds it one frame period (so the device delivers it) and ends.
@@ -55,20 +75,9 @@ void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::Pixel
   if (!from_stdin) {
     for (const auto& a : given) emit(a);
   } else {
-    tp::host::LineReader in(0);
-    std::string line;
-    for (;;) {
-      if (in.next(line)) {
-        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-        const std::string where = "frame " + std::to_string(in.lines());
-        const tp::PadIntensities f = tp::frame_from_json(
-            tp::parse_json_text(line, where, "its line"), bank.columns, bank.rows, where);
-        emit(tp::frame_amplitudes(seq, profile, f, where));
-        continue;
-      }
-      if (in.at_end()) break;
-      in.fill(1000);
-    }
+    for_each_stdin_frame(bank, [&](const tp::PadIntensities& f, const std::string& where) {
+      emit(tp::frame_amplitudes(seq, profile, f, where));
+    });
   }
   if (k > 0) std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
   std::fprintf(stderr, "render-tactile: %zu frames at %s fps\n", k, tp::number_text(fps).c_str());
@@ -171,25 +180,14 @@ int main(int argc, char** argv) {
     if (sequence && images.size() == 1 && images[0] == "-") {
       // A sequence's frames as JSON lines on stdin: kept are the first (the start) and
       // what any lights (the patterns), so memory does not grow with their number.
-      tp::host::LineReader in(0);
-      std::string line;
       frame_count = 0;
-      for (;;) {
-        if (in.next(line)) {
-          if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-          const std::string where = "frame " + std::to_string(in.lines());
-          const tp::PadIntensities f = tp::frame_from_json(
-              tp::parse_json_text(line, where, "its line"), bank.columns, bank.rows, where);
-          if (frames.empty()) frames = {f, f};
-          for (std::size_t pad = 0; pad < f.value.size(); ++pad)
-            for (std::size_t p = 0; p < 3; ++p)
-              if (f.value[pad][p] > 0) frames[1].value[pad][p] = 1.0;
-          ++frame_count;
-          continue;
-        }
-        if (in.at_end()) break;
-        in.fill(1000);
-      }
+      for_each_stdin_frame(bank, [&](const tp::PadIntensities& f, const std::string&) {
+        if (frames.empty()) frames = {f, f};
+        for (std::size_t pad = 0; pad < f.value.size(); ++pad)
+          for (std::size_t p = 0; p < 3; ++p)
+            if (f.value[pad][p] > 0) frames[1].value[pad][p] = 1.0;
+        ++frame_count;
+      });
       if (frames.empty()) tp::bad_input("--sequence -: no frames on stdin");
     } else if (!live_input) {
       for (const std::string& f : images)
