@@ -6,6 +6,7 @@
 //   optimize-weights --mode SAI | fiber-threshold --strength-duration > sd.csv
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
   tp::cli::ModelOptions conductor;
   conductor.flag = "--conductor";
   tp::cli::FibreOptions fibre;
-  std::string weights, widths;
+  std::string weights, widths, at;
   bool sd = false;
   auto* o_config = tp::cli::add_array_options(
       app, array, "Weights document (optimize-weights' JSON; - for stdin) [stdin]");
@@ -74,6 +75,10 @@ int main(int argc, char** argv) {
   o_config->excludes(o_w);
   tp::cli::add_model_options(app, conductor);
   tp::cli::add_fibre_options(app, fibre, "--model");
+  app.add_option("--at", at,
+                 "2-D arrays: the point X,Z (mm) the fibres pass through [the document's "
+                 "focus, optimize-weights --at]")
+      ->type_name("X,Z");
   app.add_flag("--strength-duration", sd,
                "Print a strength-duration table (CSV: receptor,width_us,threshold_mA,charge_nC,"
                "rheobase_mA,chronaxie_us; rheobase and chronaxie from Weiss's law)");
@@ -99,9 +104,20 @@ int main(int argc, char** argv) {
     tp::Document doc = tp::cli::load_document(source, 1);
     if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     tp::cli::apply_model_options(doc, conductor);
-    if (doc.setup.array.two_d())
-      tp::bad_input("array: " + doc.setup.array.describe() +
-                    " is 2-D; fibres are simulated under 1-D arrays only");
+    std::optional<std::array<double, 2>> through;
+    if (!at.empty()) {
+      if (!doc.setup.array.two_d())
+        tp::bad_input("--at: applies to 2-D arrays only (a 1-D array's fibres span it)");
+      const std::vector<double> xz = tp::parse_list(at, "--at");
+      if (xz.size() != 2) tp::bad_input("--at: expected X,Z (mm), got '" + at + "'");
+      through = std::array<double, 2>{xz[0], xz[1]};
+    } else if (doc.setup.array.two_d() && doc.extra.contains("focus")) {
+      const tp::Json& f = doc.extra["focus"];
+      if (!f.is_object() || !f.contains("x_mm") || !f.contains("z_mm") || !f["x_mm"].is_number() ||
+          !f["z_mm"].is_number())
+        tp::bad_input("focus: expected an object with numbers x_mm and z_mm");
+      through = std::array<double, 2>{f["x_mm"].get<double>(), f["z_mm"].get<double>()};
+    }
     if (!doc.weights)
       tp::bad_input("weights: the document has none (optimize-weights writes them; or --weights)");
     if (doc.weights->size() != doc.setup.array.size())
@@ -116,6 +132,7 @@ int main(int argc, char** argv) {
     if (!(wmax > 0.0)) tp::bad_input("weights: every weight is zero");
     if (!widths.empty() && !sd) tp::bad_input("--widths: applies to --strength-duration only");
     tp::cli::FibreSetup f = tp::cli::apply_fibre_options(fibre, *doc.weights);
+    f.settings.through_mm = through;
 
     if (sd) {
       std::vector<double> ws = widths.empty()

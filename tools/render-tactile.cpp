@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "io/json.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
+#include "render/model_profile.hpp"
 #include "render/render.hpp"
 
 namespace {
@@ -58,6 +60,36 @@ void for_each_stdin_frame(const tp::PixelBank& bank, F&& f) {
 // Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
 // given (already checked), or JSON lines read from stdin, each checked before it is
 // written.  After the last, holds it one frame period (so the device delivers it) and ends.
+// Without --profile: the fibre model's thresholds, said on stderr (after every option and
+// the bank are checked).
+tp::Profile model_profile(const tp::PixelBank& bank, const tp::RenderOptions& o, double factor,
+                          std::string& warning) {
+  tp::ModelProfileOptions m;
+  m.pulse.width_us = o.width_us;
+  m.pulse.interphase_us = o.interphase_us;
+  m.pulse.balance_width_us = o.balance_width_us;
+  m.max_current_mA = o.limits.max_current_mA;
+  m.comfort_factor = factor;
+  const tp::ModelProfile mp = tp::model_profile(bank, m);
+  std::string ranges;
+  for (std::size_t p = 0; p < tp::kPrimaries.size(); ++p) {
+    if (!mp.profile.primary[p]) continue;
+    const tp::PrimaryRange& r = *mp.profile.primary[p];
+    ranges += std::string(ranges.empty() ? "" : ", ") + tp::kPrimaries[p] + " " +
+              tp::number_text(std::round(r.threshold_mA * 1e4) / 1e4) + " to " +
+              tp::number_text(std::round(r.comfort_mA * 1e4) / 1e4) + " mA" +
+              (mp.capped[p] ? " (comfort held at the current limit)" : "") + " at pad " +
+              std::to_string(mp.pixel[p]);
+  }
+  warning =
+      "render-tactile: warning: no --profile: intensities span the fibre model's "
+      "thresholds (" +
+      m.fibre_model + ", " + tp::number_text(m.pulse.width_us) + " us) to " +
+      tp::number_text(m.comfort_factor) + " x them, not this person's: " + ranges +
+      "; run calibrate\n";
+  return mp.profile;
+}
+
 void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::PixelBank& bank,
                  const std::vector<std::vector<double>>& given, bool from_stdin, double fps) {
   using clock = std::chrono::steady_clock;
@@ -97,7 +129,7 @@ int main(int argc, char** argv) {
       "(stimctl plays it), or with --plan the plan.  docs/rendering.md.",
       "render-tactile"};
   std::string bank_path, profile_path, rates, duration, crosstalk = "0.1", width = "200", balance,
-                                                        frames_for, fps_text = "30";
+                                                        frames_for, fps_text = "30", comfort_factor;
   std::vector<std::string> images;
   bool resample = false, plan_only = false, sequence = false;
   app.add_option("images", images,
@@ -108,9 +140,13 @@ int main(int argc, char** argv) {
       ->required()
       ->type_name("FILE");
   app.add_option("--profile", profile_path,
-                 "The person's calibration (calibrate; format tactile-primaries/profile/1)")
-      ->required()
+                 "The person's calibration (calibrate; format tactile-primaries/profile/1) "
+                 "[none: the fibre model's thresholds at the centre pixel, comfort "
+                 "--comfort-factor times them, with a warning]")
       ->type_name("FILE");
+  app.add_option("--comfort-factor", comfort_factor,
+                 "Without --profile: comfort = this x the model's threshold, 1.1 to 10 [2]")
+      ->type_name("K");
   app.add_option("--rates", rates,
                  "Requested rate per primary, Hz, 0.1 to 1000 [RA:30,SAI:200,PC:250]")
       ->type_name("P:HZ,...");
@@ -170,9 +206,17 @@ int main(int argc, char** argv) {
       tp::bad_input("bank: " + std::to_string(bank.pads()) +
                     " pads, more than a stimulator drives (" +
                     std::to_string(tp::ranges::max_channels) + "); --plan plans it");
-    const tp::Profile profile =
-        tp::profile_from_json(tp::read_json(profile_path, "profile"), o.limits.max_current_mA,
-                              static_cast<long>(bank.pads()));
+    if (!profile_path.empty() && !comfort_factor.empty())
+      tp::bad_input("--comfort-factor: applies without --profile only");
+    const double factor = comfort_factor.empty()
+                              ? tp::kDefaultComfortFactor
+                              : tp::parse_finite(comfort_factor, "--comfort-factor");
+    if (!(factor >= 1.1 && factor <= 10))
+      tp::bad_input("--comfort-factor: " + comfort_factor + " outside [1.1, 10]");
+    std::optional<tp::Profile> given;
+    if (!profile_path.empty())
+      given = tp::profile_from_json(tp::read_json(profile_path, "profile"), o.limits.max_current_mA,
+                                    static_cast<long>(bank.pads()));
     // The images, all read and checked before anything is printed (frames on stdin: as
     // they come, each checked before it is written).
     std::vector<tp::PadIntensities> frames;
@@ -194,6 +238,9 @@ int main(int argc, char** argv) {
         frames.push_back(tp::pad_intensities(tp::read_png(f), bank.columns, bank.rows, resample));
     }
 
+    // Without a profile, the model's.
+    std::string warning;  // said before the first output, when every input is checked
+    const tp::Profile profile = given ? *given : model_profile(bank, o, factor, warning);
     if (sequence && duration.empty() && frame_count > 0)
       o.duration_s =
           std::min((static_cast<double>(frame_count) + 1) / fps, o.limits.max_duration_s);
@@ -206,6 +253,7 @@ int main(int argc, char** argv) {
       std::vector<std::vector<double>> out;  // PNG frames: every one checked first
       for (std::size_t k = 0; k < frames.size(); ++k)
         out.push_back(tp::frame_amplitudes(seq, profile, frames[k], images[k]));
+      std::fputs(warning.c_str(), stderr);
       play_frames(seq, profile, bank, out, live_input, fps);
       return;
     }
@@ -221,6 +269,7 @@ int main(int argc, char** argv) {
     // stimulator drives is only a plan, and skips them).
     if (bank.pads() <= static_cast<std::size_t>(tp::ranges::max_channels))
       tp::check_mix(plan.mix, o.limits);
+    std::fputs(warning.c_str(), stderr);
     if (plan.lowered)
       std::fprintf(stderr,
                    "render-tactile: the %s's pulses at the requested rates would take %s %% of "

@@ -132,6 +132,8 @@ Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
   s["tolerance"] = r.settings.tolerance;
   s["max_mA"] = r.settings.max_mA;
   s["dt_us"] = r.dt_ms * 1e3;
+  if (r.settings.through_mm)
+    s["through_mm"] = Json::array({(*r.settings.through_mm)[0], (*r.settings.through_mm)[1]});
   j["settings"] = s;
   Json recs = Json::object();
   for (std::size_t k = 0; k < r.receptors.size(); ++k) {
@@ -142,6 +144,7 @@ Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
       e["threshold_mA"] = *t.threshold_mA;
       e["x_mm"] = t.x_mm;
       e["depth_mm"] = t.depth_mm;
+      if (setup.array.two_d()) e["z_mm"] = t.z_mm;
       e["node"] = t.node;
       if (rec.fibre.orientation == Orientation::horizontal) e["offset_mm"] = t.offset_mm;
     } else {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <thread>
 #include <tuple>
@@ -59,6 +60,7 @@ constexpr double kMaxPotentials = 3e7;   // 240 MB of unit potentials
 struct Placement {
   std::vector<double> ve_mV;
   double x0_mm = 0.0, y0_mm = 0.0;  // the first node
+  double z0_mm = 0.0;               // 2-D arrays: the fibre's z
   bool vertical = false;
   double offset_mm = 0.0;
 };
@@ -257,9 +259,9 @@ class Search {
 };
 
 std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>& weights,
-                                  const Axon& axon, double x0, double y0, bool vertical,
-                                  PotentialCache& cache) {
-  const std::vector<double>& psi = cache.unit(c, axon, x0, y0, vertical);
+                                  const Axon& axon, double x0, double y0, bool vertical, double z0,
+                                  bool three_d, PotentialCache& cache) {
+  const std::vector<double>& psi = cache.unit(c, axon, x0, y0, vertical, z0, three_d);
   const std::size_t n = weights.size();
   std::vector<double> ve(axon.centre_um.size());
   for (std::size_t k = 0; k < ve.size(); ++k) {
@@ -273,13 +275,15 @@ std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>&
 }  // namespace
 
 bool PotentialCache::Key::operator<(const Key& o) const {
-  return std::tie(model, diameter_um, x0_mm, y0_mm, compartments, vertical) <
-         std::tie(o.model, o.diameter_um, o.x0_mm, o.y0_mm, o.compartments, o.vertical);
+  return std::tie(model, diameter_um, x0_mm, y0_mm, z0_mm, compartments, vertical, three_d) <
+         std::tie(o.model, o.diameter_um, o.x0_mm, o.y0_mm, o.z0_mm, o.compartments, o.vertical,
+                  o.three_d);
 }
 
 const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& axon, double x0,
-                                                double y0, bool vertical) {
-  Key key{axon.model, axon.diameter_um, x0, y0, axon.centre_um.size(), vertical};
+                                                double y0, bool vertical, double z0, bool three_d) {
+  if (!three_d) z0 = 0.0;
+  Key key{axon.model, axon.diameter_um, x0, y0, z0, axon.centre_um.size(), vertical, three_d};
   auto it = std::lower_bound(entries_.begin(), entries_.end(), key,
                              [](const auto& e, const Key& k) { return e.first < k; });
   if (it != entries_.end() && !(key < it->first)) return it->second;
@@ -294,16 +298,54 @@ const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& 
   }
   for (std::size_t k = 0; k < axon.centre_um.size(); ++k) {
     const double s = axon.centre_um[k] * 1e-3;
-    c.unit_potentials(vertical ? x0 : x0 + s, vertical ? y0 + s : y0, &psi[k * n]);
+    const double x = vertical ? x0 : x0 + s, y = vertical ? y0 + s : y0;
+    if (three_d)
+      c.unit_potentials_3d(x, y, z0, &psi[k * n]);
+    else
+      c.unit_potentials(x, y, &psi[k * n]);
   }
   return entries_.insert(it, {std::move(key), std::move(psi)})->second;
 }
 
+namespace {
+// The step vertical fibres are sampled at: a quarter of it.  A 1-D array's mean pitch (1 mm
+// for one electrode); a 2-D grid's smaller pitch, free pads' nearest two centres.
+double sampling_pitch_mm(const ElectrodeArray& a) {
+  if (!a.two_d())
+    return a.size() > 1 ? (a.x_max_mm() - a.x_min_mm()) / static_cast<double>(a.size() - 1) : 1.0;
+  if (a.grid() && a.pitch_mm) {
+    double p = *a.pitch_mm;
+    if (a.rows > 1 && a.row_pitch_mm > 0) p = std::min(p, a.row_pitch_mm);
+    if (a.columns == 1 && a.rows > 1) p = a.row_pitch_mm;
+    return p;
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t j = i + 1; j < a.size(); ++j)
+      best =
+          std::min(best, std::hypot(a.positions_mm[i] - a.positions_mm[j], a.z_mm[i] - a.z_mm[j]));
+  return std::isfinite(best) ? best : 1.0;
+}
+// Vertical fibres under a 2-D array: every quarter pitch within half a pitch of the point
+// in x and z (5 x 5), then twice 5 x 5 at half the step around the best.
+constexpr double kVertical2dPlacements = 75.0;
+}  // namespace
+
 std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                         const Receptor& r, const ThresholdSettings& s) {
-  if (setup.array.two_d())
+  const bool two_d = setup.array.two_d();
+  if (two_d && !s.through_mm)
     bad_input("array: " + setup.array.describe() +
-              " is 2-D; fibres are simulated under 1-D arrays only");
+              " is 2-D: give the point the fibres pass through (fiber-threshold --at X,Z; a "
+              "pixel's document, optimize-weights --at, carries its focus)");
+  if (two_d) {
+    const auto [px, pz] = *s.through_mm;
+    const double m = setup.lateral_margin_mm;
+    if (!(px >= setup.array.x_min_mm() - m && px <= setup.array.x_max_mm() + m &&
+          pz >= setup.array.z_min_mm() - m && pz <= setup.array.z_max_mm() + m))
+      bad_input("--at: (" + number_text(px) + ", " + number_text(pz) +
+                ") mm is outside the pads plus the lateral margin (" + number_text(m) + " mm)");
+  }
   const double d = r.fibre.diameter_um;
   if (!r.fibre.myelinated)
     bad_input("receptor " + r.name + ": the fibre models are myelinated (myelinated: false)");
@@ -334,7 +376,13 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     const double bottom =
         vertical ? r.depth_min_mm + static_cast<double>(nodes - 1) * L_mm : r.depth_max_mm;
     const double gap = src < top ? top - src : src > bottom ? src - bottom : 0.0;
-    const double distance = std::hypot(gap, setup.conductor.plane_z_mm);
+    double dz = setup.conductor.plane_z_mm;
+    if (two_d) {  // the nearest pad's source, from the fibres' z
+      dz = std::numeric_limits<double>::infinity();
+      for (std::size_t e = 0; e < setup.array.size(); ++e)
+        dz = std::min(dz, std::fabs((*s.through_mm)[1] - setup.array.z_of(e)));
+    }
+    const double distance = std::hypot(gap, dz);
     if (!(distance >= L_mm))
       bad_input("model.source_depth_mm: " + number_text(src) + " mm is " + number_text(distance) +
                 " mm from receptor " + r.name + "'s " + (vertical ? "vertical" : "horizontal") +
@@ -356,7 +404,9 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     // Vertical: every quarter pitch across the array +- one pitch, then 2 x 9 refinements.
     const double placements =
         vertical
-            ? 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) - 1) + 27.0
+            ? two_d ? kVertical2dPlacements
+                    : 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) - 1) +
+                          27.0
             : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
     if (per_placement * placements > kMaxPotentials)
       bad_input("receptor " + r.name + ": " + number_text(per_placement * placements) +
@@ -371,17 +421,28 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
   // and a sixteenth of a pitch beyond.
   {
     const double x_min = setup.array.x_min_mm(), x_max = setup.array.x_max_mm();
+    const double pitch_mm = sampling_pitch_mm(setup.array);
     double reach_mm, bottom_mm;
-    if (vertical) {
-      const double pitch_mm = setup.array.size() > 1
-                                  ? (x_max - x_min) / static_cast<double>(setup.array.size() - 1)
-                                  : 1.0;
+    if (vertical && two_d) {  // within half a pitch of the point, refined a quarter beyond
+      const auto [px, pz] = *s.through_mm;
+      const double dx =
+          std::max(std::fabs(px + pitch_mm - x_min), std::fabs(x_max - (px - pitch_mm)));
+      const double dz = std::max(std::fabs(pz + pitch_mm - setup.array.z_min_mm()),
+                                 std::fabs(setup.array.z_max_mm() - (pz - pitch_mm)));
+      reach_mm = std::hypot(dx, dz);
+      bottom_mm = r.depth_min_mm + static_cast<double>(nodes) * L_mm;
+    } else if (vertical) {
       reach_mm = x_max - x_min + 1.5 * pitch_mm;
       bottom_mm = r.depth_min_mm + static_cast<double>(nodes) * L_mm;
     } else {
       const double first_mm = reg.x0_mm - 6.0 * L_mm;
       const double last_mm = first_mm + static_cast<double>(nodes + 1) * L_mm;
       reach_mm = std::max(std::fabs(last_mm - x_min), std::fabs(x_max - first_mm));
+      if (two_d) {
+        const double pz = (*s.through_mm)[1];
+        reach_mm = std::hypot(reach_mm, std::max(std::fabs(pz - setup.array.z_min_mm()),
+                                                 std::fabs(setup.array.z_max_mm() - pz)));
+      }
       bottom_mm = r.depth_max_mm;
     }
     conductor.check_reach(reach_mm, r.depth_min_mm, bottom_mm,
@@ -420,7 +481,8 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
       steps += (ph.duration_ms + 0.1) / std::max(o.min_dt_ms, ph.duration_ms / 10.0);
   const bool vertical = r.fibre.orientation == Orientation::vertical;
   const double placements =
-      vertical
+      vertical && setup.array.two_d() ? kVertical2dPlacements
+      : vertical
           ? 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) + 1) + 1.0 + 18.0
           : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
   const double probes =
@@ -451,6 +513,8 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   const bool vertical = r.fibre.orientation == Orientation::vertical;
   const Region reg = fibre_region(setup, r);
   const Axon& axon = f.axon;
+  const bool two_d = setup.array.two_d();  // fibre_nodes: then through_mm is set
+  const double z_fibre = two_d ? (*s.through_mm)[1] : 0.0;
 
   SimOptions o;
   o.dt_ms = s.dt_ms;
@@ -486,16 +550,39 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
         const double left = reg.x0_mm - 5.0 * L_mm;
         p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
         p.y0_mm = y;
-        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, y, false, cache);
+        p.z0_mm = z_fibre;
+        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, y, false, z_fibre, two_d, cache);
         ps.push_back(std::move(p));
       }
     }
     evaluate(std::move(ps), guess);
+  } else if (two_d) {
+    // Every quarter pitch within half a pitch of the point in x and z, then twice 5 x 5
+    // around the best at half the step (to a sixteenth of a pitch).
+    auto round = [&](double cx, double cz, double step, int half) {
+      std::vector<Placement> ps;
+      for (int j = -half; j <= half; ++j)
+        for (int i = -half; i <= half; ++i) {
+          Placement p;
+          p.vertical = true;
+          p.x0_mm = cx + step * i;
+          p.z0_mm = cz + step * j;
+          p.y0_mm = r.depth_min_mm;
+          p.ve_mV =
+              potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, p.z0_mm, true, cache);
+          ps.push_back(std::move(p));
+        }
+      evaluate(std::move(ps), best.found ? best.j : guess);
+    };
+    double step = sampling_pitch_mm(setup.array) / 4;
+    round((*s.through_mm)[0], (*s.through_mm)[1], step, 2);
+    for (int refine = 0; refine < 2 && best.found; ++refine) {
+      const Placement c = all[best.index];
+      step /= 2;
+      round(c.x0_mm, c.z0_mm, step, 2);
+    }
   } else {
-    const double pitch = setup.array.size() > 1
-                             ? (setup.array.x_max_mm() - setup.array.x_min_mm()) /
-                                   static_cast<double>(setup.array.size() - 1)
-                             : 1.0;
+    const double pitch = sampling_pitch_mm(setup.array);
     auto round = [&](double from, double to, double step) {
       std::vector<Placement> ps;
       const auto count = static_cast<std::size_t>(std::llround((to - from) / step));
@@ -504,7 +591,8 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
         p.vertical = true;
         p.x0_mm = from + step * static_cast<double>(k);
         p.y0_mm = r.depth_min_mm;
-        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, cache);
+        p.ve_mV =
+            potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, 0.0, false, cache);
         ps.push_back(std::move(p));
       }
       evaluate(std::move(ps), best.found ? best.j : guess);
@@ -538,6 +626,7 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   const double s_mm = axon.centre_um[axon.nodes[res.first_node]] * 1e-3;
   out.x_mm = vertical ? p.x0_mm : p.x0_mm + s_mm;
   out.depth_mm = vertical ? p.y0_mm + s_mm : p.y0_mm;
+  out.z_mm = p.z0_mm;
   out.simulations = search.simulations();
   return out;
 }

@@ -16,9 +16,14 @@
 //    straight down through its depth range and `extra_internodes` internodes beyond; the
 //    threshold is the minimum over x, sampled every quarter pitch across the array +- one
 //    pitch and refined twice around the best sample (to a 64th of a pitch).
+// Under a 2-D array the fibres pass through one point (x, z) of the surface, a pixel's
+// (`through_mm`): horizontal fibres run along x at that z, over the pads plus the lateral
+// margin; vertical fibres are sampled every quarter pitch within half a pitch of it in x
+// and z, and refined twice around the best sample.
 // An action potential counts when it reaches the sixth node from each end of a horizontal
 // fibre, or the sixth node from the deep end of a vertical one (above -20 mV).
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -39,6 +44,9 @@ struct ThresholdSettings {
   double delay_ms = 0.1;              // rest before the pulse
   double after_ms = 0;                // simulated after the pulse (0: enough to propagate)
   unsigned threads = 0;               // 0: every core
+  // 2-D arrays: the point (x, z) in mm the fibres pass through (required there; a pixel's
+  // place); 1-D arrays: not used.
+  std::optional<std::array<double, 2>> through_mm;
 };
 
 // Where and whether a receptor fired at its threshold.
@@ -47,6 +55,7 @@ struct ReceptorThreshold {
   std::optional<double> threshold_mA;  // empty: no threshold below max_mA
   std::string reason;                  // why there is none
   double x_mm = 0.0, depth_mm = 0.0;   // the node where the action potential started
+  double z_mm = 0.0;                   // 2-D arrays: its z
   std::size_t node = 0;                // its number along the fibre (0: the first node)
   double offset_mm = 0.0;              // horizontal: the alignment that gave the minimum
   std::size_t placements = 0;          // fibre positions tried
@@ -70,16 +79,18 @@ Waveform pulse_waveform(double width_us, double interphase_us, double balance_wi
 // between calls for the same conductor: an optimiser changes the weights, not the fibres.
 class PotentialCache {
  public:
-  // psi[k * electrodes + i]: electrode i's potential (V per mA) at compartment k.
+  // psi[k * electrodes + i]: electrode i's potential (V per mA) at compartment k.  A 1-D
+  // array's fibres lie in its conductor's plane (z0 is not used); a 2-D array's
+  // (`three_d`) at z = z0_mm.
   const std::vector<double>& unit(const Conductor& c, const Axon& axon, double x0_mm, double y0_mm,
-                                  bool vertical);
+                                  bool vertical, double z0_mm = 0.0, bool three_d = false);
 
  private:
   struct Key {
     std::string model;
-    double diameter_um, x0_mm, y0_mm;
+    double diameter_um, x0_mm, y0_mm, z0_mm;
     std::size_t compartments;
-    bool vertical;
+    bool vertical, three_d;
     bool operator<(const Key& o) const;
   };
   std::vector<std::pair<Key, std::vector<double>>> entries_;  // kept sorted by key

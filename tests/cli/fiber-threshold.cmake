@@ -79,4 +79,10 @@ tp_cli_test(fiber-threshold refuses-source-near-fibres refuses 2 --says "nearer 
 # message names the setting to lower first.
 tp_cli_test(fiber-threshold refuses-search-work-over-bound refuses 2 --says "bound of 1e+12 (fewer --max-evaluations" --
   optimize-weights --mode SAI --objective threshold --max-evaluations 10000 --offsets 64)
-tp_cli_test(fiber-threshold refuses-2d-array refuses 2 --says "1-D arrays only" -- fiber-threshold --grid 2x2 --weights 1,-1,0,0)
+# 2-D arrays: the fibres pass through a point, --at or the document's focus
+# (optimize-weights --at); without one, or outside the pads and margin, refused.
+tp_cli_test(fiber-threshold refuses-2d-array-without-point refuses 2 --says "is 2-D: give the point the fibres pass through" -- fiber-threshold --grid 2x2 --weights 1,-1,0,0)
+tp_cli_test(fiber-threshold refuses-2d-point-outside refuses 2 --says "outside the pads plus the lateral margin" -- fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,20)
+tp_cli_test(fiber-threshold refuses-at-on-1d-array refuses 2 --says "--at: applies to 2-D arrays only" -- fiber-threshold --weights 0,0,-1,1,0,0,0,0 --at 0,0)
+tp_cli_test(fiber-threshold refuses-at-malformed refuses 2 --says "--at: expected X,Z" -- fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 1)
+tp_cli_test(fiber-threshold pixel-2d script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/pixel-2d.sh)

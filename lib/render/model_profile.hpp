@@ -1,0 +1,41 @@
+#pragma once
+// The profile before anyone is calibrated (render-tactile without --profile): each
+// primary's threshold from the fibre model (fiber-threshold) for its pattern at the pixel
+// nearest the array's centre, and a comfort limit a fixed factor above it
+// (docs/rendering.md, "Without a profile").  A stand-in, said so on stderr: people's
+// thresholds differ from the model's and from one another's; calibrate measures them.
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "fibre/report.hpp"
+#include "render/profile.hpp"
+#include "render/render.hpp"
+
+namespace tp {
+
+// Comfort = kDefaultComfortFactor x threshold (at most the current limit).  An assumption,
+// not a measurement: electrotactile "dynamic range" (maximal current without discomfort over
+// sensation threshold; Kaczmarek, Webster & Radwin 1992) is narrow and varies between people
+// and sites; 2 is a conservative choice (docs/rendering.md, "Without a profile").
+inline constexpr double kDefaultComfortFactor = 2.0;
+
+struct ModelProfileOptions {
+  std::string fibre_model = "mrg";
+  fibre::PulseSpec pulse;                         // the rendered pulse
+  double comfort_factor = kDefaultComfortFactor;  // 1.1 to 10
+  double max_current_mA = 2.0;
+};
+
+struct ModelProfile {
+  Profile profile;                                     // per primary the bank has
+  std::array<long, 3> pixel = {-1, -1, -1};            // the pad whose pattern gave each threshold
+  std::array<bool, 3> capped = {false, false, false};  // comfort held at the current limit
+};
+
+// Bad input naming the primary when the model gives it no threshold within the current
+// limit (or none of its patterns is feasible), or comfort_factor is outside [1.1, 10].
+ModelProfile model_profile(const PixelBank& bank, const ModelProfileOptions& o);
+
+}  // namespace tp
