@@ -18,6 +18,7 @@
 #include "io/document.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
+#include "pulse/make.hpp"
 #include "pulse/stimulus.hpp"
 #include "render/profile.hpp"
 
@@ -66,64 +67,24 @@ int main(int argc, char** argv) {
 
   return tp::cli::run(app, argc, argv, [&] {
     const tp::Document doc = tp::document_from_json(tp::read_json(input, "weights document"));
-    if (!doc.weights) tp::bad_input("weights document: no 'weights'");
-    if (doc.setup.array.size() > static_cast<std::size_t>(tp::ranges::max_channels))
-      tp::bad_input("weights document: " + doc.setup.array.describe() + ", " +
-                    std::to_string(doc.setup.array.size()) +
-                    " channels; a stimulator drives at most " +
-                    std::to_string(tp::ranges::max_channels));
-    tp::Stimulus s;
-    if (amplitude.empty() == intensity.empty())
-      tp::bad_input("give --amplitude MA, or --intensity V with --profile");
-    if (!intensity.empty() && profile.empty()) tp::bad_input("--intensity: needs --profile");
-    if (!profile.empty() && intensity.empty()) tp::bad_input("--profile: needs --intensity");
+    tp::PulseRequest r;
     if (input == "-" && profile == "-") tp::bad_input("--profile -: stdin carries the weights");
-    double amp = 0;
-    if (!intensity.empty()) {
-      if (!doc.extra.contains("mode") || !doc.extra["mode"].is_string())
-        tp::bad_input(
-            "--intensity: the weights document names no mode (optimize-weights "
-            "--mode writes it)");
-      const tp::Profile p = tp::profile_from_json(
-          tp::read_json(profile, "profile"), doc.max_current_mA, std::numeric_limits<long>::max());
-      amp = tp::profile_amplitude_mA(p, doc.extra["mode"].get<std::string>(),
-                                     tp::parse_finite(intensity, "--intensity"), "--intensity");
-    } else {
-      amp = tp::parse_finite(amplitude, "--amplitude");
-    }
-    if (!(amp > 0.0 && amp <= tp::StimulusLimits{}.max_current_mA))
-      tp::bad_input("--amplitude: " + tp::number_text(amp) + " mA outside (0, " +
-                    tp::number_text(tp::StimulusLimits{}.max_current_mA) + "] mA");
-    for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
-    s.amplitude_mA = amp;
-    s.max_current_mA = doc.max_current_mA;
-    s.shape.frequency_hz = tp::parse_finite(frequency, "--frequency");
-    s.shape.width_us = tp::parse_finite(width, "--width");
-    s.shape.balance_width_us = balance_width.empty()
-                                   ? s.shape.width_us
-                                   : tp::parse_finite(balance_width, "--balance-width");
-    s.shape.interphase_us = tp::parse_finite(interphase, "--interphase");
-    if (!(s.shape.frequency_hz > 0.0)) tp::bad_input("--frequency: must be > 0 Hz");
-    const tp::StimulusLimits limits;
-    if (!count.empty()) {
-      s.count = tp::parse_integer(count, "--count");
-      if (s.count < 1) tp::bad_input("--count: must be >= 1");
-    } else {
-      const double d = duration.empty() ? 1.0 : tp::parse_finite(duration, "--duration");
-      // The range first, then the conversion: nothing wraps.
-      if (!(d > 0.0 && d <= limits.max_duration_s))
-        tp::bad_input("--duration: " + duration + " s outside (0, " +
-                      tp::number_text(limits.max_duration_s) + "] s");
-      if (!(d * s.shape.frequency_hz <= 1e9)) tp::bad_input("--duration: too many pulses");
-      s.count = std::lround(d * s.shape.frequency_hz);
-      if (s.count < 1) tp::bad_input("--duration: shorter than one pulse period");
-    }
-    s.electrode_area_mm2 = doc.setup.array.width_mm * doc.setup.array.length_mm;
-    if (!(s.electrode_area_mm2 > 0.0)) tp::bad_input("array: electrode area must be > 0");
-    if (doc.extra.contains("mode")) s.carried["mode"] = doc.extra["mode"];
-    for (const char* key : {"thresholds", "threshold_ratio"})
-      if (doc.extra.contains(key)) s.carried[key] = doc.extra[key];
-    tp::check_stimulus(s, tp::StimulusLimits{});
+    if (!amplitude.empty()) r.amplitude_mA = tp::parse_finite(amplitude, "--amplitude");
+    if (!intensity.empty()) r.intensity = tp::parse_finite(intensity, "--intensity");
+    if (!profile.empty() && r.intensity && !r.amplitude_mA && doc.weights)
+      r.profile = tp::profile_from_json(tp::read_json(profile, "profile"), doc.max_current_mA,
+                                        std::numeric_limits<long>::max());
+    else if (!profile.empty() && r.amplitude_mA)
+      tp::bad_input("give --amplitude MA, or --intensity V with --profile");
+    else if (!profile.empty() && !r.intensity)
+      tp::bad_input("--profile: needs --intensity");
+    r.frequency_hz = tp::parse_finite(frequency, "--frequency");
+    r.width_us = tp::parse_finite(width, "--width");
+    if (!balance_width.empty()) r.balance_width_us = tp::parse_finite(balance_width, "--balance-width");
+    r.interphase_us = tp::parse_finite(interphase, "--interphase");
+    if (!count.empty()) r.count = tp::parse_integer(count, "--count");
+    if (!duration.empty()) r.duration_s = tp::parse_finite(duration, "--duration");
+    const tp::Stimulus s = tp::make_stimulus(doc, r);
     // The amplitude against the thresholds the document carries (fiber-threshold's).
     const auto against = tp::fibre::stimulus_against_thresholds(s);
     // Every option is checked before anything is printed, on stderr or stdout.

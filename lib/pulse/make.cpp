@@ -1,0 +1,68 @@
+#include "pulse/make.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+#include "model/ranges.hpp"
+
+namespace tp {
+
+Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
+  if (!doc.weights) bad_input("weights document: no 'weights'");
+  if (doc.setup.array.size() > static_cast<std::size_t>(ranges::max_channels))
+    bad_input("weights document: " + doc.setup.array.describe() + ", " +
+              std::to_string(doc.setup.array.size()) + " channels; a stimulator drives at most " +
+              std::to_string(ranges::max_channels));
+  Stimulus s;
+  if (r.amplitude_mA.has_value() == r.intensity.has_value())
+    bad_input("give --amplitude MA, or --intensity V with --profile");
+  if (r.intensity && !r.profile) bad_input("--intensity: needs --profile");
+  if (r.profile && !r.intensity) bad_input("--profile: needs --intensity");
+  double amp = 0;
+  if (r.intensity) {
+    if (!doc.extra.contains("mode") || !doc.extra["mode"].is_string())
+      bad_input(
+          "--intensity: the weights document names no mode (optimize-weights "
+          "--mode writes it)");
+    amp = profile_amplitude_mA(*r.profile, doc.extra["mode"].get<std::string>(), *r.intensity,
+                               "--intensity");
+  } else {
+    amp = *r.amplitude_mA;
+  }
+  if (!(amp > 0.0 && amp <= StimulusLimits{}.max_current_mA))
+    bad_input("--amplitude: " + number_text(amp) + " mA outside (0, " +
+              number_text(StimulusLimits{}.max_current_mA) + "] mA");
+  for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
+  s.amplitude_mA = amp;
+  s.max_current_mA = doc.max_current_mA;
+  s.shape.frequency_hz = r.frequency_hz;
+  s.shape.width_us = r.width_us;
+  s.shape.balance_width_us = r.balance_width_us ? *r.balance_width_us : r.width_us;
+  s.shape.interphase_us = r.interphase_us;
+  if (!(s.shape.frequency_hz > 0.0)) bad_input("--frequency: must be > 0 Hz");
+  const StimulusLimits limits;
+  if (r.count && r.duration_s) bad_input("--count and --duration: give one");
+  if (r.count) {
+    s.count = *r.count;
+    if (s.count < 1) bad_input("--count: must be >= 1");
+  } else {
+    const double d = r.duration_s ? *r.duration_s : 1.0;
+    // The range first, then the conversion: nothing wraps.
+    if (!(d > 0.0 && d <= limits.max_duration_s))
+      bad_input("--duration: " + number_text(d) + " s outside (0, " +
+                number_text(limits.max_duration_s) + "] s");
+    if (!(d * s.shape.frequency_hz <= 1e9)) bad_input("--duration: too many pulses");
+    s.count = std::lround(d * s.shape.frequency_hz);
+    if (s.count < 1) bad_input("--duration: shorter than one pulse period");
+  }
+  s.electrode_area_mm2 = doc.setup.array.width_mm * doc.setup.array.length_mm;
+  if (!(s.electrode_area_mm2 > 0.0)) bad_input("array: electrode area must be > 0");
+  if (doc.extra.contains("mode")) s.carried["mode"] = doc.extra["mode"];
+  for (const char* key : {"thresholds", "threshold_ratio"})
+    if (doc.extra.contains(key)) s.carried[key] = doc.extra[key];
+  check_stimulus(s, limits);
+  return s;
+}
+
+}  // namespace tp

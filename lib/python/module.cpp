@@ -1,0 +1,866 @@
+// The Python module tactile_primaries._core (pybind11): the library's documents, fields,
+// optimisation, fibre thresholds, stimuli and the stimulator, with NumPy arrays in and out.
+// The package (lib/python/tactile_primaries/) wraps it; docs/python.md is the reference.
+//
+// Errors: the library's bad input is tactile_primaries.BadInput (a ValueError), a runtime
+// failure tactile_primaries.Failure (a RuntimeError), each with the message the programs
+// print after their name.  Long work releases the GIL.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+#include "cli/array_options.hpp"
+#include "cli/fibre_options.hpp"
+#include "core/error.hpp"
+#include "version.hpp"
+#include "fibre/report.hpp"
+#include "host/session.hpp"
+#include "host/transport.hpp"
+#include "io/document.hpp"
+#include "io/json.hpp"
+#include "io/number.hpp"
+#include "io/reports.hpp"
+#include "model/constants.hpp"
+#include "model/field.hpp"
+#include "model/fibre.hpp"
+#include "model/ranges.hpp"
+#include "opt/bank.hpp"
+#include "opt/focus.hpp"
+#include "opt/minimax.hpp"
+#include "pulse/make.hpp"
+#include "pulse/mix.hpp"
+#include "render/profile.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// JSON to Python objects (through the json module's text: exact for every double, since
+// nlohmann's and Python's float repr both round-trip).
+
+py::object to_python(const tp::Json& j) {
+  // Kept for the process's life, never destroyed (a Python object must not be released
+  // after the interpreter has finalised).
+  static auto* loads = new py::object(py::module_::import("json").attr("loads"));
+  return (*loads)(j.dump());
+}
+std::string number_arg(double v) {  // a float as the programs' flags would take it
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+// ---------------------------------------------------------------------------------------
+// Documents.
+
+struct PyDocument {
+  tp::Document doc;
+  static PyDocument from_json(const std::string& text) {
+    return {tp::document_from_json(tp::parse_json_text(text, "document", "text"))};
+  }
+  static PyDocument load(const std::string& path) {
+    return {tp::document_from_json(tp::read_json(path, "document"))};
+  }
+  std::string to_json() const { return tp::dump_json(tp::document_to_json(doc)); }
+  tp::Json json() const { return tp::document_to_json(doc); }
+};
+
+PyDocument document_of(const tp::Json& j) { return {tp::document_from_json(j)}; }
+
+PyDocument make_document(std::optional<int> electrodes, std::optional<double> pitch_mm,
+                         std::optional<std::string> grid, std::optional<double> row_pitch_mm,
+                         std::optional<std::string> pad, std::optional<std::string> model,
+                         std::optional<double> plane_z_mm, std::optional<std::string> skin) {
+  tp::cli::ArrayOptions a;
+  if (electrodes) a.electrodes = std::to_string(*electrodes);
+  if (pitch_mm) a.pitch = number_arg(*pitch_mm);
+  if (grid) a.grid = *grid;
+  if (row_pitch_mm) a.row_pitch = number_arg(*row_pitch_mm);
+  if (pad) a.pad = *pad;
+  if (a.electrodes.size() && a.grid.size()) tp::bad_input("--electrodes and --grid: give one");
+  tp::Document d = tp::cli::load_document(a, 1);
+  tp::cli::ModelOptions m;
+  if (model) m.model = *model;
+  if (plane_z_mm) m.plane_z = number_arg(*plane_z_mm);
+  if (skin) m.skin = *skin;
+  tp::cli::apply_model_options(d, m);
+  return {d};
+}
+
+PyDocument with_model(const PyDocument& in, std::optional<std::string> model,
+                      std::optional<double> plane_z_mm, std::optional<std::string> skin) {
+  tp::Document d = in.doc;
+  tp::cli::ModelOptions m;
+  if (model) m.model = *model;
+  if (plane_z_mm) m.plane_z = number_arg(*plane_z_mm);
+  if (skin) m.skin = *skin;
+  tp::cli::apply_model_options(d, m);
+  return {d};
+}
+
+std::vector<double> checked_weights(const tp::Document& doc, const std::string& what) {
+  if (!doc.weights)
+    tp::bad_input("weights: the document has none (optimize-weights writes them; or --weights)");
+  if (doc.weights->size() != doc.setup.array.size())
+    tp::bad_input(what + ": expected " + std::to_string(doc.setup.array.size()) +
+                  " values (one per electrode), got " + std::to_string(doc.weights->size()));
+  for (std::size_t i = 0; i < doc.weights->size(); ++i)
+    tp::ranges::check((*doc.weights)[i], tp::ranges::weight,
+                      what + " item " + std::to_string(i + 1));
+  return *doc.weights;
+}
+
+// ---------------------------------------------------------------------------------------
+// The activating function at points (af-field's values, without the CSV).
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+std::pair<Array, Array> af_points(const PyDocument& d, Array x, Array y, std::optional<Array> z,
+                                  std::optional<double> amplitude_mA) {
+  const tp::Document& doc = d.doc;
+  const std::vector<double> w = checked_weights(doc, "weights");
+  const double amp = amplitude_mA ? *amplitude_mA : doc.max_current_mA;
+  tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
+  const std::size_t n = static_cast<std::size_t>(x.size());
+  if (static_cast<std::size_t>(y.size()) != n || (z && static_cast<std::size_t>(z->size()) != n))
+    tp::bad_input("x_mm, y_mm, z_mm: the arrays do not have one shape");
+  if (static_cast<double>(n) > tp::ranges::max_grid_points)
+    tp::bad_input("grid: " + tp::number_text(static_cast<double>(n)) + " points, more than " +
+                  tp::number_text(tp::ranges::max_grid_points));
+  tp::check_grid_work(static_cast<double>(n), doc.setup.array.size());
+  const double* xs = x.data();
+  const double* ys = y.data();
+  const double* zs = z ? z->data() : nullptr;
+  double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0, z_lo = 0, z_hi = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(ys[i] > 0.0)) tp::bad_input("y_mm: depths must be > 0 mm (the skin surface is y = 0)");
+    tp::ranges::check(ys[i], tp::ranges::depth_mm, "y_mm");
+    tp::ranges::check(xs[i], tp::ranges::position_mm, "x_mm");
+    if (zs) tp::ranges::check(zs[i], tp::ranges::position_mm, "z_mm");
+    x_lo = i ? std::min(x_lo, xs[i]) : xs[i];
+    x_hi = i ? std::max(x_hi, xs[i]) : xs[i];
+    y_lo = i ? std::min(y_lo, ys[i]) : ys[i];
+    y_hi = i ? std::max(y_hi, ys[i]) : ys[i];
+    if (zs) {
+      z_lo = i ? std::min(z_lo, zs[i]) : zs[i];
+      z_hi = i ? std::max(z_hi, zs[i]) : zs[i];
+    }
+  }
+  std::vector<double> currents;
+  for (double wi : w) currents.push_back(wi * amp);
+  Array h(x.request().shape), v(x.request().shape);
+  if (n == 0) return {h, v};
+  tp::check_model_depth(doc.setup, y_hi, "y_mm: the deepest point,");
+  const tp::Field field(doc.setup, currents);
+  const tp::Setup& s = doc.setup;
+  if (zs && !field.conductor().three_d())
+    tp::bad_input("z_mm: " + s.conductor.model +
+                  " does not evaluate points off the fibres' plane; use point3d, rect3d or "
+                  "layered");
+  if (!zs && s.array.two_d())
+    tp::bad_input("z_mm: the array is 2-D: give the points' z");
+  // The layered model's reach, and a buried point source's singularity (af-field's checks).
+  {
+    const tp::ElectrodeArray& a = s.array;
+    const double dx = std::max(std::fabs(x_hi - a.x_min_mm()), std::fabs(a.x_max_mm() - x_lo));
+    double reach = dx;
+    if (zs || a.two_d()) {
+      const double zl = zs ? z_lo : s.conductor.plane_z_mm, zh = zs ? z_hi : s.conductor.plane_z_mm;
+      reach = std::hypot(dx, std::max(std::fabs(zh - a.z_min_mm()), std::fabs(a.z_max_mm() - zl)));
+    } else if (s.conductor.plane_z_mm != 0.0) {
+      reach = std::hypot(dx, s.conductor.plane_z_mm);
+    }
+    field.conductor().check_reach(reach, y_lo, y_hi, "a point");
+    if (s.conductor.model == "point3d" && s.conductor.source_depth_mm > 0.0) {
+      const double near_mm = tp::ranges::depth_mm.lo;
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t e = 0; e < a.size(); ++e) {
+          const double zp = zs ? zs[i] : s.conductor.plane_z_mm;
+          const double r = std::sqrt(std::pow(xs[i] - a.positions_mm[e], 2) +
+                                     std::pow(ys[i] - s.conductor.source_depth_mm, 2) +
+                                     std::pow(zp - a.z_of(e), 2));
+          if (r < near_mm)
+            tp::bad_input("point (" + tp::number_text(xs[i]) + ", " + tp::number_text(ys[i]) +
+                          ") mm is " + tp::number_text(r) +
+                          " mm from a point source, nearer than the smallest depth (" +
+                          tp::number_text(near_mm) + " mm)");
+        }
+    }
+  }
+  double* hp = h.mutable_data();
+  double* vp = v.mutable_data();
+  {
+    py::gil_scoped_release release;
+    if (!zs) {
+      const double k = tp::fibre_factor_mm2_per_ms(
+          tp::Fibre{tp::Orientation::horizontal, tp::constants::reference_diameter_um, true});
+      for (std::size_t i = 0; i < n; ++i) {
+        double xx = 0.0, yy = 0.0;
+        field.second_derivatives(xs[i], ys[i], xx, yy);
+        hp[i] = k * xx;
+        vp[i] = k * yy;
+      }
+    } else {
+      const tp::Fibre fibre{tp::Orientation::horizontal, tp::constants::reference_diameter_um,
+                            true};
+      const tp::FibreAxis along_x{}, vertical{true, 0.0, 0.0};
+      for (std::size_t i = 0; i < n; ++i) {
+        hp[i] = field.af_3d(fibre, along_x, xs[i], ys[i], zs[i]);
+        vp[i] = field.af_3d(fibre, vertical, xs[i], ys[i], zs[i]);
+      }
+    }
+  }
+  return {h, v};
+}
+
+// The library's own time for the same points, in C++ (the benchmark's reference).
+double af_points_time_s(const PyDocument& d, Array x, Array y) {
+  const auto t0 = std::chrono::steady_clock::now();
+  af_points(d, x, y, std::nullopt, std::nullopt);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+py::object summarize(const PyDocument& d, std::optional<double> amplitude_mA) {
+  const std::vector<double> w = checked_weights(d.doc, "weights");
+  const double amp = amplitude_mA ? *amplitude_mA : d.doc.max_current_mA;
+  tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
+  std::vector<double> currents;
+  for (double wi : w) currents.push_back(wi * amp);
+  tp::Json j;
+  {
+    py::gil_scoped_release release;
+    const tp::Summary s = tp::summarize(d.doc.setup, currents);
+    j = tp::summary_to_json(d.doc.setup, currents, s);
+  }
+  return to_python(j);
+}
+
+// ---------------------------------------------------------------------------------------
+// optimize-weights: a mode's minimax weights, a pixel (at), or a bank.
+
+PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode,
+                            std::optional<std::vector<double>> at, std::optional<double> radius_mm,
+                            std::optional<double> spill, std::optional<double> max_current_mA,
+                            double min_target_af, int pattern_starts, int random_starts,
+                            bool certify, bool bank, std::optional<int> neighbourhood,
+                            std::optional<int> threads, std::optional<std::vector<std::string>> modes) {
+  tp::Document doc = d.doc;
+  if (doc.setup.array.size() < 2) tp::bad_input("array: optimisation needs at least 2 electrodes");
+  const bool two_d = doc.setup.array.two_d();
+  if (two_d && !at && !bank)
+    tp::bad_input("array: " + doc.setup.array.describe() +
+                  " is 2-D: give a pixel's place, --at X,Z (or --bank)");
+  if (!mode && !bank) tp::bad_input("--mode: required (RA, SAI, PC, ...)");
+  if ((radius_mm || spill) && !at && !bank)
+    tp::bad_input("--radius, --spill: apply to a pixel (--at) or a bank (--bank)");
+  if (neighbourhood && !bank) tp::bad_input("--neighbourhood: with --bank only");
+  if (neighbourhood && !(*neighbourhood >= 3 && *neighbourhood <= 255))
+    tp::bad_input("--neighbourhood: " + std::to_string(*neighbourhood) + " not in [3 - 255]");
+  if (!(pattern_starts >= 0 && pattern_starts <= 4))
+    tp::bad_input("--pattern-starts: " + std::to_string(pattern_starts) + " not in [0 - 4]");
+  if (!(random_starts >= 0 && random_starts <= 1000))
+    tp::bad_input("--random-starts: " + std::to_string(random_starts) + " not in [0 - 1000]");
+  if (threads && *threads < 0) tp::bad_input("--threads: must be >= 0");
+  tp::OptimizeOptions opt;
+  if (max_current_mA) doc.max_current_mA = *max_current_mA;
+  tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
+  opt.max_current_mA = doc.max_current_mA;
+  opt.min_target_af = min_target_af;
+  if (!(opt.min_target_af <= 1e4))
+    tp::bad_input("--min-target-af: " + tp::number_text(min_target_af) +
+                  " V/ms outside [0, 10000] V/ms");
+  if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
+  opt.random_starts = random_starts;
+  opt.pattern_starts = pattern_starts;
+  std::vector<std::string> ms;
+  if (mode) ms.push_back(*mode);
+  if (modes) ms = *modes;
+  for (const std::string& m : ms) tp::receptor_index(doc.setup, m);
+  std::vector<std::pair<double, double>> places;
+  if (at) {
+    if (at->size() != (two_d ? 2u : 1u))
+      tp::bad_input("--at: expected " + std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)"));
+    places.emplace_back((*at)[0], two_d ? (*at)[1] : 0.0);
+  }
+  tp::FocusOptions focus;
+  if (radius_mm) {
+    focus.radius_mm = *radius_mm;
+    if (!(focus.radius_mm > 0.0))
+      tp::bad_input("--radius: must be > 0 mm, got " + tp::number_text(*radius_mm));
+  }
+  if (spill) focus.spill = *spill;
+  focus.max_current_mA = opt.max_current_mA;
+  tp::Json out;
+  if (bank) {
+    if (certify) tp::bad_input("--certify: with --bank is not available yet");
+    if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --bank");
+    tp::BankOptions b;
+    b.modes = ms;
+    b.at = places;
+    b.radius_mm = focus.radius_mm;
+    b.spill = focus.spill;
+    b.max_current_mA = focus.max_current_mA;
+    b.neighbourhood = neighbourhood ? *neighbourhood : 0;
+    b.threads = threads ? static_cast<unsigned>(*threads) : 0;
+    py::gil_scoped_release release;
+    const tp::Bank result = tp::optimize_bank(doc.setup, b);
+    out = tp::bank_to_json(doc, result, b);
+  } else if (!places.empty()) {
+    focus.x_mm = places[0].first;
+    focus.z_mm = places[0].second;
+    focus.threads = threads ? static_cast<unsigned>(*threads)
+                            : std::max(1u, std::thread::hardware_concurrency());
+    tp::check_focus(doc.setup, focus);
+    focus.certify = certify;
+    if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --at");
+    py::gil_scoped_release release;
+    const tp::FocusResult r = tp::optimize_focus(doc.setup, ms[0], focus);
+    out = tp::focus_result_to_json(doc, r, focus, false);
+  } else {
+    if (threads) tp::bad_input("--threads: applies to --objective threshold only, --at and --bank");
+    py::gil_scoped_release release;
+    const tp::OptimizeResult r = tp::optimize_mode(doc.setup, ms[0], opt);
+    std::optional<double> certified;
+    if (certify) {
+      const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
+      certified = tp::certify_mode(doc.setup, ms[0], opt.polish_step_mm, bound).optimum;
+    }
+    out = tp::optimize_result_to_json(doc, r, false, certified);
+  }
+  return document_of(out);
+}
+
+// ---------------------------------------------------------------------------------------
+// fiber-threshold.
+
+py::object fiber_threshold(const PyDocument& d, const std::string& model,
+                           std::optional<double> width_us, std::optional<double> interphase_us,
+                           std::optional<double> balance_width_us, bool monophasic, int offsets,
+                           std::optional<double> tolerance, int threads,
+                           std::optional<std::vector<double>> at, std::optional<std::string> stimulus,
+                           std::optional<std::string> conductor) {
+  tp::Document doc = d.doc;
+  if (conductor) {
+    tp::cli::ModelOptions m;
+    m.flag = "--conductor";
+    m.model = *conductor;
+    tp::cli::apply_model_options(doc, m);
+  }
+  std::optional<std::array<double, 2>> through;
+  if (at) {
+    if (!doc.setup.array.two_d())
+      tp::bad_input("--at: applies to 2-D arrays only (a 1-D array's fibres span it)");
+    if (at->size() != 2) tp::bad_input("--at: expected X,Z (mm)");
+    through = std::array<double, 2>{(*at)[0], (*at)[1]};
+  } else if (doc.setup.array.two_d() && doc.extra.contains("focus")) {
+    const tp::Json& f = doc.extra["focus"];
+    if (!f.is_object() || !f.contains("x_mm") || !f.contains("z_mm") || !f["x_mm"].is_number() ||
+        !f["z_mm"].is_number())
+      tp::bad_input("focus: expected an object with numbers x_mm and z_mm");
+    through = std::array<double, 2>{f["x_mm"].get<double>(), f["z_mm"].get<double>()};
+  }
+  const std::vector<double> w = checked_weights(doc, "weights");
+  double wmax = 0.0;
+  for (double x : w) wmax = std::max(wmax, std::fabs(x));
+  if (!(wmax > 0.0)) tp::bad_input("weights: every weight is zero");
+  tp::cli::FibreOptions o;
+  o.model = model;
+  if (width_us) o.width = number_arg(*width_us);
+  if (interphase_us) o.interphase = number_arg(*interphase_us);
+  if (balance_width_us) o.balance_width = number_arg(*balance_width_us);
+  o.monophasic = monophasic;
+  o.offsets = offsets;
+  if (tolerance) o.tolerance = number_arg(*tolerance);
+  o.threads = threads;
+  if (stimulus) o.stimulus = *stimulus;
+  tp::cli::FibreSetup f = tp::cli::apply_fibre_options(o, w);
+  f.settings.through_mm = through;
+  tp::Json out = tp::document_to_json(doc);
+  {
+    py::gil_scoped_release release;
+    const tp::fibre::ThresholdReport r =
+        tp::fibre::compute_thresholds(doc.setup, w, *f.model, f.pulse, f.settings);
+    out["thresholds"] = tp::fibre::thresholds_to_json(doc.setup, r);
+    out["threshold_ratio"] = tp::fibre::ratios_to_json(doc.setup, r);
+  }
+  return to_python(out);
+}
+
+// ---------------------------------------------------------------------------------------
+// Stimuli.
+
+struct PyStimulus {
+  tp::Mix mix;
+  static PyStimulus from_json(const std::string& text) {
+    PyStimulus s{tp::mix_from_json(tp::parse_json_text(text, "stimulus", "text"))};
+    tp::check_mix(s.mix, tp::StimulusLimits{});
+    return s;
+  }
+  static PyStimulus load(const std::string& path) {
+    PyStimulus s{tp::mix_from_json(tp::read_json(path, "stimulus"))};
+    tp::check_mix(s.mix, tp::StimulusLimits{});
+    return s;
+  }
+  tp::Json json() const {
+    return mix.table() ? tp::mix_to_json(mix) : tp::stimulus_to_json(mix.patterns[0]);
+  }
+  std::string to_json() const { return tp::dump_json(json()); }
+};
+
+PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, double frequency_hz,
+                      double width_us, std::optional<double> balance_width_us,
+                      double interphase_us, std::optional<double> duration_s,
+                      std::optional<long> count, std::optional<std::string> profile,
+                      std::optional<double> intensity) {
+  tp::PulseRequest r;
+  r.amplitude_mA = amplitude_mA;
+  r.intensity = intensity;
+  if (profile) {
+    if (!d.doc.weights) tp::bad_input("weights document: no 'weights'");
+    r.profile = tp::profile_from_json(tp::read_json(*profile, "profile"), d.doc.max_current_mA,
+                                      std::numeric_limits<long>::max());
+  }
+  r.frequency_hz = frequency_hz;
+  r.width_us = width_us;
+  r.balance_width_us = balance_width_us;
+  r.interphase_us = interphase_us;
+  r.count = count;
+  r.duration_s = duration_s;
+  tp::Mix m;
+  m.patterns.push_back(tp::make_stimulus(d.doc, r));
+  return {m};
+}
+
+// ---------------------------------------------------------------------------------------
+// The stimulator: stimctl's session on a thread of its own, the caller waiting with the GIL
+// released and Python's signals checked every 20 ms.  KeyboardInterrupt (or any exception
+// raised by a signal handler) sets the session's stop flag: the output stops first, then
+// the exception goes on.
+
+struct SessionRun {
+  volatile std::sig_atomic_t flag = 0;
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  tp::host::SessionReport report;
+  std::exception_ptr error;
+  std::thread thread;
+};
+
+py::dict report_dict(const tp::host::SessionReport& r) {
+  py::dict d;
+  d["port"] = r.port;
+  d["end"] = r.end;
+  d["exit_code"] = r.exit_code;
+  d["started"] = r.started;
+  d["preempted"] = r.preempted;
+  d["pulses"] = r.pulses;
+  d["frames"] = r.weight_frames;
+  d["peak_mA"] = r.peak_mA;
+  d["seconds"] = r.seconds;
+  d["retransmissions"] = r.retransmissions;
+  return d;
+}
+
+class Stimulator {
+ public:
+  Stimulator(std::string port, int baud, int emu_channels, std::optional<std::string> record,
+             std::string backend)
+      : port_(std::move(port)), baud_(baud), backend_(std::move(backend)) {
+    if (!(baud >= 300 && baud <= 4000000)) tp::bad_input("--baud: " + std::to_string(baud) + " not in [300 - 4000000]");
+    if (!(emu_channels >= 1 && emu_channels <= 64))
+      tp::bad_input("--emu-channels: " + std::to_string(emu_channels) + " not in [1 - 64]");
+    if (port_ != "emu" && record) tp::bad_input("--record: only with --port emu (stim-emu has its own)");
+    if (backend_ != "auto" && backend_ != "libserialport" && backend_ != "posix")
+      tp::bad_input("--backend: " + backend_ + " not in {auto,libserialport,posix}");
+    emu_.caps.channels = static_cast<std::uint8_t>(emu_channels);
+    if (record) emu_.record_path = *record;
+  }
+  ~Stimulator() {
+    try {
+      close();
+    } catch (...) {
+    }
+  }
+
+  void open() {
+    if (transport_) return;
+    py::gil_scoped_release release;
+    transport_ = tp::host::open_transport(port_, baud_, emu_, backend_);
+  }
+
+  // Delivers a stimulus; returns the session's report.  Blocks until it ends.
+  py::dict deliver(const PyStimulus& s, std::optional<double> duration_s) {
+    if (live_) tp::bad_input("deliver: a live session is running (stop() it first)");
+    tp::host::SessionOptions opt;
+    if (duration_s) {
+      if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
+        tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
+                      tp::number_text(opt.limits.max_duration_s) + "] s");
+      opt.duration_s = *duration_s;
+    }
+    tp::check_mix(s.mix, tp::StimulusLimits{});
+    open();
+    auto run = start(s.mix, opt);
+    wait(*run);
+    return finish(*run);
+  }
+
+  // Starts a live session: frames come from set_currents / set_amplitudes.
+  void start_live(const PyStimulus& s, std::optional<double> duration_s) {
+    if (live_) tp::bad_input("start_live: a live session is running (stop() it first)");
+    tp::host::SessionOptions opt;
+    opt.live = true;
+    if (duration_s) {
+      if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
+        tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
+                      tp::number_text(opt.limits.max_duration_s) + "] s");
+      opt.duration_s = *duration_s;
+    }
+    tp::check_mix(s.mix, tp::StimulusLimits{});
+    int fds[2];
+    if (::pipe(fds) != 0) tp::failure("pipe: cannot create the live frames' pipe");
+    opt.input_fd = fds[0];
+    open();
+    live_stimulus_ = s.mix;
+    live_ = start(s.mix, opt);
+    live_read_fd_ = fds[0];
+    live_write_fd_ = fds[1];
+  }
+
+  void set_currents(const std::vector<double>& currents_mA) {
+    require_live("set_currents");
+    if (!live_stimulus_.single())
+      tp::bad_input("set_currents: a mix takes amplitude frames (set_amplitudes)");
+    tp::Json j = tp::Json::object();
+    j["currents_mA"] = currents_mA;
+    // Checked here as the session checks it (bad input raises, nothing is sent).
+    tp::Stimulus s = live_stimulus_.patterns[0];
+    if (currents_mA.size() != s.currents_mA.size())
+      tp::bad_input("currents_mA: expected " + std::to_string(s.currents_mA.size()) +
+                    " values, got " + std::to_string(currents_mA.size()));
+    s.currents_mA = currents_mA;
+    tp::check_stimulus(s, tp::StimulusLimits{});
+    send(j.dump());
+  }
+
+  void set_amplitudes(const std::vector<double>& amplitudes_mA) {
+    require_live("set_amplitudes");
+    if (amplitudes_mA.size() != live_stimulus_.patterns.size())
+      tp::bad_input("amplitudes: expected " + std::to_string(live_stimulus_.patterns.size()) +
+                    " values (one per pattern), got " + std::to_string(amplitudes_mA.size()));
+    for (std::size_t p = 0; p < amplitudes_mA.size(); ++p) {
+      const double a = amplitudes_mA[p], top = live_stimulus_.patterns[p].amplitude_mA;
+      if (!(a >= 0 && a <= top))
+        tp::bad_input("amplitudes item " + std::to_string(p + 1) + ": " + tp::number_text(a) +
+                      " mA outside [0, " + tp::number_text(top) + "] mA (its pattern's)");
+    }
+    tp::Json j = tp::Json::object();
+    j["amplitudes"] = amplitudes_mA;
+    send(j.dump());
+  }
+
+  // Ends a live session (the end of its input): the output stops; returns its report.
+  py::object stop() {
+    if (!live_) return py::none();
+    if (live_write_fd_ >= 0) ::close(live_write_fd_);
+    live_write_fd_ = -1;
+    auto run = std::move(live_);
+    wait(*run);
+    return finish(*run);
+  }
+
+  bool running() const { return live_ && !live_->done; }
+
+  void close() {
+    if (live_) {
+      live_->flag = SIGTERM;  // a closing stimulator stops the output at once
+      if (live_write_fd_ >= 0) ::close(live_write_fd_);
+      live_write_fd_ = -1;
+      {
+        py::gil_scoped_release release;
+        if (live_->thread.joinable()) live_->thread.join();
+      }
+      if (live_read_fd_ >= 0) ::close(live_read_fd_);
+      live_read_fd_ = -1;
+      live_.reset();
+    }
+    transport_.reset();
+  }
+
+ private:
+  std::unique_ptr<SessionRun> start(const tp::Mix& m, const tp::host::SessionOptions& opt) {
+    auto run = std::make_unique<SessionRun>();
+    SessionRun* r = run.get();
+    tp::host::Transport* t = transport_.get();
+    run->thread = std::thread([r, t, m, opt] {
+      try {
+        r->report = tp::host::run_session(*t, m, opt, &r->flag);
+      } catch (...) {
+        r->error = std::current_exception();
+      }
+      std::lock_guard<std::mutex> lock(r->m);
+      r->done = true;
+      r->cv.notify_all();
+    });
+    return run;
+  }
+
+  // Waits for the session, the GIL released; a Python signal's exception stops it first.
+  void wait(SessionRun& r) {
+    for (;;) {
+      {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(r.m);
+        if (r.cv.wait_for(lock, std::chrono::milliseconds(20), [&] { return r.done; })) break;
+      }
+      if (PyErr_CheckSignals() != 0) {
+        py::error_already_set e;  // KeyboardInterrupt, SystemExit, ...
+        r.flag = SIGINT;
+        {
+          py::gil_scoped_release release;
+          if (r.thread.joinable()) r.thread.join();
+        }
+        if (live_ && live_.get() == &r) drop_live();
+        throw e;
+      }
+    }
+    py::gil_scoped_release release;
+    if (r.thread.joinable()) r.thread.join();
+  }
+
+  py::dict finish(SessionRun& r) {
+    if (live_read_fd_ >= 0 && (!live_ || live_.get() == &r)) {
+      ::close(live_read_fd_);
+      live_read_fd_ = -1;
+    }
+    if (r.error) std::rethrow_exception(r.error);
+    if (!r.report.started)
+      throw tp::Error(static_cast<tp::ExitCode>(r.report.exit_code ? r.report.exit_code : 1),
+                      "stopped: " + r.report.end + " before the output started; nothing delivered");
+    if (r.report.exit_code != 0 && r.report.exit_code < 128)
+      throw tp::Error(static_cast<tp::ExitCode>(r.report.exit_code), "stopped: " + r.report.end);
+    return report_dict(r.report);
+  }
+
+  void drop_live() {
+    if (live_write_fd_ >= 0) ::close(live_write_fd_);
+    if (live_read_fd_ >= 0) ::close(live_read_fd_);
+    live_write_fd_ = live_read_fd_ = -1;
+    live_.reset();
+  }
+
+  void require_live(const char* what) {
+    if (!live_) tp::bad_input(std::string(what) + ": no live session (start_live first)");
+    if (live_->done) {
+      auto run = std::move(live_);
+      if (live_write_fd_ >= 0) ::close(live_write_fd_);
+      live_write_fd_ = -1;
+      wait(*run);
+      finish(*run);  // raises what ended it
+      tp::failure(std::string(what) + ": the live session has ended");
+    }
+  }
+
+  void send(const std::string& line) {
+    std::string text = line + "\n";
+    py::gil_scoped_release release;
+    const char* p = text.data();
+    std::size_t left = text.size();
+    while (left > 0) {
+      const ssize_t k = ::write(live_write_fd_, p, left);
+      if (k < 0) {
+        if (errno == EINTR) continue;
+        tp::failure("live frames: the session stopped reading");
+      }
+      p += k;
+      left -= static_cast<std::size_t>(k);
+    }
+  }
+
+  std::string port_;
+  int baud_;
+  std::string backend_;
+  tp::host::EmulatorOptions emu_;
+  std::unique_ptr<tp::host::Transport> transport_;
+  std::unique_ptr<SessionRun> live_;
+  tp::Mix live_stimulus_;
+  int live_read_fd_ = -1, live_write_fd_ = -1;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "tactile-primaries' library: documents, fields, weights, fibre thresholds, stimuli "
+            "and the stimulator (docs/python.md).";
+  m.attr("__version__") = TP_VERSION;
+
+  // Never destroyed: see to_python().
+  static auto* bad_input_exc = new py::exception<tp::Error>(m, "BadInput", PyExc_ValueError);
+  static auto* failure_exc = new py::exception<tp::Error>(m, "Failure", PyExc_RuntimeError);
+  bad_input_exc->doc() = "Bad input: the message the programs print (they exit 2).";
+  failure_exc->doc() = "A runtime failure: the message the programs print (they exit 1).";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const tp::Error& e) {
+      if (e.code() == tp::ExitCode::bad_input)
+        (*bad_input_exc)(e.what());
+      else
+        (*failure_exc)(e.what());
+    } catch (const nlohmann::json::exception& e) {
+      (*bad_input_exc)(e.what());
+    }
+  });
+
+  py::class_<PyDocument>(m, "Document",
+                         "A design document (tactile-primaries/1): array, model, receptors, "
+                         "weights and whatever else the programs carry along.")
+      .def_static("from_json", &PyDocument::from_json, py::arg("text"),
+                  "Parses and checks a document's JSON text.")
+      .def_static("load", &PyDocument::load, py::arg("path"), "Reads a document file.")
+      .def_static("create", &make_document, py::arg("electrodes") = py::none(),
+                  py::arg("pitch_mm") = py::none(), py::arg("grid") = py::none(),
+                  py::arg("row_pitch_mm") = py::none(), py::arg("pad") = py::none(),
+                  py::arg("model") = py::none(), py::arg("plane_z_mm") = py::none(),
+                  py::arg("skin") = py::none(),
+                  "A document as the programs' flags make it: --electrodes/--pitch, or --grid "
+                  "CxR/--pitch/--row-pitch/--pad WxL; --model, --z, --skin.")
+      .def("to_json", &PyDocument::to_json,
+           "The document's JSON text, byte for byte as the programs print it.")
+      .def("with_model", &with_model, py::arg("model") = py::none(),
+           py::arg("plane_z_mm") = py::none(), py::arg("skin") = py::none(),
+           "A copy under another conductor model (as --model, --z, --skin).")
+      .def_property_readonly("array", [](const PyDocument& d) {
+        return to_python(d.json()["array"]);
+      })
+      .def_property_readonly("model", [](const PyDocument& d) {
+        return to_python(d.json()["model"]);
+      })
+      .def_property_readonly("receptors", [](const PyDocument& d) {
+        return to_python(d.json()["receptors"]);
+      })
+      .def_property(
+          "weights",
+          [](const PyDocument& d) -> py::object {
+            if (!d.doc.weights) return py::none();
+            return py::array_t<double>(static_cast<py::ssize_t>(d.doc.weights->size()),
+                                       d.doc.weights->data());
+          },
+          [](PyDocument& d, std::optional<std::vector<double>> w) {
+            if (w) {
+              for (std::size_t i = 0; i < w->size(); ++i)
+                tp::ranges::check((*w)[i], tp::ranges::weight,
+                                  "weights item " + std::to_string(i + 1));
+              if (w->size() != d.doc.setup.array.size())
+                tp::bad_input("weights: expected " + std::to_string(d.doc.setup.array.size()) +
+                              " values (one per electrode), got " + std::to_string(w->size()));
+            }
+            d.doc.weights = w;
+          })
+      .def_property_readonly("max_current_mA", [](const PyDocument& d) { return d.doc.max_current_mA; })
+      .def("to_dict", [](const PyDocument& d) { return to_python(d.json()); },
+           "The whole document as Python objects.")
+      .def("__getitem__",
+           [](const PyDocument& d, const std::string& key) {
+             const tp::Json j = d.json();
+             if (!j.contains(key)) throw py::key_error(key);
+             return to_python(j[key]);
+           })
+      .def("__contains__", [](const PyDocument& d, const std::string& key) {
+        return d.json().contains(key);
+      })
+      .def("__repr__", [](const PyDocument& d) {
+        std::string mode = d.doc.extra.contains("mode") && d.doc.extra["mode"].is_string()
+                               ? ", mode " + d.doc.extra["mode"].get<std::string>()
+                               : "";
+        return "<tactile_primaries.Document: " + d.doc.setup.array.describe() + ", " +
+               d.doc.setup.conductor.model + mode + (d.doc.weights ? ", weights" : "") + ">";
+      });
+
+  py::class_<PyStimulus>(m, "Stimulus",
+                         "A checked stimulus (make-pulse's) or a mix of patterns (mix-stimuli's).")
+      .def_static("from_json", &PyStimulus::from_json, py::arg("text"))
+      .def_static("load", &PyStimulus::load, py::arg("path"))
+      .def("to_json", &PyStimulus::to_json,
+           "The stimulus's JSON text, byte for byte as make-pulse prints it.")
+      .def("to_dict", [](const PyStimulus& s) { return to_python(s.json()); })
+      .def_property_readonly("patterns", [](const PyStimulus& s) { return s.mix.patterns.size(); })
+      .def_property_readonly("channels",
+                             [](const PyStimulus& s) { return s.mix.patterns[0].currents_mA.size(); })
+      .def_property_readonly("duration_s", [](const PyStimulus& s) {
+        double d = 0;
+        for (const auto& p : s.mix.patterns) d = std::max(d, p.duration_s());
+        return d;
+      })
+      .def("__repr__", [](const PyStimulus& s) {
+        const tp::Stimulus& p = s.mix.patterns[0];
+        return "<tactile_primaries.Stimulus: " + std::to_string(p.currents_mA.size()) +
+               " channels, " +
+               (s.mix.single() ? std::to_string(p.count) + " pulses at " +
+                                     tp::number_text(p.shape.frequency_hz) + " Hz"
+                               : std::to_string(s.mix.patterns.size()) + " patterns") +
+               ">";
+      });
+
+  m.def("_af_points", &af_points, py::arg("doc"), py::arg("x_mm"), py::arg("y_mm"),
+        py::arg("z_mm") = py::none(), py::arg("amplitude_mA") = py::none());
+  m.def("_af_points_time_s", &af_points_time_s, py::arg("doc"), py::arg("x_mm"), py::arg("y_mm"));
+  m.def("summarize", &summarize, py::arg("doc"), py::arg("amplitude_mA") = py::none(),
+        "Each receptor's largest AF and where, and every mode's ratio (af-field --summary).");
+  m.def("optimize_weights", &optimize_weights, py::arg("doc"), py::arg("mode") = py::none(),
+        py::kw_only(), py::arg("at") = py::none(), py::arg("radius_mm") = py::none(),
+        py::arg("spill") = py::none(), py::arg("max_current_mA") = py::none(),
+        py::arg("min_target_af") = 0.0, py::arg("pattern_starts") = 2,
+        py::arg("random_starts") = 0, py::arg("certify") = false, py::arg("bank") = false,
+        py::arg("neighbourhood") = py::none(), py::arg("threads") = py::none(),
+        py::arg("modes") = py::none(),
+        "optimize-weights: the mode's minimax weights; at=[x] or [x, z]: a pixel; bank=True: "
+        "every pad's pixels.  Returns the document the program prints.");
+  m.def("fiber_threshold", &fiber_threshold, py::arg("doc"), py::kw_only(),
+        py::arg("model") = "mrg", py::arg("width_us") = py::none(),
+        py::arg("interphase_us") = py::none(), py::arg("balance_width_us") = py::none(),
+        py::arg("monophasic") = false, py::arg("offsets") = 8, py::arg("tolerance") = py::none(),
+        py::arg("threads") = 0, py::arg("at") = py::none(), py::arg("stimulus") = py::none(),
+        py::arg("conductor") = py::none(),
+        "fiber-threshold: each receptor's threshold (mA), where it fired and the ratios; the "
+        "document the program prints, as a dict.");
+  m.def("make_pulse", &make_pulse, py::arg("doc"), py::arg("amplitude_mA") = py::none(),
+        py::arg("frequency_hz") = 200.0, py::kw_only(), py::arg("width_us") = 200.0,
+        py::arg("balance_width_us") = py::none(), py::arg("interphase_us") = 0.0,
+        py::arg("duration_s") = py::none(), py::arg("count") = py::none(),
+        py::arg("profile") = py::none(), py::arg("intensity") = py::none(),
+        "make-pulse: a checked, charge-balanced stimulus of the document's weights.");
+
+  py::class_<Stimulator>(m, "_Stimulator")
+      .def(py::init<std::string, int, int, std::optional<std::string>, std::string>(),
+           py::arg("port") = "emu", py::arg("baud") = 115200, py::arg("emu_channels") = 8,
+           py::arg("record") = py::none(), py::arg("backend") = "auto")
+      .def("open", &Stimulator::open)
+      .def("deliver", &Stimulator::deliver, py::arg("stimulus"), py::arg("duration_s") = py::none())
+      .def("start_live", &Stimulator::start_live, py::arg("stimulus"),
+           py::arg("duration_s") = py::none())
+      .def("set_currents", &Stimulator::set_currents, py::arg("currents_mA"))
+      .def("set_amplitudes", &Stimulator::set_amplitudes, py::arg("amplitudes_mA"))
+      .def("stop", &Stimulator::stop)
+      .def("close", &Stimulator::close)
+      .def_property_readonly("running", &Stimulator::running);
+}

@@ -1,0 +1,138 @@
+"""tactile-primaries from Python: the C++ library's documents, fields, weights, fibre
+thresholds, stimuli and stimulator, with NumPy arrays in and out.
+
+    import tactile_primaries as tp
+    doc = tp.optimize_weights(tp.Document.create(), "SAI")
+    af_h, af_v = tp.af_field(doc, x_mm, y_mm)          # NumPy arrays, any shapes that broadcast
+    stim = tp.make_pulse(doc, 1.0, 200, duration_s=1)
+    with tp.Stimulator("emu") as s:
+        s.deliver(stim)
+
+Every function checks its input as the programs do: bad input raises BadInput (a
+ValueError), a runtime failure Failure (a RuntimeError), with the programs' message.
+Reference: docs/python.md.
+"""
+
+from __future__ import annotations
+
+import numpy as _np
+
+from ._core import (  # noqa: F401  (the public API)
+    BadInput,
+    Document,
+    Failure,
+    Stimulus,
+    __version__,
+    fiber_threshold,
+    make_pulse,
+    optimize_weights,
+    summarize,
+)
+from . import _core
+
+__all__ = [
+    "BadInput",
+    "Document",
+    "Failure",
+    "Stimulator",
+    "Stimulus",
+    "__version__",
+    "af_field",
+    "fiber_threshold",
+    "make_pulse",
+    "optimize_weights",
+    "summarize",
+]
+
+
+def af_field(doc, x_mm, y_mm, z_mm=None, *, amplitude_mA=None):
+    """The activating function (V/ms) of the document's weights at points.
+
+    x_mm along the skin, y_mm the depth (> 0), and for 3-D models z_mm across (required
+    under a 2-D array): array-likes of any shapes that broadcast together.  Returns
+    (af_h, af_v), the AF of a horizontal fibre along x and of a vertical one, of the
+    reference 10 um fibre, with every electrode at its weight times amplitude_mA (default:
+    the document's max_current_mA), as af-field prints them.
+    """
+    arrays = [x_mm, y_mm] if z_mm is None else [x_mm, y_mm, z_mm]
+    arrays = _np.broadcast_arrays(*[_np.asarray(a, dtype=float) for a in arrays])
+    shape = arrays[0].shape
+    flat = [_np.ascontiguousarray(a).reshape(-1) for a in arrays]
+    h, v = _core._af_points(doc, flat[0], flat[1], flat[2] if z_mm is not None else None,
+                            amplitude_mA)
+    return h.reshape(shape), v.reshape(shape)
+
+
+def _as_stimulus(stimulus):
+    if isinstance(stimulus, Stimulus):
+        return stimulus
+    if isinstance(stimulus, str):
+        text = stimulus.lstrip()
+        return Stimulus.from_json(stimulus) if text.startswith("{") else Stimulus.load(stimulus)
+    raise TypeError("stimulus: a Stimulus, its JSON text or a file's path")
+
+
+class Stimulator:
+    """A stimulator, as stimctl drives it: port "emu" (the in-process emulator) or a serial
+    port's path.
+
+        with Stimulator("emu", record="pulses.jsonl") as s:
+            s.deliver(stimulus, duration_s=1)        # blocks; the GIL is released
+            s.start_live(stimulus)                   # then live frames:
+            s.set_currents([...])                    #   a single stimulus's currents, or
+            s.set_amplitudes([...])                  #   each pattern's amplitude
+            s.stop()                                 # the end of the live input
+
+    Every way a delivery ends stops the output first: its own end, an exception, leaving
+    the `with` block, close(), KeyboardInterrupt (Ctrl-C) and any exception a signal handler
+    raises while deliver() waits.  Only this host's session can keep the output alive; if
+    the process dies, the device's watchdog stops it within 300 ms.
+    """
+
+    def __init__(self, port="emu", *, baud=115200, emu_channels=8, record=None,
+                 backend="auto"):
+        self._s = _core._Stimulator(port, baud, emu_channels, record, backend)
+        self.port = port
+
+    def __enter__(self):
+        self._s.open()
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        self.close()
+        return False
+
+    def open(self):
+        """Opens the port (exclusively); deliver() opens it when needed."""
+        self._s.open()
+
+    def deliver(self, stimulus, duration_s=None):
+        """Delivers a stimulus (a Stimulus, its JSON or a file) and returns stimctl's report:
+        pulses, peak_mA, seconds, end, retransmissions.  duration_s stops it sooner."""
+        return self._s.deliver(_as_stimulus(stimulus), duration_s)
+
+    def start_live(self, stimulus, duration_s=None):
+        """Starts the stimulus and returns at once; live frames follow."""
+        self._s.start_live(_as_stimulus(stimulus), duration_s)
+
+    def set_currents(self, currents_mA):
+        """A live frame: every channel's current (mA, + cathodic), checked as the stimulus
+        was; applied at the next pulse."""
+        self._s.set_currents([float(c) for c in _np.asarray(currents_mA, dtype=float).ravel()])
+
+    def set_amplitudes(self, amplitudes_mA):
+        """A live frame: each pattern's amplitude (mA, 0 to its own)."""
+        self._s.set_amplitudes([float(a) for a in _np.asarray(amplitudes_mA, dtype=float).ravel()])
+
+    def stop(self):
+        """Ends a live session (the output stops) and returns its report."""
+        return self._s.stop()
+
+    @property
+    def running(self):
+        """True while a live session runs."""
+        return self._s.running
+
+    def close(self):
+        """Stops any output at once and closes the port."""
+        self._s.close()
