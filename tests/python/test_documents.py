@@ -1,0 +1,115 @@
+"""Documents and the functions against the programs: byte-identical JSON where the
+program writes JSON, equal numbers where it writes CSV."""
+import numpy as np
+import pytest
+
+import tactile_primaries as tp
+from conftest import load, run
+
+
+@pytest.mark.parametrize("mode", ["RA", "SAI", "PC"])
+def test_optimize_weights_is_the_programs_json(mode):
+    cli = run("optimize-weights", "--mode", mode)[0]
+    assert tp.optimize_weights(tp.Document.create(), mode).to_json().encode() == cli
+
+
+def test_optimize_weights_with_options_and_models():
+    cli = run("optimize-weights", "--mode", "PC", "--electrodes", "6", "--pitch", "1.5",
+              "--model", "rect3d", "--max-current", "1.5", "--random-starts", "3")[0]
+    doc = tp.Document.create(electrodes=6, pitch_mm=1.5, model="rect3d")
+    out = tp.optimize_weights(doc, "PC", max_current_mA=1.5, random_starts=3)
+    assert out.to_json().encode() == cli
+
+
+def test_a_pixel_and_a_bank_are_the_programs_json():
+    grid = ["--grid", "3x3", "--pitch", "2", "--pad", "1x1"]
+    cli = run("optimize-weights", *grid, "--at", "2,0", "--mode", "SAI", "--threads", "1")[0]
+    doc = tp.Document.create(grid="3x3", pitch_mm=2, pad="1x1")
+    assert tp.optimize_weights(doc, "SAI", at=[2, 0], threads=1).to_json().encode() == cli
+    cli = run("optimize-weights", "--bank", "--grid", "3x2", "--pitch", "2", "--pad", "1x1")[0]
+    bank = tp.optimize_weights(tp.Document.create(grid="3x2", pitch_mm=2, pad="1x1"), bank=True)
+    assert bank.to_json().encode() == cli
+
+
+def test_document_round_trip_load_and_attributes(tmp_path, sai_json):
+    doc = tp.Document.from_json(sai_json.decode())
+    assert doc.to_json().encode() == sai_json
+    path = tmp_path / "sai.json"
+    path.write_bytes(sai_json)
+    assert tp.Document.load(str(path)).to_json().encode() == sai_json
+    d = load(sai_json)
+    assert doc.array == d["array"] and doc.model == d["model"]
+    assert doc.receptors == d["receptors"] and doc["mode"] == "SAI" and "ratio" in doc
+    assert isinstance(doc.weights, np.ndarray) and list(doc.weights) == d["weights"]
+    doc.weights = [0, 0, -1, 1, 0, 0, 0, 0]
+    assert load(doc.to_json())["weights"] == [0, 0, -1, 1, 0, 0, 0, 0]
+    with pytest.raises(tp.BadInput, match="expected 8 values"):
+        doc.weights = [1, -1]
+
+
+def axis(lo, hi, step):
+    """af-field's axis: lo + i step, the last at most hi (lib/io/number.hpp's Axis)."""
+    n = int(round((hi - lo) / step)) + 1
+    return np.array([min(lo + i * step, hi) for i in range(n)])
+
+
+def text(x, y, h, v):
+    """Rows as af-field writes them: %.10g, -0 as 0."""
+    def g(a):
+        s = "%.10g" % a
+        return "0" if s == "-0" else s
+    return [",".join(g(a) for a in row) for row in zip(x, y, h, v)]
+
+
+def test_af_field_equals_the_programs_grid(sai_json, tmp_path):
+    out = run("af-field", "--config", "-", "--x", "-5:5:0.5", "--y", "0.2:3:0.2",
+              stdin=sai_json)[0].decode().splitlines()
+    doc = tp.Document.from_json(sai_json.decode())
+    x, y = axis(-5, 5, 0.5), axis(0.2, 3, 0.2)[:, None]
+    h, v = tp.af_field(doc, x, y)  # shapes broadcast: depths down, positions across
+    assert h.shape == (len(y), len(x))
+    X, Y = np.broadcast_arrays(x, y)
+    assert text(X.ravel(), Y.ravel(), h.ravel(), v.ravel()) == out[1:]
+    # The same points flat, and a scalar: linear in the amplitude.
+    h2, v2 = tp.af_field(doc, X.ravel(), Y.ravel())
+    assert np.array_equal(h2, h.ravel()) and np.array_equal(v2, v.ravel())
+    hs, vs = tp.af_field(doc, x[11], float(y[4, 0]), amplitude_mA=1.0)
+    assert hs.shape == () and float(hs) == pytest.approx(float(h[4, 11]) / 2, rel=1e-12)
+
+
+def test_af_field_plane_of_a_grid_equals_the_programs():
+    doc = tp.Document.create(grid="3x3", pitch_mm=2, pad="1x1")
+    doc.weights = [0, 0, 0, -0.5, 1, -0.5, 0, 0, 0]
+    out = run("af-field", "--grid", "3x3", "--pitch", "2", "--pad", "1x1",
+              "--weights", "0,0,0,-0.5,1,-0.5,0,0,0", "--plane-depth", "0.9",
+              "--x", "-4:4:0.5", "--z-grid", "-4:4:0.5")[0].decode().splitlines()
+    x, z = axis(-4, 4, 0.5), axis(-4, 4, 0.5)[:, None]
+    h, v = tp.af_field(doc, x, 0.9, z)
+    X, Z = np.broadcast_arrays(x, z)
+    assert text(X.ravel(), Z.ravel(), h.ravel(), v.ravel()) == out[1:]
+
+
+def test_summarize_equals_the_programs_summary(sai_json):
+    cli = load(run("af-field", "--config", "-", "--summary", stdin=sai_json)[0])
+    assert tp.summarize(tp.Document.from_json(sai_json.decode())) == cli
+
+
+def test_fiber_threshold_equals_the_programs(sai_json):
+    cli = load(run("fiber-threshold", stdin=sai_json)[0])
+    py = tp.fiber_threshold(tp.Document.from_json(sai_json.decode()))
+    assert py == cli
+    cli = load(run("fiber-threshold", "--model", "senn", "--width", "100", "--monophasic",
+                   "--conductor", "rect3d", stdin=sai_json)[0])
+    py = tp.fiber_threshold(tp.Document.from_json(sai_json.decode()), model="senn",
+                            width_us=100, monophasic=True, conductor="rect3d")
+    assert py == cli
+
+
+def test_make_pulse_is_the_programs_json(sai_json):
+    cli = run("make-pulse", "--amplitude", "1.2", "--frequency", "150", "--duration", "2",
+              "--width", "100", "--balance-width", "300", stdin=sai_json)[0]
+    s = tp.make_pulse(tp.Document.from_json(sai_json.decode()), 1.2, 150, duration_s=2,
+                      width_us=100, balance_width_us=300)
+    assert s.to_json().encode() == cli
+    assert tp.Stimulus.from_json(cli.decode()).to_json().encode() == cli
+    assert (s.channels, s.patterns, s.duration_s) == (8, 1, 2.0)

@@ -1,0 +1,170 @@
+"""The stimulator from Python: what is delivered (the emulator's record), Ctrl-C and
+exceptions stop the output first (stim-emu's event log, a separate process), and the GIL
+is released while a delivery waits."""
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import pytest
+
+import tactile_primaries as tp
+
+
+def records(path):
+    with open(path) as f:
+        return [json.loads(line) for line in f if line.strip()]
+
+
+@pytest.fixture
+def stim(sai_doc):
+    return tp.make_pulse(sai_doc, 1.0, 200, duration_s=10)
+
+
+@pytest.fixture
+def emu(tmp_path):
+    """stim-emu on a pty: (port, record path, event log path)."""
+    rec, events = tmp_path / "rec.jsonl", tmp_path / "events.txt"
+    p = subprocess.Popen(["stim-emu", "--record", str(rec), "--event-log", str(events)],
+                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    port = p.stdout.readline().strip()
+    assert port, "stim-emu printed no port"
+    yield port, rec, events
+    p.terminate()
+    p.wait(timeout=10)
+
+
+def events_of(path, kind):
+    with open(path) as f:
+        return [int(line.split()[2]) for line in f if line.split()[0] == kind]
+
+
+def test_deliver_on_the_emulator_as_stimctl_does(tmp_path, sai_doc):
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=0.5)
+    rec = tmp_path / "rec.jsonl"
+    with tp.Stimulator("emu", record=str(rec)) as s:
+        report = s.deliver(stim)
+    assert report["pulses"] == 100 and report["end"] == "stimulus complete"
+    pulses = records(rec)
+    assert len(pulses) == 100
+    weights = sai_doc.weights
+    for p in pulses:  # each pulse: the weights at 1 mA, within one DAC step
+        assert max(abs(c - w) for c, w in zip(p["currents_mA"], weights)) < 0.000978
+    # The same stimulus's JSON text and a file work too.
+    with tp.Stimulator("emu") as s:
+        assert s.deliver(stim.to_json(), duration_s=0.1)["pulses"] == 20
+
+
+def test_refused_stimuli_send_nothing(tmp_path, sai_doc):
+    rec = tmp_path / "rec.jsonl"
+    big = tp.make_pulse(sai_doc, 1.0, 200, duration_s=0.1).to_dict()
+    big["currents_mA"] = [c * 3 for c in big["currents_mA"]]
+    with pytest.raises(tp.BadInput):
+        tp.Stimulus.from_json(json.dumps(big))
+    with tp.Stimulator("emu", record=str(rec), emu_channels=4) as s:
+        with pytest.raises(tp.BadInput, match="channels"):
+            s.deliver(tp.make_pulse(sai_doc, 1.0, 200, duration_s=0.1))
+        with pytest.raises(tp.BadInput, match="--duration"):
+            s.deliver(tp.make_pulse(sai_doc, 1.0, 200), duration_s=0)
+    assert not rec.exists() or records(rec) == []
+
+
+def test_the_gil_is_released_while_delivering(sai_doc):
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=0.6)
+    ticks = []
+    done = threading.Event()
+
+    def count():
+        while not done.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.005)
+
+    t = threading.Thread(target=count)
+    with tp.Stimulator("emu") as s:
+        t.start()
+        start = len(ticks)
+        report = s.deliver(stim)
+        during = len(ticks) - start
+        done.set()
+    t.join()
+    assert report["pulses"] == 120
+    assert during >= 40, f"the other thread ran {during} times in 0.6 s"
+
+
+def test_ctrl_c_stops_the_output_first(emu, tmp_path):
+    port, rec, events = emu
+    script = tmp_path / "trial.py"
+    script.write_text(textwrap.dedent(f"""
+        import sys, time
+        import tactile_primaries as tp
+        doc = tp.optimize_weights(tp.Document.create(), "SAI")
+        stim = tp.make_pulse(doc, 1.0, 200, duration_s=10)
+        with tp.Stimulator({port!r}) as s:
+            print("delivering", flush=True)
+            try:
+                s.deliver(stim)
+            except KeyboardInterrupt:
+                print("interrupted", time.time(), flush=True)
+                sys.exit(130)
+    """))
+    child = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "delivering"
+    for _ in range(500):  # the output has started (stim-emu's event log)
+        if os.path.exists(events) and events_of(events, "start"):
+            break
+        time.sleep(0.01)
+    time.sleep(0.5)
+    t_sigint = time.time()
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=20)
+    assert child.returncode == 130 and out.startswith("interrupted"), out
+    time.sleep(0.2)
+    stops = events_of(events, "stop")
+    assert stops, "no stop frame reached the device"
+    stop_ms = (stops[-1] / 1e9 - t_sigint) * 1e3
+    assert stop_ms <= 100, f"the output stopped {stop_ms:.1f} ms after Ctrl-C"
+    n = len(records(rec))
+    assert 50 <= n <= 200, f"{n} pulses in about 0.5 s at 200 Hz"
+
+
+def test_an_exception_in_a_live_session_stops_the_output(emu, sai_doc):
+    port, rec, events = emu
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=10)
+    with pytest.raises(ZeroDivisionError):
+        with tp.Stimulator(port) as s:
+            s.start_live(stim)
+            assert s.running
+            for a in (0.8, 0.6):
+                s.set_currents([a * w for w in sai_doc.weights])
+                time.sleep(0.1)
+            with pytest.raises(tp.BadInput):
+                s.set_currents([5.0 * w for w in sai_doc.weights])  # above the limit
+            t_raise = time.time()
+            1 / 0
+    time.sleep(0.2)
+    stops = events_of(events, "stop")
+    assert stops and (stops[-1] / 1e9 - t_raise) * 1e3 <= 100
+    pulses = records(rec)
+    assert 20 <= len(pulses) <= 120
+    peak = max(max(abs(c) for c in p["currents_mA"]) for p in pulses)
+    assert peak <= 1.0 + 0.000977
+
+
+def test_live_amplitudes_and_stop(tmp_path, sai_doc):
+    rec = tmp_path / "rec.jsonl"
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=10)
+    with tp.Stimulator("emu", record=str(rec)) as s:
+        s.start_live(stim)
+        s.set_amplitudes([0.5])
+        time.sleep(0.2)
+        report = s.stop()
+        assert not s.running
+    assert report["end"] and report["frames"] == 1
+    pulses = records(rec)
+    assert 0 < len(pulses) < 200
+    last = max(abs(c) for c in pulses[-1]["currents_mA"])
+    assert abs(last - 0.5) < 0.001
