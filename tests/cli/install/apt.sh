@@ -76,6 +76,19 @@ grep -E '^TactilePrimaries_DIR:PATH=/usr/lib/' consumer/CMakeCache.txt > /dev/nu
   || fail "consumer: $(grep TactilePrimaries_DIR consumer/CMakeCache.txt)"
 echo "ok: tests/consumer against /usr, by CMake and pkg-config: $(tr '\n' ';' < cmake.out)"
 
+# The Python module from /usr, with no path given.
+if [[ $TP_PYTHON_BUILT == ON ]]; then
+  (cd home && "${user_env[@]}" python3 -c '
+import tactile_primaries as tp
+assert tp.__file__.startswith("/usr/lib/python3/dist-packages/"), tp.__file__
+doc = tp.optimize_weights(tp.Document.create(), "SAI")
+with tp.Stimulator("emu") as s:
+    r = s.deliver(tp.make_pulse(doc, 1.0, 200, duration_s=0.1))
+print(tp.__file__, r["pulses"], "pulses")' > ../py.txt 2> ../err.txt) || fail "import tactile_primaries from /usr: $(cat err.txt)"
+  echo "ok: $(cat py.txt)"
+fi
+
 remove
 [[ ! -e /usr/bin/af-field && ! -e /usr/share/man/man1/af-field.1.gz ]] || fail "apt-get remove left files"
+[[ ! -e /usr/lib/python3/dist-packages/tactile_primaries ]] || fail "apt-get remove left $(find /usr/lib/python3/dist-packages/tactile_primaries | head -3)"
 echo "ok: apt-get remove tactile-primaries"

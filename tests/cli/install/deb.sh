@@ -16,6 +16,16 @@ for f in ./usr/bin/af-field ./usr/bin/stimctl ./usr/bin/tp-sweep-spacing ./usr/s
          ./usr/share/doc/tactile-primaries/changelog.gz ./usr/lib/cmake/TactilePrimaries/TactilePrimariesConfig.cmake; do
   grep -F " $f" contents.txt > /dev/null || fail "not in the package: $f"
 done
+if [[ $TP_PYTHON_BUILT == ON ]]; then
+  for f in ./usr/lib/python3/dist-packages/tactile_primaries/__init__.py \
+           ./usr/lib/python3/dist-packages/tactile_primaries/__init__.pyi \
+           ./usr/lib/python3/dist-packages/tactile_primaries/_core.cpython-; do
+    grep -F " $f" contents.txt > /dev/null || fail "not in the package: $f"
+  done
+  for d in "python3 (>= 3." "python3 (<< 3." "python3-numpy"; do
+    grep -F "$d" <<< "$depends" > /dev/null || fail "Depends lacks $d: $depends"
+  done
+fi
 command -v lintian > /dev/null || fail "lintian is not installed (scripts/setup installs it)"
 lintian --fail-on error "$deb" > lintian.txt 2>&1 || fail "lintian: $(grep '^E:' lintian.txt | head -5 | tr '\n' ';')"
 echo "ok: $(basename "$deb"); Depends: $depends; lintian: $(grep -c '^W:' lintian.txt) warnings, no error"

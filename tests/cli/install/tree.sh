@@ -86,3 +86,18 @@ complete_words stimctl --port "" | grep -x emu > /dev/null || fail "stimctl --po
   || fail "tp-sweep-spacing --engine: $(complete_words tp-sweep-spacing --engine "")"
 complete_words tp-sweep-spacing --ssh | grep -x -- "--sshloginfile" > /dev/null || fail "tp-sweep-spacing --ssh"
 echo "ok: installed under P; pipeline from P/bin: $(cat run.err)"
+# The Python module from the install tree, outside the source and build trees, with only
+# the prefix's directory on PYTHONPATH.
+if [[ $TP_PYTHON_BUILT == ON ]]; then
+  mkdir elsewhere
+  (cd elsewhere && "${bare[@]}" PYTHONPATH="$P/$TP_PYTHON_DIR" /usr/bin/python3 -c '
+import tactile_primaries as tp
+assert tp.__file__.startswith("'"$P"'/"), tp.__file__
+doc = tp.optimize_weights(tp.Document.create(), "SAI")
+with tp.Stimulator("emu") as s:
+    r = s.deliver(tp.make_pulse(doc, 1.0, 200, duration_s=0.1))
+print(tp.__version__, tp.__file__, r["pulses"], "pulses")' > ../py.txt 2> ../err.txt) || fail "the installed Python module: $(cat err.txt)"
+  [[ -e $P/$TP_PYTHON_DIR/tactile_primaries/__init__.pyi && -e $P/$TP_PYTHON_DIR/tactile_primaries/py.typed ]] \
+    || fail "the Python module's stubs are not installed"
+  echo "ok: import tactile_primaries from $P/$TP_PYTHON_DIR: $(cat py.txt)"
+fi
