@@ -80,7 +80,8 @@ int main(int argc, char** argv) {
       tp::bad_input("--profile: needs --intensity");
     r.frequency_hz = tp::parse_finite(frequency, "--frequency");
     r.width_us = tp::parse_finite(width, "--width");
-    if (!balance_width.empty()) r.balance_width_us = tp::parse_finite(balance_width, "--balance-width");
+    if (!balance_width.empty())
+      r.balance_width_us = tp::parse_finite(balance_width, "--balance-width");
     r.interphase_us = tp::parse_finite(interphase, "--interphase");
     if (!count.empty()) r.count = tp::parse_integer(count, "--count");
     if (!duration.empty()) r.duration_s = tp::parse_finite(duration, "--duration");

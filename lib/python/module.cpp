@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -23,13 +24,11 @@
 #include <optional>
 #include <string>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
 #include "cli/array_options.hpp"
 #include "cli/fibre_options.hpp"
 #include "core/error.hpp"
-#include "version.hpp"
 #include "fibre/report.hpp"
 #include "host/session.hpp"
 #include "host/transport.hpp"
@@ -38,8 +37,8 @@
 #include "io/number.hpp"
 #include "io/reports.hpp"
 #include "model/constants.hpp"
-#include "model/field.hpp"
 #include "model/fibre.hpp"
+#include "model/field.hpp"
 #include "model/ranges.hpp"
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"
@@ -47,6 +46,7 @@
 #include "pulse/make.hpp"
 #include "pulse/mix.hpp"
 #include "render/profile.hpp"
+#include "version.hpp"
 
 namespace py = pybind11;
 
@@ -83,7 +83,9 @@ struct PyDocument {
   tp::Json json() const { return tp::document_to_json(doc); }
 };
 
-PyDocument document_of(const tp::Json& j) { return {tp::document_from_json(j)}; }
+PyDocument document_of(const tp::Json& j) {
+  return {tp::document_from_json(j)};
+}
 
 PyDocument make_document(std::optional<int> electrodes, std::optional<double> pitch_mm,
                          std::optional<std::string> grid, std::optional<double> row_pitch_mm,
@@ -131,59 +133,97 @@ std::vector<double> checked_weights(const tp::Document& doc, const std::string& 
 // ---------------------------------------------------------------------------------------
 // The activating function at points (af-field's values, without the CSV).
 
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Array = py::array_t<double, py::array::forcecast>;
 
-std::pair<Array, Array> af_points(const PyDocument& d, Array x, Array y, std::optional<Array> z,
-                                  std::optional<double> amplitude_mA) {
+// Arrays of one shape, read in C order through their strides: broadcast views (stride 0)
+// are read in place, never copied.
+struct Points {
+  std::vector<py::ssize_t> shape;
+  std::vector<const char*> base;
+  std::vector<std::vector<py::ssize_t>> strides;  // bytes, per array
+  std::size_t size = 1;
+  explicit Points(const std::vector<Array*>& arrays) {
+    const Array& a0 = *arrays[0];
+    shape.assign(a0.shape(), a0.shape() + a0.ndim());
+    for (py::ssize_t n : shape) size *= static_cast<std::size_t>(n);
+    for (Array* a : arrays) {
+      if (a->ndim() != a0.ndim() || !std::equal(shape.begin(), shape.end(), a->shape()))
+        tp::bad_input("x_mm, y_mm, z_mm: the arrays do not have one shape");
+      base.push_back(reinterpret_cast<const char*>(a->data()));
+      strides.emplace_back(a->strides(), a->strides() + a->ndim());
+    }
+  }
+  // f(i, values) for every point in C order; values[k] is array k's element.
+  template <class F>
+  void for_each(F&& f) const {
+    const std::size_t nd = shape.size(), na = base.size();
+    std::vector<py::ssize_t> idx(nd, 0);
+    std::vector<const char*> p(base);
+    double v[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < size; ++i) {
+      for (std::size_t k = 0; k < na; ++k) v[k] = *reinterpret_cast<const double*>(p[k]);
+      f(i, v);
+      for (std::size_t dd = nd; dd-- > 0;) {  // the counter, last axis fastest
+        for (std::size_t k = 0; k < na; ++k) p[k] += strides[k][dd];
+        if (++idx[dd] < shape[dd]) break;
+        for (std::size_t k = 0; k < na; ++k) p[k] -= strides[k][dd] * shape[dd];
+        idx[dd] = 0;
+      }
+    }
+  }
+};
+
+std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& d, Array x, Array y,
+                                                              std::optional<Array> z,
+                                                              std::optional<double> amplitude_mA) {
   const tp::Document& doc = d.doc;
   const std::vector<double> w = checked_weights(doc, "weights");
   const double amp = amplitude_mA ? *amplitude_mA : doc.max_current_mA;
   tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
-  const std::size_t n = static_cast<std::size_t>(x.size());
-  if (static_cast<std::size_t>(y.size()) != n || (z && static_cast<std::size_t>(z->size()) != n))
-    tp::bad_input("x_mm, y_mm, z_mm: the arrays do not have one shape");
+  std::vector<Array*> arrays{&x, &y};
+  if (z) arrays.push_back(&*z);
+  const Points pts(arrays);
+  const std::size_t n = pts.size;
+  const bool has_z = z.has_value();
   if (static_cast<double>(n) > tp::ranges::max_grid_points)
     tp::bad_input("grid: " + tp::number_text(static_cast<double>(n)) + " points, more than " +
                   tp::number_text(tp::ranges::max_grid_points));
   tp::check_grid_work(static_cast<double>(n), doc.setup.array.size());
-  const double* xs = x.data();
-  const double* ys = y.data();
-  const double* zs = z ? z->data() : nullptr;
   double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0, z_lo = 0, z_hi = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!(ys[i] > 0.0)) tp::bad_input("y_mm: depths must be > 0 mm (the skin surface is y = 0)");
-    tp::ranges::check(ys[i], tp::ranges::depth_mm, "y_mm");
-    tp::ranges::check(xs[i], tp::ranges::position_mm, "x_mm");
-    if (zs) tp::ranges::check(zs[i], tp::ranges::position_mm, "z_mm");
-    x_lo = i ? std::min(x_lo, xs[i]) : xs[i];
-    x_hi = i ? std::max(x_hi, xs[i]) : xs[i];
-    y_lo = i ? std::min(y_lo, ys[i]) : ys[i];
-    y_hi = i ? std::max(y_hi, ys[i]) : ys[i];
-    if (zs) {
-      z_lo = i ? std::min(z_lo, zs[i]) : zs[i];
-      z_hi = i ? std::max(z_hi, zs[i]) : zs[i];
+  pts.for_each([&](std::size_t i, const double* v) {
+    if (!(v[1] > 0.0)) tp::bad_input("y_mm: depths must be > 0 mm (the skin surface is y = 0)");
+    tp::ranges::check(v[1], tp::ranges::depth_mm, "y_mm");
+    tp::ranges::check(v[0], tp::ranges::position_mm, "x_mm");
+    if (has_z) tp::ranges::check(v[2], tp::ranges::position_mm, "z_mm");
+    x_lo = i ? std::min(x_lo, v[0]) : v[0];
+    x_hi = i ? std::max(x_hi, v[0]) : v[0];
+    y_lo = i ? std::min(y_lo, v[1]) : v[1];
+    y_hi = i ? std::max(y_hi, v[1]) : v[1];
+    if (has_z) {
+      z_lo = i ? std::min(z_lo, v[2]) : v[2];
+      z_hi = i ? std::max(z_hi, v[2]) : v[2];
     }
-  }
+  });
   std::vector<double> currents;
   for (double wi : w) currents.push_back(wi * amp);
-  Array h(x.request().shape), v(x.request().shape);
+  py::array_t<double> h(pts.shape), v(pts.shape);
   if (n == 0) return {h, v};
   tp::check_model_depth(doc.setup, y_hi, "y_mm: the deepest point,");
   const tp::Field field(doc.setup, currents);
   const tp::Setup& s = doc.setup;
-  if (zs && !field.conductor().three_d())
+  if (has_z && !field.conductor().three_d())
     tp::bad_input("z_mm: " + s.conductor.model +
                   " does not evaluate points off the fibres' plane; use point3d, rect3d or "
                   "layered");
-  if (!zs && s.array.two_d())
-    tp::bad_input("z_mm: the array is 2-D: give the points' z");
+  if (!has_z && s.array.two_d()) tp::bad_input("z_mm: the array is 2-D: give the points' z");
   // The layered model's reach, and a buried point source's singularity (af-field's checks).
   {
     const tp::ElectrodeArray& a = s.array;
     const double dx = std::max(std::fabs(x_hi - a.x_min_mm()), std::fabs(a.x_max_mm() - x_lo));
     double reach = dx;
-    if (zs || a.two_d()) {
-      const double zl = zs ? z_lo : s.conductor.plane_z_mm, zh = zs ? z_hi : s.conductor.plane_z_mm;
+    if (has_z || a.two_d()) {
+      const double zl = has_z ? z_lo : s.conductor.plane_z_mm,
+                   zh = has_z ? z_hi : s.conductor.plane_z_mm;
       reach = std::hypot(dx, std::max(std::fabs(zh - a.z_min_mm()), std::fabs(a.z_max_mm() - zl)));
     } else if (s.conductor.plane_z_mm != 0.0) {
       reach = std::hypot(dx, s.conductor.plane_z_mm);
@@ -191,50 +231,70 @@ std::pair<Array, Array> af_points(const PyDocument& d, Array x, Array y, std::op
     field.conductor().check_reach(reach, y_lo, y_hi, "a point");
     if (s.conductor.model == "point3d" && s.conductor.source_depth_mm > 0.0) {
       const double near_mm = tp::ranges::depth_mm.lo;
-      for (std::size_t i = 0; i < n; ++i)
+      pts.for_each([&](std::size_t, const double* p) {
         for (std::size_t e = 0; e < a.size(); ++e) {
-          const double zp = zs ? zs[i] : s.conductor.plane_z_mm;
-          const double r = std::sqrt(std::pow(xs[i] - a.positions_mm[e], 2) +
-                                     std::pow(ys[i] - s.conductor.source_depth_mm, 2) +
+          const double zp = has_z ? p[2] : s.conductor.plane_z_mm;
+          const double r = std::sqrt(std::pow(p[0] - a.positions_mm[e], 2) +
+                                     std::pow(p[1] - s.conductor.source_depth_mm, 2) +
                                      std::pow(zp - a.z_of(e), 2));
           if (r < near_mm)
-            tp::bad_input("point (" + tp::number_text(xs[i]) + ", " + tp::number_text(ys[i]) +
+            tp::bad_input("point (" + tp::number_text(p[0]) + ", " + tp::number_text(p[1]) +
                           ") mm is " + tp::number_text(r) +
                           " mm from a point source, nearer than the smallest depth (" +
                           tp::number_text(near_mm) + " mm)");
         }
+      });
     }
   }
   double* hp = h.mutable_data();
   double* vp = v.mutable_data();
   {
     py::gil_scoped_release release;
-    if (!zs) {
+    if (!has_z) {
       const double k = tp::fibre_factor_mm2_per_ms(
           tp::Fibre{tp::Orientation::horizontal, tp::constants::reference_diameter_um, true});
-      for (std::size_t i = 0; i < n; ++i) {
+      pts.for_each([&](std::size_t i, const double* p) {
         double xx = 0.0, yy = 0.0;
-        field.second_derivatives(xs[i], ys[i], xx, yy);
+        field.second_derivatives(p[0], p[1], xx, yy);
         hp[i] = k * xx;
         vp[i] = k * yy;
-      }
+      });
     } else {
       const tp::Fibre fibre{tp::Orientation::horizontal, tp::constants::reference_diameter_um,
                             true};
       const tp::FibreAxis along_x{}, vertical{true, 0.0, 0.0};
-      for (std::size_t i = 0; i < n; ++i) {
-        hp[i] = field.af_3d(fibre, along_x, xs[i], ys[i], zs[i]);
-        vp[i] = field.af_3d(fibre, vertical, xs[i], ys[i], zs[i]);
-      }
+      pts.for_each([&](std::size_t i, const double* p) {
+        hp[i] = field.af_3d(fibre, along_x, p[0], p[1], p[2]);
+        vp[i] = field.af_3d(fibre, vertical, p[0], p[1], p[2]);
+      });
     }
   }
   return {h, v};
 }
 
-// The library's own time for the same points, in C++ (the benchmark's reference).
-double af_points_time_s(const PyDocument& d, Array x, Array y) {
+// The reference for the benchmark: the library alone computing af-field's values over the
+// same grid (Field::second_derivatives over x fastest, as write_af_grid does, without the
+// CSV), in seconds.
+double af_grid_time_s(const PyDocument& d, double x0, double x1, double dx, double y0, double y1,
+                      double dy) {
+  const std::vector<double> w = checked_weights(d.doc, "weights");
+  std::vector<double> currents;
+  for (double wi : w) currents.push_back(wi * d.doc.max_current_mA);
+  const tp::Axis x{x0, x1, dx}, y{y0, y1, dy};
+  py::gil_scoped_release release;
   const auto t0 = std::chrono::steady_clock::now();
-  af_points(d, x, y, std::nullopt, std::nullopt);
+  const tp::Field field(d.doc.setup, currents);
+  const double k = tp::fibre_factor_mm2_per_ms(
+      tp::Fibre{tp::Orientation::horizontal, tp::constants::reference_diameter_um, true});
+  std::vector<double> h(x.count() * y.count()), v(h.size());
+  std::size_t i = 0;
+  for (std::size_t j = 0; j < y.count(); ++j)
+    for (std::size_t q = 0; q < x.count(); ++q, ++i) {
+      double xx = 0.0, yy = 0.0;
+      field.second_derivatives(x.at(q), y.at(j), xx, yy);
+      h[i] = k * xx;
+      v[i] = k * yy;
+    }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -261,7 +321,8 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
                             std::optional<double> spill, std::optional<double> max_current_mA,
                             double min_target_af, int pattern_starts, int random_starts,
                             bool certify, bool bank, std::optional<int> neighbourhood,
-                            std::optional<int> threads, std::optional<std::vector<std::string>> modes) {
+                            std::optional<int> threads,
+                            std::optional<std::vector<std::string>> modes) {
   tp::Document doc = d.doc;
   if (doc.setup.array.size() < 2) tp::bad_input("array: optimisation needs at least 2 electrodes");
   const bool two_d = doc.setup.array.two_d();
@@ -297,7 +358,8 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   std::vector<std::pair<double, double>> places;
   if (at) {
     if (at->size() != (two_d ? 2u : 1u))
-      tp::bad_input("--at: expected " + std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)"));
+      tp::bad_input("--at: expected " +
+                    std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)"));
     places.emplace_back((*at)[0], two_d ? (*at)[1] : 0.0);
   }
   tp::FocusOptions focus;
@@ -355,7 +417,8 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
                            std::optional<double> width_us, std::optional<double> interphase_us,
                            std::optional<double> balance_width_us, bool monophasic, int offsets,
                            std::optional<double> tolerance, int threads,
-                           std::optional<std::vector<double>> at, std::optional<std::string> stimulus,
+                           std::optional<std::vector<double>> at,
+                           std::optional<std::string> stimulus,
                            std::optional<std::string> conductor) {
   tp::Document doc = d.doc;
   if (conductor) {
@@ -426,10 +489,9 @@ struct PyStimulus {
 };
 
 PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, double frequency_hz,
-                      double width_us, std::optional<double> balance_width_us,
-                      double interphase_us, std::optional<double> duration_s,
-                      std::optional<long> count, std::optional<std::string> profile,
-                      std::optional<double> intensity) {
+                      double width_us, std::optional<double> balance_width_us, double interphase_us,
+                      std::optional<double> duration_s, std::optional<long> count,
+                      std::optional<std::string> profile, std::optional<double> intensity) {
   tp::PulseRequest r;
   r.amplitude_mA = amplitude_mA;
   r.intensity = intensity;
@@ -485,10 +547,12 @@ class Stimulator {
   Stimulator(std::string port, int baud, int emu_channels, std::optional<std::string> record,
              std::string backend)
       : port_(std::move(port)), baud_(baud), backend_(std::move(backend)) {
-    if (!(baud >= 300 && baud <= 4000000)) tp::bad_input("--baud: " + std::to_string(baud) + " not in [300 - 4000000]");
+    if (!(baud >= 300 && baud <= 4000000))
+      tp::bad_input("--baud: " + std::to_string(baud) + " not in [300 - 4000000]");
     if (!(emu_channels >= 1 && emu_channels <= 64))
       tp::bad_input("--emu-channels: " + std::to_string(emu_channels) + " not in [1 - 64]");
-    if (port_ != "emu" && record) tp::bad_input("--record: only with --port emu (stim-emu has its own)");
+    if (port_ != "emu" && record)
+      tp::bad_input("--record: only with --port emu (stim-emu has its own)");
     if (backend_ != "auto" && backend_ != "libserialport" && backend_ != "posix")
       tp::bad_input("--backend: " + backend_ + " not in {auto,libserialport,posix}");
     emu_.caps.channels = static_cast<std::uint8_t>(emu_channels);
@@ -709,8 +773,9 @@ class Stimulator {
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
-  m.doc() = "tactile-primaries' library: documents, fields, weights, fibre thresholds, stimuli "
-            "and the stimulator (docs/python.md).";
+  m.doc() =
+      "tactile-primaries' library: documents, fields, weights, fibre thresholds, stimuli "
+      "and the stimulator (docs/python.md).";
   m.attr("__version__") = TP_VERSION;
 
   // Never destroyed: see to_python().
@@ -749,15 +814,12 @@ PYBIND11_MODULE(_core, m) {
       .def("with_model", &with_model, py::arg("model") = py::none(),
            py::arg("plane_z_mm") = py::none(), py::arg("skin") = py::none(),
            "A copy under another conductor model (as --model, --z, --skin).")
-      .def_property_readonly("array", [](const PyDocument& d) {
-        return to_python(d.json()["array"]);
-      })
-      .def_property_readonly("model", [](const PyDocument& d) {
-        return to_python(d.json()["model"]);
-      })
-      .def_property_readonly("receptors", [](const PyDocument& d) {
-        return to_python(d.json()["receptors"]);
-      })
+      .def_property_readonly("array",
+                             [](const PyDocument& d) { return to_python(d.json()["array"]); })
+      .def_property_readonly("model",
+                             [](const PyDocument& d) { return to_python(d.json()["model"]); })
+      .def_property_readonly("receptors",
+                             [](const PyDocument& d) { return to_python(d.json()["receptors"]); })
       .def_property(
           "weights",
           [](const PyDocument& d) -> py::object {
@@ -776,18 +838,19 @@ PYBIND11_MODULE(_core, m) {
             }
             d.doc.weights = w;
           })
-      .def_property_readonly("max_current_mA", [](const PyDocument& d) { return d.doc.max_current_mA; })
-      .def("to_dict", [](const PyDocument& d) { return to_python(d.json()); },
-           "The whole document as Python objects.")
+      .def_property_readonly("max_current_mA",
+                             [](const PyDocument& d) { return d.doc.max_current_mA; })
+      .def(
+          "to_dict", [](const PyDocument& d) { return to_python(d.json()); },
+          "The whole document as Python objects.")
       .def("__getitem__",
            [](const PyDocument& d, const std::string& key) {
              const tp::Json j = d.json();
              if (!j.contains(key)) throw py::key_error(key);
              return to_python(j[key]);
            })
-      .def("__contains__", [](const PyDocument& d, const std::string& key) {
-        return d.json().contains(key);
-      })
+      .def("__contains__",
+           [](const PyDocument& d, const std::string& key) { return d.json().contains(key); })
       .def("__repr__", [](const PyDocument& d) {
         std::string mode = d.doc.extra.contains("mode") && d.doc.extra["mode"].is_string()
                                ? ", mode " + d.doc.extra["mode"].get<std::string>()
@@ -804,13 +867,14 @@ PYBIND11_MODULE(_core, m) {
            "The stimulus's JSON text, byte for byte as make-pulse prints it.")
       .def("to_dict", [](const PyStimulus& s) { return to_python(s.json()); })
       .def_property_readonly("patterns", [](const PyStimulus& s) { return s.mix.patterns.size(); })
-      .def_property_readonly("channels",
-                             [](const PyStimulus& s) { return s.mix.patterns[0].currents_mA.size(); })
-      .def_property_readonly("duration_s", [](const PyStimulus& s) {
-        double d = 0;
-        for (const auto& p : s.mix.patterns) d = std::max(d, p.duration_s());
-        return d;
-      })
+      .def_property_readonly(
+          "channels", [](const PyStimulus& s) { return s.mix.patterns[0].currents_mA.size(); })
+      .def_property_readonly("duration_s",
+                             [](const PyStimulus& s) {
+                               double d = 0;
+                               for (const auto& p : s.mix.patterns) d = std::max(d, p.duration_s());
+                               return d;
+                             })
       .def("__repr__", [](const PyStimulus& s) {
         const tp::Stimulus& p = s.mix.patterns[0];
         return "<tactile_primaries.Stimulus: " + std::to_string(p.currents_mA.size()) +
@@ -823,16 +887,16 @@ PYBIND11_MODULE(_core, m) {
 
   m.def("_af_points", &af_points, py::arg("doc"), py::arg("x_mm"), py::arg("y_mm"),
         py::arg("z_mm") = py::none(), py::arg("amplitude_mA") = py::none());
-  m.def("_af_points_time_s", &af_points_time_s, py::arg("doc"), py::arg("x_mm"), py::arg("y_mm"));
+  m.def("_af_grid_time_s", &af_grid_time_s, py::arg("doc"), py::arg("x0"), py::arg("x1"),
+        py::arg("dx"), py::arg("y0"), py::arg("y1"), py::arg("dy"));
   m.def("summarize", &summarize, py::arg("doc"), py::arg("amplitude_mA") = py::none(),
         "Each receptor's largest AF and where, and every mode's ratio (af-field --summary).");
   m.def("optimize_weights", &optimize_weights, py::arg("doc"), py::arg("mode") = py::none(),
         py::kw_only(), py::arg("at") = py::none(), py::arg("radius_mm") = py::none(),
         py::arg("spill") = py::none(), py::arg("max_current_mA") = py::none(),
-        py::arg("min_target_af") = 0.0, py::arg("pattern_starts") = 2,
-        py::arg("random_starts") = 0, py::arg("certify") = false, py::arg("bank") = false,
-        py::arg("neighbourhood") = py::none(), py::arg("threads") = py::none(),
-        py::arg("modes") = py::none(),
+        py::arg("min_target_af") = 0.0, py::arg("pattern_starts") = 2, py::arg("random_starts") = 0,
+        py::arg("certify") = false, py::arg("bank") = false, py::arg("neighbourhood") = py::none(),
+        py::arg("threads") = py::none(), py::arg("modes") = py::none(),
         "optimize-weights: the mode's minimax weights; at=[x] or [x, z]: a pixel; bank=True: "
         "every pad's pixels.  Returns the document the program prints.");
   m.def("fiber_threshold", &fiber_threshold, py::arg("doc"), py::kw_only(),

@@ -15,8 +15,8 @@ Reference: docs/python.md.
 
 from __future__ import annotations
 
-import numpy as _np
-
+# NumPy is imported where it is first needed, not here: `import tactile_primaries` stays
+# fast (docs/python.md, benchmarks), and pybind11 loads it lazily too.
 from ._core import (  # noqa: F401  (the public API)
     BadInput,
     Document,
@@ -54,13 +54,13 @@ def af_field(doc, x_mm, y_mm, z_mm=None, *, amplitude_mA=None):
     reference 10 um fibre, with every electrode at its weight times amplitude_mA (default:
     the document's max_current_mA), as af-field prints them.
     """
+    import numpy as _np
+
     arrays = [x_mm, y_mm] if z_mm is None else [x_mm, y_mm, z_mm]
+    # Views of one shape (nothing copied): the library reads them through their strides.
     arrays = _np.broadcast_arrays(*[_np.asarray(a, dtype=float) for a in arrays])
-    shape = arrays[0].shape
-    flat = [_np.ascontiguousarray(a).reshape(-1) for a in arrays]
-    h, v = _core._af_points(doc, flat[0], flat[1], flat[2] if z_mm is not None else None,
+    return _core._af_points(doc, arrays[0], arrays[1], arrays[2] if z_mm is not None else None,
                             amplitude_mA)
-    return h.reshape(shape), v.reshape(shape)
 
 
 def _as_stimulus(stimulus):
@@ -118,10 +118,14 @@ class Stimulator:
     def set_currents(self, currents_mA):
         """A live frame: every channel's current (mA, + cathodic), checked as the stimulus
         was; applied at the next pulse."""
+        import numpy as _np
+
         self._s.set_currents([float(c) for c in _np.asarray(currents_mA, dtype=float).ravel()])
 
     def set_amplitudes(self, amplitudes_mA):
         """A live frame: each pattern's amplitude (mA, 0 to its own)."""
+        import numpy as _np
+
         self._s.set_amplitudes([float(a) for a in _np.asarray(amplitudes_mA, dtype=float).ravel()])
 
     def stop(self):

@@ -81,8 +81,8 @@ def _af_points(doc: Document, x_mm: npt.NDArray[np.float64], y_mm: npt.NDArray[n
                z_mm: Optional[npt.NDArray[np.float64]] = None,
                amplitude_mA: Optional[float] = None
                ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-def _af_points_time_s(doc: Document, x_mm: npt.NDArray[np.float64],
-                      y_mm: npt.NDArray[np.float64]) -> float: ...
+def _af_grid_time_s(doc: Document, x0: float, x1: float, dx: float, y0: float, y1: float,
+                    dy: float) -> float: ...
 
 class _Stimulator:
     def __init__(self, port: str = "emu", baud: int = 115200, emu_channels: int = 8,
