@@ -10,6 +10,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <fcntl.h>
+#include <poll.h>
 #include <unistd.h>
 #include <algorithm>
 #include <atomic>
@@ -18,6 +20,8 @@
 #include <condition_variable>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -62,10 +66,39 @@ py::object to_python(const tp::Json& j) {
   static auto* loads = new py::object(py::module_::import("json").attr("loads"));
   return (*loads)(j.dump());
 }
-std::string number_arg(double v) {  // a float as the programs' flags would take it
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
+std::string number_arg(double v) {  // a float as the programs' flags would take it: the
+  char b[40];                       // shortest text that reads back as the same double
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
   return b;
+}
+
+// A keyword's float, refused as the program refuses its flag's text when it is not finite.
+double finite_arg(double v, const std::string& flag) {
+  if (!std::isfinite(v))
+    tp::bad_input(flag + ": non-finite number '" +
+                  std::string(std::isnan(v) ? "nan"
+                              : v > 0       ? "inf"
+                                            : "-inf") +
+                  "'");
+  return v;
+}
+std::optional<double> finite_arg(std::optional<double> v, const std::string& flag) {
+  if (v) finite_arg(*v, flag);
+  return v;
+}
+
+std::string range_message(const std::string& flag, long v, long lo, long hi) {
+  return flag + ": Value " + std::to_string(v) + " not in range " + std::to_string(lo) + " to " +
+         std::to_string(hi);  // CLI11's words, as the programs say it
+}
+
+// A path: str or os.PathLike.
+std::string path_arg(const py::object& o) {
+  static auto* fspath = new py::object(py::module_::import("os").attr("fspath"));
+  return py::cast<std::string>((*fspath)(o));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -76,8 +109,8 @@ struct PyDocument {
   static PyDocument from_json(const std::string& text) {
     return {tp::document_from_json(tp::parse_json_text(text, "document", "text"))};
   }
-  static PyDocument load(const std::string& path) {
-    return {tp::document_from_json(tp::read_json(path, "document"))};
+  static PyDocument load(const py::object& path) {
+    return {tp::document_from_json(tp::read_json(path_arg(path), "document"))};
   }
   std::string to_json() const { return tp::dump_json(tp::document_to_json(doc)); }
   tp::Json json() const { return tp::document_to_json(doc); }
@@ -161,7 +194,7 @@ struct Points {
     std::vector<const char*> p(base);
     double v[3] = {0, 0, 0};
     for (std::size_t i = 0; i < size; ++i) {
-      for (std::size_t k = 0; k < na; ++k) v[k] = *reinterpret_cast<const double*>(p[k]);
+      for (std::size_t k = 0; k < na; ++k) std::memcpy(&v[k], p[k], sizeof(double));
       f(i, v);
       for (std::size_t dd = nd; dd-- > 0;) {  // the counter, last axis fastest
         for (std::size_t k = 0; k < na; ++k) p[k] += strides[k][dd];
@@ -178,7 +211,7 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
                                                               std::optional<double> amplitude_mA) {
   const tp::Document& doc = d.doc;
   const std::vector<double> w = checked_weights(doc, "weights");
-  const double amp = amplitude_mA ? *amplitude_mA : doc.max_current_mA;
+  const double amp = amplitude_mA ? finite_arg(*amplitude_mA, "--amplitude") : doc.max_current_mA;
   tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
   std::vector<Array*> arrays{&x, &y};
   if (z) arrays.push_back(&*z);
@@ -230,7 +263,7 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
     }
     field.conductor().check_reach(reach, y_lo, y_hi, "a point");
     if (s.conductor.model == "point3d" && s.conductor.source_depth_mm > 0.0) {
-      const double near_mm = tp::ranges::depth_mm.lo;
+      const double near_mm = tp::ranges::depth_mm.lo * (1.0 - 1e-9);  // af-field's rounding
       pts.for_each([&](std::size_t, const double* p) {
         for (std::size_t e = 0; e < a.size(); ++e) {
           const double zp = has_z ? p[2] : s.conductor.plane_z_mm;
@@ -239,15 +272,29 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
                                      std::pow(zp - a.z_of(e), 2));
           if (r < near_mm)
             tp::bad_input("point (" + tp::number_text(p[0]) + ", " + tp::number_text(p[1]) +
-                          ") mm is " + tp::number_text(r) +
-                          " mm from a point source, nearer than the smallest depth (" +
-                          tp::number_text(near_mm) + " mm)");
+                          ") mm is " + tp::number_text(r) + " mm from a point source " +
+                          "(model.source_depth_mm " + tp::number_text(s.conductor.source_depth_mm) +
+                          " mm under the electrode at " + tp::number_text(a.positions_mm[e]) +
+                          " mm), nearer than the smallest depth (" +
+                          tp::number_text(tp::ranges::depth_mm.lo) +
+                          " mm), where the field is singular or beyond its documented bound: "
+                          "move the points or the source");
         }
       });
     }
   }
   double* hp = h.mutable_data();
   double* vp = v.mutable_data();
+  // The arrays are the caller's and the GIL is released: another thread could change them
+  // meanwhile.  Each point is computed only inside the box checked above (cheap
+  // comparisons); one outside is bad input after the loop, never evaluated.
+  std::atomic<bool> changed{false};
+  auto inside = [&](const double* p) {
+    const bool ok = p[0] >= x_lo && p[0] <= x_hi && p[1] >= y_lo && p[1] <= y_hi &&
+                    (!has_z || (p[2] >= z_lo && p[2] <= z_hi));
+    if (!ok) changed = true;
+    return ok;
+  };
   {
     py::gil_scoped_release release;
     if (!has_z) {
@@ -255,7 +302,7 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
           tp::Fibre{tp::Orientation::horizontal, tp::constants::reference_diameter_um, true});
       pts.for_each([&](std::size_t i, const double* p) {
         double xx = 0.0, yy = 0.0;
-        field.second_derivatives(p[0], p[1], xx, yy);
+        if (inside(p)) field.second_derivatives(p[0], p[1], xx, yy);
         hp[i] = k * xx;
         vp[i] = k * yy;
       });
@@ -264,11 +311,13 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
                             true};
       const tp::FibreAxis along_x{}, vertical{true, 0.0, 0.0};
       pts.for_each([&](std::size_t i, const double* p) {
-        hp[i] = field.af_3d(fibre, along_x, p[0], p[1], p[2]);
-        vp[i] = field.af_3d(fibre, vertical, p[0], p[1], p[2]);
+        const bool ok = inside(p);
+        hp[i] = ok ? field.af_3d(fibre, along_x, p[0], p[1], p[2]) : 0.0;
+        vp[i] = ok ? field.af_3d(fibre, vertical, p[0], p[1], p[2]) : 0.0;
       });
     }
   }
+  if (changed) tp::bad_input("x_mm, y_mm, z_mm: the arrays changed while af_field read them");
   return {h, v};
 }
 
@@ -300,7 +349,11 @@ double af_grid_time_s(const PyDocument& d, double x0, double x1, double dx, doub
 
 py::object summarize(const PyDocument& d, std::optional<double> amplitude_mA) {
   const std::vector<double> w = checked_weights(d.doc, "weights");
-  const double amp = amplitude_mA ? *amplitude_mA : d.doc.max_current_mA;
+  const double amp = amplitude_mA ? finite_arg(*amplitude_mA, "--amplitude") : d.doc.max_current_mA;
+  if (d.doc.setup.array.two_d())
+    tp::cli::refuse_plane_z(d.doc, tp::cli::ModelOptions{},
+                            "to --summary under a 2-D array (its fibres fill every z; the "
+                            "plane places af-field's x-y section only)");
   tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
   std::vector<double> currents;
   for (double wi : w) currents.push_back(wi * amp);
@@ -329,6 +382,9 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   if (two_d && !at && !bank)
     tp::bad_input("array: " + doc.setup.array.describe() +
                   " is 2-D: give a pixel's place, --at X,Z (or --bank)");
+  if (mode && modes) tp::bad_input("mode and modes: give one");
+  if (modes && !bank) tp::bad_input("modes: several modes with bank=True only (one: mode=)");
+  if (modes && modes->empty()) tp::bad_input("--mode: no modes given");
   if (!mode && !bank) tp::bad_input("--mode: required (RA, SAI, PC, ...)");
   if ((radius_mm || spill) && !at && !bank)
     tp::bad_input("--radius, --spill: apply to a pixel (--at) or a bank (--bank)");
@@ -339,9 +395,15 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
     tp::bad_input("--pattern-starts: " + std::to_string(pattern_starts) + " not in [0 - 4]");
   if (!(random_starts >= 0 && random_starts <= 1000))
     tp::bad_input("--random-starts: " + std::to_string(random_starts) + " not in [0 - 1000]");
-  if (threads && *threads < 0) tp::bad_input("--threads: must be >= 0");
+  if (threads && !(*threads >= 1 && *threads <= 256))
+    tp::bad_input(range_message("--threads", *threads, 1, 256));
+  finite_arg(min_target_af, "--min-target-af");
+  finite_arg(radius_mm, "--radius");
+  finite_arg(spill, "--spill");
+  if (at)
+    for (double v : *at) finite_arg(v, "--at");
   tp::OptimizeOptions opt;
-  if (max_current_mA) doc.max_current_mA = *max_current_mA;
+  if (max_current_mA) doc.max_current_mA = finite_arg(*max_current_mA, "--max-current");
   tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
   opt.max_current_mA = doc.max_current_mA;
   opt.min_target_af = min_target_af;
@@ -351,10 +413,17 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
   opt.random_starts = random_starts;
   opt.pattern_starts = pattern_starts;
+  // The modes: `mode`, or with a bank several (`modes`, as --mode RA,SAI,PC); a bank
+  // without either designs every receptor's.
   std::vector<std::string> ms;
   if (mode) ms.push_back(*mode);
   if (modes) ms = *modes;
-  for (const std::string& m : ms) tp::receptor_index(doc.setup, m);
+  for (std::size_t k = 0; k < ms.size(); ++k) {
+    if (ms[k].empty()) tp::bad_input("--mode: empty name");
+    for (std::size_t q = 0; q < k; ++q)
+      if (ms[q] == ms[k]) tp::bad_input("--mode: " + ms[k] + " given twice");
+    tp::receptor_index(doc.setup, ms[k]);
+  }
   std::vector<std::pair<double, double>> places;
   if (at) {
     if (at->size() != (two_d ? 2u : 1u))
@@ -418,7 +487,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
                            std::optional<double> balance_width_us, bool monophasic, int offsets,
                            std::optional<double> tolerance, int threads,
                            std::optional<std::vector<double>> at,
-                           std::optional<std::string> stimulus,
+                           std::optional<py::object> stimulus,
                            std::optional<std::string> conductor) {
   tp::Document doc = d.doc;
   if (conductor) {
@@ -440,6 +509,22 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
       tp::bad_input("focus: expected an object with numbers x_mm and z_mm");
     through = std::array<double, 2>{f["x_mm"].get<double>(), f["z_mm"].get<double>()};
   }
+  // The programs' flag checks (CLI11's, in its words).
+  if (stimulus && width_us) tp::bad_input("--stimulus excludes --width");
+  if (stimulus && interphase_us) tp::bad_input("--stimulus excludes --interphase");
+  if (stimulus && balance_width_us) tp::bad_input("--stimulus excludes --balance-width");
+  if (stimulus && monophasic) tp::bad_input("--stimulus excludes --monophasic");
+  if (monophasic && interphase_us) tp::bad_input("--interphase excludes --monophasic");
+  if (monophasic && balance_width_us) tp::bad_input("--balance-width excludes --monophasic");
+  if (!(offsets >= 1 && offsets <= 64)) tp::bad_input(range_message("--offsets", offsets, 1, 64));
+  if (threads != 0 && !(threads >= 1 && threads <= 256))
+    tp::bad_input(range_message("--threads", threads, 1, 256));
+  finite_arg(width_us, "--width");
+  finite_arg(interphase_us, "--interphase");
+  finite_arg(balance_width_us, "--balance-width");
+  finite_arg(tolerance, "--tolerance");
+  if (at)
+    for (double v : *at) finite_arg(v, "--at");
   const std::vector<double> w = checked_weights(doc, "weights");
   double wmax = 0.0;
   for (double x : w) wmax = std::max(wmax, std::fabs(x));
@@ -453,7 +538,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
   o.offsets = offsets;
   if (tolerance) o.tolerance = number_arg(*tolerance);
   o.threads = threads;
-  if (stimulus) o.stimulus = *stimulus;
+  if (stimulus) o.stimulus = path_arg(*stimulus);
   tp::cli::FibreSetup f = tp::cli::apply_fibre_options(o, w);
   f.settings.through_mm = through;
   tp::Json out = tp::document_to_json(doc);
@@ -477,8 +562,8 @@ struct PyStimulus {
     tp::check_mix(s.mix, tp::StimulusLimits{});
     return s;
   }
-  static PyStimulus load(const std::string& path) {
-    PyStimulus s{tp::mix_from_json(tp::read_json(path, "stimulus"))};
+  static PyStimulus load(const py::object& path) {
+    PyStimulus s{tp::mix_from_json(tp::read_json(path_arg(path), "stimulus"))};
     tp::check_mix(s.mix, tp::StimulusLimits{});
     return s;
   }
@@ -491,14 +576,23 @@ struct PyStimulus {
 PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, double frequency_hz,
                       double width_us, std::optional<double> balance_width_us, double interphase_us,
                       std::optional<double> duration_s, std::optional<long> count,
-                      std::optional<std::string> profile, std::optional<double> intensity) {
+                      std::optional<py::object> profile, std::optional<double> intensity) {
+  if (amplitude_mA && intensity) tp::bad_input("--amplitude excludes --intensity");
+  if (duration_s && count) tp::bad_input("--duration excludes --count");
+  finite_arg(amplitude_mA, "--amplitude");
+  finite_arg(intensity, "--intensity");
+  finite_arg(frequency_hz, "--frequency");
+  finite_arg(width_us, "--width");
+  finite_arg(balance_width_us, "--balance-width");
+  finite_arg(interphase_us, "--interphase");
+  finite_arg(duration_s, "--duration");
   tp::PulseRequest r;
   r.amplitude_mA = amplitude_mA;
   r.intensity = intensity;
   if (profile) {
     if (!d.doc.weights) tp::bad_input("weights document: no 'weights'");
-    r.profile = tp::profile_from_json(tp::read_json(*profile, "profile"), d.doc.max_current_mA,
-                                      std::numeric_limits<long>::max());
+    r.profile = tp::profile_from_json(tp::read_json(path_arg(*profile), "profile"),
+                                      d.doc.max_current_mA, std::numeric_limits<long>::max());
   }
   r.frequency_hz = frequency_hz;
   r.width_us = width_us;
@@ -542,23 +636,27 @@ py::dict report_dict(const tp::host::SessionReport& r) {
   return d;
 }
 
+// One stimulator: its methods may be called from several Python threads.  One operation
+// at a time holds the port (`busy_`): a delivery, or a live session from start_live to
+// stop; close() from another thread stops a running one first and waits for it.
 class Stimulator {
  public:
-  Stimulator(std::string port, int baud, int emu_channels, std::optional<std::string> record,
+  Stimulator(const py::object& port, int baud, int emu_channels, std::optional<py::object> record,
              std::string backend)
-      : port_(std::move(port)), baud_(baud), backend_(std::move(backend)) {
+      : port_(path_arg(port)), baud_(baud), backend_(std::move(backend)) {
     if (!(baud >= 300 && baud <= 4000000))
-      tp::bad_input("--baud: " + std::to_string(baud) + " not in [300 - 4000000]");
+      tp::bad_input(range_message("--baud", baud, 300, 4000000));
     if (!(emu_channels >= 1 && emu_channels <= 64))
-      tp::bad_input("--emu-channels: " + std::to_string(emu_channels) + " not in [1 - 64]");
-    if (port_ != "emu" && record)
-      tp::bad_input("--record: only with --port emu (stim-emu has its own)");
+      tp::bad_input(range_message("--emu-channels", emu_channels, 1, 64));
     if (backend_ != "auto" && backend_ != "libserialport" && backend_ != "posix")
       tp::bad_input("--backend: " + backend_ + " not in {auto,libserialport,posix}");
+    if (port_ != "emu" && record)
+      tp::bad_input("--record: only with --port emu (stim-emu has its own)");
     emu_.caps.channels = static_cast<std::uint8_t>(emu_channels);
-    if (record) emu_.record_path = *record;
+    if (record) emu_.record_path = path_arg(*record);
   }
   ~Stimulator() {
+    // Only when Python destroys it (the GIL held): stop whatever runs.
     try {
       close();
     } catch (...) {
@@ -566,111 +664,175 @@ class Stimulator {
   }
 
   void open() {
-    if (transport_) return;
-    py::gil_scoped_release release;
-    transport_ = tp::host::open_transport(port_, baud_, emu_, backend_);
+    std::lock_guard<std::mutex> lock(m_);
+    open_locked();
   }
 
   // Delivers a stimulus; returns the session's report.  Blocks until it ends.
   py::dict deliver(const PyStimulus& s, std::optional<double> duration_s) {
-    if (live_) tp::bad_input("deliver: a live session is running (stop() it first)");
     tp::host::SessionOptions opt;
-    if (duration_s) {
-      if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
-        tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
-                      tp::number_text(opt.limits.max_duration_s) + "] s");
-      opt.duration_s = *duration_s;
-    }
+    set_duration(opt, duration_s);
     tp::check_mix(s.mix, tp::StimulusLimits{});
-    open();
-    auto run = start(s.mix, opt);
-    wait(*run);
+    claim("deliver");
+    std::unique_ptr<SessionRun> run;
+    try {
+      {
+        std::lock_guard<std::mutex> lock(m_);
+        open_locked();
+        run = start(s.mix, opt);
+        current_ = run.get();
+      }
+      wait(*run);
+    } catch (...) {
+      release();
+      throw;
+    }
+    release();
     return finish(*run);
   }
 
-  // Starts a live session: frames come from set_currents / set_amplitudes.
+  // Starts a live session: frames come from set_currents / set_amplitudes until stop().
   void start_live(const PyStimulus& s, std::optional<double> duration_s) {
-    if (live_) tp::bad_input("start_live: a live session is running (stop() it first)");
     tp::host::SessionOptions opt;
     opt.live = true;
-    if (duration_s) {
-      if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
-        tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
-                      tp::number_text(opt.limits.max_duration_s) + "] s");
-      opt.duration_s = *duration_s;
-    }
+    set_duration(opt, duration_s);
     tp::check_mix(s.mix, tp::StimulusLimits{});
-    int fds[2];
-    if (::pipe(fds) != 0) tp::failure("pipe: cannot create the live frames' pipe");
-    opt.input_fd = fds[0];
-    open();
-    live_stimulus_ = s.mix;
-    live_ = start(s.mix, opt);
-    live_read_fd_ = fds[0];
-    live_write_fd_ = fds[1];
+    claim("start_live");
+    int fds[2] = {-1, -1};
+    try {
+      std::lock_guard<std::mutex> lock(m_);
+      if (::pipe2(fds, O_CLOEXEC) != 0) tp::failure("pipe: cannot create the live frames' pipe");
+      // The writer never blocks for good: a frame waits for room while the session runs.
+      ::fcntl(fds[1], F_SETFL, ::fcntl(fds[1], F_GETFL) | O_NONBLOCK);
+      opt.input_fd = fds[0];
+      open_locked();
+      live_stimulus_ = s.mix;
+      live_ = start(s.mix, opt);
+      current_ = live_.get();
+      live_read_fd_ = fds[0];
+      live_write_fd_ = fds[1];
+    } catch (...) {
+      for (int fd : fds)
+        if (fd >= 0 && fd != live_read_fd_ && fd != live_write_fd_) ::close(fd);
+      release();
+      throw;
+    }
   }
 
   void set_currents(const std::vector<double>& currents_mA) {
     require_live("set_currents");
-    if (!live_stimulus_.single())
+    if (!live_stimulus_.single() || live_stimulus_.table())
       tp::bad_input("set_currents: a mix takes amplitude frames (set_amplitudes)");
-    tp::Json j = tp::Json::object();
-    j["currents_mA"] = currents_mA;
-    // Checked here as the session checks it (bad input raises, nothing is sent).
     tp::Stimulus s = live_stimulus_.patterns[0];
     if (currents_mA.size() != s.currents_mA.size())
       tp::bad_input("currents_mA: expected " + std::to_string(s.currents_mA.size()) +
                     " values, got " + std::to_string(currents_mA.size()));
+    for (std::size_t i = 0; i < currents_mA.size(); ++i)
+      if (!std::isfinite(currents_mA[i]))
+        tp::bad_input("currents_mA item " + std::to_string(i + 1) + ": not a finite number");
+    // Checked here against the host's limits, as the session will (and against the
+    // device's: a frame beyond those ends the session, and the next call says why).
     s.currents_mA = currents_mA;
     tp::check_stimulus(s, tp::StimulusLimits{});
+    tp::Json j = tp::Json::object();
+    j["currents_mA"] = currents_mA;
     send(j.dump());
   }
 
   void set_amplitudes(const std::vector<double>& amplitudes_mA) {
     require_live("set_amplitudes");
-    if (amplitudes_mA.size() != live_stimulus_.patterns.size())
-      tp::bad_input("amplitudes: expected " + std::to_string(live_stimulus_.patterns.size()) +
-                    " values (one per pattern), got " + std::to_string(amplitudes_mA.size()));
-    for (std::size_t p = 0; p < amplitudes_mA.size(); ++p) {
-      const double a = amplitudes_mA[p], top = live_stimulus_.patterns[p].amplitude_mA;
-      if (!(a >= 0 && a <= top))
-        tp::bad_input("amplitudes item " + std::to_string(p + 1) + ": " + tp::number_text(a) +
-                      " mA outside [0, " + tp::number_text(top) + "] mA (its pattern's)");
-    }
     tp::Json j = tp::Json::object();
+    for (std::size_t i = 0; i < amplitudes_mA.size(); ++i)
+      if (!std::isfinite(amplitudes_mA[i]))
+        tp::bad_input("amplitudes item " + std::to_string(i + 1) + ": not a finite number");
     j["amplitudes"] = amplitudes_mA;
+    tp::parse_amplitudes(j, live_stimulus_, "amplitudes");  // the session's own check
     send(j.dump());
   }
 
-  // Ends a live session (the end of its input): the output stops; returns its report.
+  // Ends a live session (the end of its input): the output stops; returns its report, or
+  // raises what ended it.  None when no live session runs.
   py::object stop() {
     if (!live_) return py::none();
-    if (live_write_fd_ >= 0) ::close(live_write_fd_);
-    live_write_fd_ = -1;
-    auto run = std::move(live_);
-    wait(*run);
+    close_write();
+    std::unique_ptr<SessionRun> run = std::move(live_);
+    try {
+      wait(*run);
+    } catch (...) {
+      close_read();
+      release();
+      throw;
+    }
+    close_read();
+    release();
     return finish(*run);
   }
 
   bool running() const { return live_ && !live_->done; }
 
+  // Stops any output at once (a delivery on another thread, a live session) and closes
+  // the port.
   void close() {
+    {
+      std::unique_lock<std::mutex> lock(m_);
+      if (current_) current_->flag = SIGTERM;
+    }
+    close_write();
     if (live_) {
-      live_->flag = SIGTERM;  // a closing stimulator stops the output at once
-      if (live_write_fd_ >= 0) ::close(live_write_fd_);
-      live_write_fd_ = -1;
+      std::unique_ptr<SessionRun> run = std::move(live_);
       {
         py::gil_scoped_release release;
-        if (live_->thread.joinable()) live_->thread.join();
+        if (run->thread.joinable()) run->thread.join();
       }
-      if (live_read_fd_ >= 0) ::close(live_read_fd_);
-      live_read_fd_ = -1;
-      live_.reset();
+      close_read();
+      release();
     }
-    transport_.reset();
+    {  // a delivery on another thread: wait until it has stopped and let go of the port
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(m_);
+      idle_.wait(lock, [&] { return !busy_; });
+      transport_.reset();
+    }
   }
 
  private:
+  void set_duration(tp::host::SessionOptions& opt, std::optional<double> duration_s) {
+    if (!duration_s) return;
+    if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
+      tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
+                    tp::number_text(opt.limits.max_duration_s) + "] s");
+    opt.duration_s = *duration_s;
+  }
+
+  void open_locked() {
+    if (transport_) return;
+    transport_ = tp::host::open_transport(port_, baud_, emu_, backend_);
+  }
+
+  // Takes the port for one operation; bad input when another holds it.
+  void claim(const char* what) {
+    if (live_ && live_->done) {  // a live session that ended by itself: its end is news
+      close_write();
+      std::unique_ptr<SessionRun> run = std::move(live_);
+      wait(*run);
+      close_read();
+      release();
+      finish(*run);  // raises what ended it, if it failed
+    }
+    std::lock_guard<std::mutex> lock(m_);
+    if (busy_)
+      tp::bad_input(std::string(what) + ": " +
+                    (live_ ? "a live session is running (stop() it first)"
+                           : "a delivery is running on another thread"));
+    busy_ = true;
+  }
+  void release() {
+    std::lock_guard<std::mutex> lock(m_);
+    busy_ = false;
+    current_ = nullptr;
+    idle_.notify_all();
+  }
+
   std::unique_ptr<SessionRun> start(const tp::Mix& m, const tp::host::SessionOptions& opt) {
     auto run = std::make_unique<SessionRun>();
     SessionRun* r = run.get();
@@ -688,7 +850,20 @@ class Stimulator {
     return run;
   }
 
-  // Waits for the session, the GIL released; a Python signal's exception stops it first.
+  // Checks Python's signals; one raised an exception: the run's output stops first (its
+  // stop flag, then its end), then the exception goes on.
+  void check_signals(SessionRun& r) {
+    if (PyErr_CheckSignals() == 0) return;
+    py::error_already_set e;  // KeyboardInterrupt, SystemExit, ...
+    r.flag = SIGINT;
+    {
+      py::gil_scoped_release release;
+      if (r.thread.joinable()) r.thread.join();
+    }
+    throw e;
+  }
+
+  // Waits for the session to end, the GIL released, Python's signals checked every 20 ms.
   void wait(SessionRun& r) {
     for (;;) {
       {
@@ -696,26 +871,13 @@ class Stimulator {
         std::unique_lock<std::mutex> lock(r.m);
         if (r.cv.wait_for(lock, std::chrono::milliseconds(20), [&] { return r.done; })) break;
       }
-      if (PyErr_CheckSignals() != 0) {
-        py::error_already_set e;  // KeyboardInterrupt, SystemExit, ...
-        r.flag = SIGINT;
-        {
-          py::gil_scoped_release release;
-          if (r.thread.joinable()) r.thread.join();
-        }
-        if (live_ && live_.get() == &r) drop_live();
-        throw e;
-      }
+      check_signals(r);
     }
     py::gil_scoped_release release;
     if (r.thread.joinable()) r.thread.join();
   }
 
   py::dict finish(SessionRun& r) {
-    if (live_read_fd_ >= 0 && (!live_ || live_.get() == &r)) {
-      ::close(live_read_fd_);
-      live_read_fd_ = -1;
-    }
     if (r.error) std::rethrow_exception(r.error);
     if (!r.report.started)
       throw tp::Error(static_cast<tp::ExitCode>(r.report.exit_code ? r.report.exit_code : 1),
@@ -725,38 +887,62 @@ class Stimulator {
     return report_dict(r.report);
   }
 
-  void drop_live() {
+  void close_write() {
     if (live_write_fd_ >= 0) ::close(live_write_fd_);
+    live_write_fd_ = -1;
+  }
+  void close_read() {
     if (live_read_fd_ >= 0) ::close(live_read_fd_);
-    live_write_fd_ = live_read_fd_ = -1;
-    live_.reset();
+    live_read_fd_ = -1;
+  }
+
+  // A live session that has ended: raises what ended it (the output is stopped).
+  void end_live(const char* what) {
+    close_write();
+    std::unique_ptr<SessionRun> run = std::move(live_);
+    try {
+      wait(*run);
+      finish(*run);
+    } catch (...) {
+      close_read();
+      release();
+      throw;
+    }
+    close_read();
+    release();
+    tp::failure(std::string(what) + ": the live session has ended: " + run->report.end);
   }
 
   void require_live(const char* what) {
     if (!live_) tp::bad_input(std::string(what) + ": no live session (start_live first)");
-    if (live_->done) {
-      auto run = std::move(live_);
-      if (live_write_fd_ >= 0) ::close(live_write_fd_);
-      live_write_fd_ = -1;
-      wait(*run);
-      finish(*run);  // raises what ended it
-      tp::failure(std::string(what) + ": the live session has ended");
-    }
+    if (live_->done) end_live(what);
   }
 
+  // Writes a frame line to the session's input; waits (the GIL released) while the pipe is
+  // full and the session runs.
   void send(const std::string& line) {
-    std::string text = line + "\n";
-    py::gil_scoped_release release;
+    const std::string text = line + "\n";
     const char* p = text.data();
     std::size_t left = text.size();
     while (left > 0) {
+      if (live_->done) end_live("live frames");
       const ssize_t k = ::write(live_write_fd_, p, left);
-      if (k < 0) {
-        if (errno == EINTR) continue;
+      if (k > 0) {
+        p += k;
+        left -= static_cast<std::size_t>(k);
+        continue;
+      }
+      if (k < 0 && errno == EINTR) continue;
+      if (k < 0 && errno != EAGAIN && errno != EWOULDBLOCK) {
+        if (live_->done) end_live("live frames");
         tp::failure("live frames: the session stopped reading");
       }
-      p += k;
-      left -= static_cast<std::size_t>(k);
+      {
+        py::gil_scoped_release release;
+        pollfd pfd{live_write_fd_, POLLOUT, 0};
+        ::poll(&pfd, 1, 20);
+      }
+      check_signals(*live_);
     }
   }
 
@@ -764,6 +950,10 @@ class Stimulator {
   int baud_;
   std::string backend_;
   tp::host::EmulatorOptions emu_;
+  std::mutex m_;  // busy_, current_, transport_
+  std::condition_variable idle_;
+  bool busy_ = false;
+  SessionRun* current_ = nullptr;
   std::unique_ptr<tp::host::Transport> transport_;
   std::unique_ptr<SessionRun> live_;
   tp::Mix live_stimulus_;
@@ -824,11 +1014,18 @@ PYBIND11_MODULE(_core, m) {
           "weights",
           [](const PyDocument& d) -> py::object {
             if (!d.doc.weights) return py::none();
-            return py::array_t<double>(static_cast<py::ssize_t>(d.doc.weights->size()),
-                                       d.doc.weights->data());
+            // A read-only copy: an item assignment would change nothing, so it raises;
+            // set the whole vector (doc.weights = ...) instead.
+            py::array_t<double> a(static_cast<py::ssize_t>(d.doc.weights->size()),
+                                  d.doc.weights->data());
+            a.attr("flags").attr("writeable") = false;
+            return std::move(a);
           },
           [](PyDocument& d, std::optional<std::vector<double>> w) {
             if (w) {
+              for (std::size_t i = 0; i < w->size(); ++i)
+                if (!std::isfinite((*w)[i]))
+                  tp::bad_input("weights item " + std::to_string(i + 1) + ": not a finite number");
               for (std::size_t i = 0; i < w->size(); ++i)
                 tp::ranges::check((*w)[i], tp::ranges::weight,
                                   "weights item " + std::to_string(i + 1));
@@ -915,7 +1112,7 @@ PYBIND11_MODULE(_core, m) {
         "make-pulse: a checked, charge-balanced stimulus of the document's weights.");
 
   py::class_<Stimulator>(m, "_Stimulator")
-      .def(py::init<std::string, int, int, std::optional<std::string>, std::string>(),
+      .def(py::init<const py::object&, int, int, std::optional<py::object>, std::string>(),
            py::arg("port") = "emu", py::arg("baud") = 115200, py::arg("emu_channels") = 8,
            py::arg("record") = py::none(), py::arg("backend") = "auto")
       .def("open", &Stimulator::open)

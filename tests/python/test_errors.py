@@ -56,3 +56,49 @@ def test_af_field_refuses_points_and_shapes(sai_doc):
         tp.af_field(sai_doc, [0.0], [0.5], [0.0])  # line2d has no z
     with pytest.raises(tp.BadInput, match="--amplitude"):
         tp.af_field(sai_doc, [0.0], [0.5], amplitude_mA=1e9)
+
+
+def test_flag_level_checks_say_what_the_programs_say(sai_doc, sai_json):
+    # CLI11's words, without its "(see --help)".
+    for call, args in (
+        (lambda: tp.fiber_threshold(sai_doc, offsets=0), ("fiber-threshold", "--offsets", "0")),
+        (lambda: tp.fiber_threshold(sai_doc, threads=300), ("fiber-threshold", "--threads", "300")),
+        (lambda: tp.fiber_threshold(sai_doc, monophasic=True, interphase_us=10),
+         ("fiber-threshold", "--monophasic", "--interphase", "10")),
+        (lambda: tp.make_pulse(sai_doc, 1.0, 200, duration_s=1, count=3),
+         ("make-pulse", "--amplitude", "1", "--duration", "1", "--count", "3")),
+    ):
+        expected = cli_message(*args, stdin=sai_json).removesuffix(" (see --help)")
+        with pytest.raises(tp.BadInput) as e:
+            call()
+        assert str(e.value) == expected
+    for call, args in (
+        (lambda: tp.make_pulse(sai_doc, 1.0, float("inf")),
+         ("make-pulse", "--amplitude", "1", "--frequency", "inf")),
+        (lambda: tp.fiber_threshold(sai_doc, tolerance=0.2), ("fiber-threshold", "--tolerance", "0.2")),
+    ):
+        expected = cli_message(*args, stdin=sai_json)
+        with pytest.raises(tp.BadInput) as e:
+            call()
+        assert str(e.value) == expected
+
+
+def test_modes_weights_and_paths(sai_doc, tmp_path, sai_json):
+    doc = tp.Document.create(grid="2x2", pitch_mm=2, pad="1x1")
+    with pytest.raises(tp.BadInput, match="no modes given"):
+        tp.optimize_weights(doc, bank=True, modes=[])
+    with pytest.raises(tp.BadInput, match="give one"):
+        tp.optimize_weights(doc, "SAI", bank=True, modes=["RA"])
+    with pytest.raises(tp.BadInput, match="bank=True only"):
+        tp.optimize_weights(tp.Document.create(), modes=["RA", "SAI"])
+    with pytest.raises(tp.BadInput, match="given twice"):
+        tp.optimize_weights(doc, bank=True, modes=["RA", "RA"])
+    with pytest.raises(ValueError):  # a read-only copy: item assignment would be lost
+        sai_doc.weights[0] = 0.5
+    with pytest.raises(tp.BadInput, match="not a finite number"):
+        tp.Document.create().weights = [float("nan")] * 8
+    path = tmp_path / "sai.json"
+    path.write_bytes(sai_json)
+    assert tp.Document.load(path).to_json().encode() == sai_json  # a pathlib.Path
+    with pytest.raises(tp.BadInput, match="non-finite"):
+        tp.af_field(sai_doc, [0.0], [0.5], amplitude_mA=float("nan"))

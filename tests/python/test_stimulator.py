@@ -168,3 +168,72 @@ def test_live_amplitudes_and_stop(tmp_path, sai_doc):
     assert 0 < len(pulses) < 200
     last = max(abs(c) for c in pulses[-1]["currents_mA"])
     assert abs(last - 0.5) < 0.001
+
+
+def test_close_from_another_thread_stops_a_delivery(emu, sai_doc):
+    port, rec, events = emu
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=10)
+    s = tp.Stimulator(port)
+    s.open()
+    result = {}
+
+    def deliver():
+        try:
+            result["report"] = s.deliver(stim)
+        except BaseException as e:  # noqa: B902  (what ended it)
+            result["error"] = e
+
+    t = threading.Thread(target=deliver)
+    t.start()
+    for _ in range(500):
+        if os.path.exists(events) and events_of(events, "start"):
+            break
+        time.sleep(0.01)
+    with pytest.raises(tp.BadInput, match="a delivery is running on another thread"):
+        s.deliver(stim)  # one at a time
+    t_close = time.time()
+    s.close()  # stops the other thread's delivery first, then lets go of the port
+    t.join(timeout=10)
+    assert not t.is_alive()
+    time.sleep(0.2)
+    stops = events_of(events, "stop")
+    assert stops and (stops[-1] / 1e9 - t_close) * 1e3 <= 100
+    assert result.get("report", {}).get("end", "") or "error" in result
+
+
+def test_frames_never_hang_when_the_session_ends(tmp_path, sai_doc):
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=10)
+    frame = [0.5 * w for w in sai_doc.weights]
+    with tp.Stimulator("emu") as s:
+        s.start_live(stim, duration_s=0.3)
+        t0 = time.monotonic()
+        with pytest.raises((tp.Failure, tp.BadInput)):
+            while time.monotonic() - t0 < 20:
+                s.set_currents(frame)  # until the session's end says so
+        assert time.monotonic() - t0 < 10
+        assert not s.running
+
+
+def test_stimulator_refusals(tmp_path, sai_doc):
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=1)
+    with tp.Stimulator("emu", record=tmp_path / "rec.jsonl") as s:  # a pathlib.Path
+        with pytest.raises(tp.BadInput, match="no live session"):
+            s.set_currents(list(sai_doc.weights))
+        s.start_live(stim)
+        with pytest.raises(tp.BadInput, match="a live session is running"):
+            s.deliver(stim)
+        with pytest.raises(tp.BadInput, match="expected 8 values"):
+            s.set_currents([0.1, -0.1])
+        with pytest.raises(tp.BadInput, match="not a finite number"):
+            s.set_currents([float("nan")] * 8)
+        with pytest.raises(tp.BadInput, match="outside"):
+            s.set_amplitudes([1.5])
+        s.set_amplitudes([0.5])
+        assert s.stop()["frames"] == 1
+        assert s.stop() is None  # twice: nothing more
+    s.close()  # twice: nothing more
+    for bad, words in ((dict(baud=10), "--baud: Value 10 not in range 300 to 4000000"),
+                       (dict(emu_channels=65), "--emu-channels: Value 65 not in range 1 to 64"),
+                       (dict(backend="x"), "--backend")):
+        with pytest.raises(tp.BadInput, match=words):
+            tp.Stimulator("emu", **bad)

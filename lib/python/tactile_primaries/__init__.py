@@ -84,8 +84,9 @@ class Stimulator:
             s.stop()                                 # the end of the live input
 
     Every way a delivery ends stops the output first: its own end, an exception, leaving
-    the `with` block, close(), KeyboardInterrupt (Ctrl-C) and any exception a signal handler
-    raises while deliver() waits.  Only this host's session can keep the output alive; if
+    the `with` block, close() (from any thread: a delivery running on another stops first),
+    KeyboardInterrupt (Ctrl-C) and any exception a signal handler raises while deliver()
+    or a live frame waits.  One delivery or live session at a time holds the port.  Only this host's session can keep the output alive; if
     the process dies, the device's watchdog stops it within 300 ms.
     """
 
@@ -99,7 +100,11 @@ class Stimulator:
         return self
 
     def __exit__(self, exc_type, exc, tb):
-        self.close()
+        try:
+            if exc_type is None:
+                self._s.stop()  # a live session's end: raises what ended it, if it failed
+        finally:
+            self.close()  # stops any output at once
         return False
 
     def open(self):

@@ -90,7 +90,10 @@ echo "ok: installed under P; pipeline from P/bin: $(cat run.err)"
 # the prefix's directory on PYTHONPATH.
 if [[ $TP_PYTHON_BUILT == ON ]]; then
   mkdir elsewhere
-  (cd elsewhere && "${bare[@]}" PYTHONPATH="$P/$TP_PYTHON_DIR" /usr/bin/python3 -c '
+  san=()  # an instrumented module (the sanitizer build) needs its runtimes loaded first
+  grep -qaF __asan_init "$P/$TP_PYTHON_DIR"/tactile_primaries/_core*.so \
+    && san=(LD_PRELOAD="$TP_PYTHON_PRELOAD" ASAN_OPTIONS=detect_leaks=0)
+  (cd elsewhere && "${bare[@]}" "${san[@]}" PYTHONPATH="$P/$TP_PYTHON_DIR" /usr/bin/python3 -c '
 import tactile_primaries as tp
 assert tp.__file__.startswith("'"$P"'/"), tp.__file__
 doc = tp.optimize_weights(tp.Document.create(), "SAI")
