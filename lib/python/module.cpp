@@ -186,22 +186,42 @@ struct Points {
       strides.emplace_back(a->strides(), a->strides() + a->ndim());
     }
   }
-  // f(i, values) for every point in C order; values[k] is array k's element.
+  // f(i, values) for every point in C order; values[k] is array k's element.  The last axis
+  // runs in a tight loop, the others through a counter.
   template <class F>
   void for_each(F&& f) const {
+    if (size == 0) return;
     const std::size_t nd = shape.size(), na = base.size();
-    std::vector<py::ssize_t> idx(nd, 0);
-    std::vector<const char*> p(base);
     double v[3] = {0, 0, 0};
-    for (std::size_t i = 0; i < size; ++i) {
+    const char* p[3] = {nullptr, nullptr, nullptr};
+    for (std::size_t k = 0; k < na; ++k) p[k] = base[k];
+    if (nd == 0) {
       for (std::size_t k = 0; k < na; ++k) std::memcpy(&v[k], p[k], sizeof(double));
-      f(i, v);
-      for (std::size_t dd = nd; dd-- > 0;) {  // the counter, last axis fastest
+      f(std::size_t{0}, v);
+      return;
+    }
+    const py::ssize_t inner = shape[nd - 1];
+    py::ssize_t step[3] = {0, 0, 0};
+    for (std::size_t k = 0; k < na; ++k) step[k] = strides[k][nd - 1];
+    std::vector<py::ssize_t> idx(nd, 0);
+    std::size_t i = 0;
+    for (;;) {
+      const char* q[3] = {p[0], p[1], p[2]};
+      for (py::ssize_t j = 0; j < inner; ++j, ++i) {
+        for (std::size_t k = 0; k < na; ++k) {
+          std::memcpy(&v[k], q[k], sizeof(double));
+          q[k] += step[k];
+        }
+        f(i, v);
+      }
+      std::size_t dd = nd - 1;  // the counter over the outer axes
+      for (; dd-- > 0;) {
         for (std::size_t k = 0; k < na; ++k) p[k] += strides[k][dd];
         if (++idx[dd] < shape[dd]) break;
         for (std::size_t k = 0; k < na; ++k) p[k] -= strides[k][dd] * shape[dd];
         idx[dd] = 0;
       }
+      if (dd == static_cast<std::size_t>(-1)) return;
     }
   }
 };
@@ -223,11 +243,17 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
                   tp::number_text(tp::ranges::max_grid_points));
   tp::check_grid_work(static_cast<double>(n), doc.setup.array.size());
   double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0, z_lo = 0, z_hi = 0;
+  const tp::ranges::Range& D = tp::ranges::depth_mm;
+  const tp::ranges::Range& P = tp::ranges::position_mm;
   pts.for_each([&](std::size_t i, const double* v) {
-    if (!(v[1] > 0.0)) tp::bad_input("y_mm: depths must be > 0 mm (the skin surface is y = 0)");
-    tp::ranges::check(v[1], tp::ranges::depth_mm, "y_mm");
-    tp::ranges::check(v[0], tp::ranges::position_mm, "x_mm");
-    if (has_z) tp::ranges::check(v[2], tp::ranges::position_mm, "z_mm");
+    // The ranges by comparison; the message (ranges::check) only for a point outside.
+    if (!(v[1] >= D.lo && v[1] <= D.hi && v[0] >= P.lo && v[0] <= P.hi &&
+          (!has_z || (v[2] >= P.lo && v[2] <= P.hi)))) {
+      if (!(v[1] > 0.0)) tp::bad_input("y_mm: depths must be > 0 mm (the skin surface is y = 0)");
+      tp::ranges::check(v[1], D, "y_mm");
+      tp::ranges::check(v[0], P, "x_mm");
+      if (has_z) tp::ranges::check(v[2], P, "z_mm");
+    }
     x_lo = i ? std::min(x_lo, v[0]) : v[0];
     x_hi = i ? std::max(x_hi, v[0]) : v[0];
     y_lo = i ? std::min(y_lo, v[1]) : v[1];

@@ -113,3 +113,27 @@ def test_make_pulse_is_the_programs_json(sai_json):
     assert s.to_json().encode() == cli
     assert tp.Stimulus.from_json(cli.decode()).to_json().encode() == cli
     assert (s.channels, s.patterns, s.duration_s) == (8, 1, 2.0)
+
+
+def test_af_field_reads_any_view_as_its_copy(sai_doc):
+    """Broadcast, Fortran-ordered, reversed, strided and 3-D views give the values of their
+    contiguous copies (the arrays are read through their strides)."""
+    rng = np.random.default_rng(7)
+    base_x = rng.uniform(-6, 6, size=(7, 9))
+    base_y = rng.uniform(0.1, 3, size=(7, 9))
+    views = [
+        (base_x, base_y),
+        (np.asfortranarray(base_x), base_y),
+        (base_x[::-1, ::-2], base_y[::-1, ::-2]),
+        (base_x[:, :1], base_y[:1, :]),            # broadcast to (7, 9)
+        (base_x.T, base_y.T),
+        (base_x.reshape(7, 3, 3), 0.9),           # a scalar depth, 3-D
+        (base_x[2, :], base_y[:, 3][:, None]),     # row against column
+        (np.array(1.5), np.array(0.7)),            # 0-d
+        (np.empty((0, 4)), np.empty((0, 4))),      # nothing
+    ]
+    for x, y in views:
+        h, v = tp.af_field(sai_doc, x, y)
+        X, Y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        hc, vc = tp.af_field(sai_doc, np.array(X, order="C"), np.array(Y, order="C"))
+        assert h.shape == X.shape and np.array_equal(h, hc) and np.array_equal(v, vc)
