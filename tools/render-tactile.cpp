@@ -100,7 +100,9 @@ void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::Pixel
   auto emit = [&](const std::vector<double>& a) {
     std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
     std::string text = "{\"amplitudes\": [";
-    for (std::size_t i = 0; i < a.size(); ++i) text += (i ? ", " : "") + tp::number_text(a[i]);
+    // Every digit (the shortest text that reads back as the same double): a frame at full
+    // intensity asks exactly the pattern's configured amplitude, never 1e-11 above it.
+    for (std::size_t i = 0; i < a.size(); ++i) text += (i ? ", " : "") + tp::Json(a[i]).dump();
     tp::cli::write_stdout(text + "]}\n");
     ++k;
   };

@@ -47,3 +47,15 @@ jq -se --slurpfile d bar.json '
     | if $pad % 8 == 7 then (($r.currents_mA[$pad] - 0.9) | fabs) <= 0.000978 else $peak == 0 end)
   | all' rec.jsonl > /dev/null || fail "the last frame's intensities are not the record's last pulses"
 echo "ok: $(cat play.err); $(cat live.err)"
+
+# A measured profile's comfort has every digit (calibrate's 0.9094947017729282 mA): a frame
+# at full intensity asks exactly its pattern's amplitude, and the device takes it.  (Frames
+# written with 10 digits asked 2.7e-11 more, and stimctl refused the first.)
+jq '.primaries.SAI.comfort_mA = 0.9094947017729282' profile.json > digits.json
+render-tactile --bank "$BANK" --profile digits.json --sequence "${frames[@]:0:3}" > bar9.json 2> /dev/null \
+  || fail "sequence with a measured profile"
+render-tactile --bank "$BANK" --profile digits.json --frames bar9.json --fps 30 "${frames[@]:0:3}" 2> play9.err \
+  | stimctl --port emu --emu-channels 64 --live --stimulus bar9.json 2> live9.err \
+  || fail "live with a measured profile: $(cat play9.err live9.err)"
+grep -q "3 weight frames" live9.err || fail "frames: $(cat live9.err)"
+echo "ok: full intensity with a measured comfort: $(cat live9.err)"
