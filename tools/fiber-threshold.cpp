@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "cli/entry.hpp"
 #include "cli/fibre_options.hpp"
 #include "core/error.hpp"
+#include "fibre/population.hpp"
 #include "io/document.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
@@ -64,7 +66,9 @@ int main(int argc, char** argv) {
   tp::cli::ModelOptions conductor;
   conductor.flag = "--conductor";
   tp::cli::FibreOptions fibre;
-  std::string weights, widths, at;
+  std::string weights, widths, at, recruitment;
+  long population = 0;
+  std::uint64_t seed = 1;
   bool sd = false;
   auto* o_config = tp::cli::add_array_options(
       app, array, "Weights document (optimize-weights' JSON; - for stdin) [stdin]");
@@ -79,6 +83,16 @@ int main(int argc, char** argv) {
                  "2-D arrays: the point X,Z (mm) the fibres pass through [the document's "
                  "focus, optimize-weights --at]")
       ->type_name("X,Z");
+  app.add_option("--population", population,
+                 "N afferents of each class sampled over the array and its margin (diameters, "
+                 "depths and densities: docs/fibres.md), each its own threshold: CSV class,"
+                 "x_mm,offset_mm,depth_mm,diameter_um,threshold_mA, 1 to 10000")
+      ->type_name("N");
+  app.add_option("--seed", seed, "--population: the sampling's seed [1]")->type_name("S");
+  app.add_option("--recruitment", recruitment,
+                 "--population: write the recruitment curves (each class's fraction recruited "
+                 "against current, and each mode's selectivity index) as CSV to FILE")
+      ->type_name("FILE");
   app.add_flag("--strength-duration", sd,
                "Print a strength-duration table (CSV: receptor,width_us,threshold_mA,charge_nC,"
                "rheobase_mA,chronaxie_us; rheobase and chronaxie from Weiss's law)");
@@ -131,9 +145,65 @@ int main(int argc, char** argv) {
     }
     if (!(wmax > 0.0)) tp::bad_input("weights: every weight is zero");
     if (!widths.empty() && !sd) tp::bad_input("--widths: applies to --strength-duration only");
+    if (app.count("--population") && sd)
+      tp::bad_input("--population and --strength-duration: give one");
+    if ((app.count("--seed") || !recruitment.empty()) && !app.count("--population"))
+      tp::bad_input("--seed, --recruitment: apply to --population only");
+    if (app.count("--population") && !(population >= 1 && population <= 10000))
+      tp::bad_input("--population: " + std::to_string(population) + " outside [1, 10000]");
     tp::cli::FibreSetup f = tp::cli::apply_fibre_options(fibre, *doc.weights);
     f.settings.through_mm = through;
 
+    if (app.count("--population")) {
+      tp::fibre::PopulationOptions po;
+      po.per_class = static_cast<std::size_t>(population);
+      po.seed = seed;
+      std::FILE* curves = nullptr;
+      if (!recruitment.empty() && !(curves = std::fopen(recruitment.c_str(), "wx")))
+        tp::bad_input("--recruitment: cannot create '" + recruitment +
+                      "' (it exists, or the directory is not writable)");
+      std::string table, csv;
+      try {
+        const tp::fibre::Population pop =
+            tp::fibre::sample_population(doc.setup, *doc.weights, *f.model, f.pulse, f.settings,
+                                         tp::fibre::default_afferent_classes(), po);
+        table = tp::fibre::population_csv(pop);
+        csv = tp::fibre::recruitment_csv(pop);
+        std::string talk;
+        for (std::size_t k = 0; k < pop.classes.size(); ++k) {
+          std::vector<double> t;
+          for (const auto& a : pop.afferents)
+            if (a.receptor == pop.classes[k] && a.threshold_mA) t.push_back(*a.threshold_mA);
+          std::sort(t.begin(), t.end());
+          char b[200];
+          std::snprintf(b, sizeof b,
+                        " %s %zu of %zu fire (lowest %s mA, median %s mA; %.0f in the area)",
+                        pop.classes[k].c_str(), t.size(), po.per_class,
+                        t.empty() ? "-" : num(t.front()).c_str(),
+                        t.empty() ? "-" : num(t[t.size() / 2]).c_str(), pop.expected[k]);
+          talk += b;
+          talk += k + 1 < pop.classes.size() ? ";" : "";
+        }
+        std::fprintf(stderr, "fiber-threshold: %s, %s, %.3g cm2, seed %llu:%s\n", f.model->name(),
+                     f.pulse.describe().c_str(), pop.area_cm2,
+                     static_cast<unsigned long long>(seed), talk.c_str());
+      } catch (...) {
+        if (curves) {
+          std::fclose(curves);
+          std::remove(recruitment.c_str());
+        }
+        throw;
+      }
+      if (curves) {
+        const bool ok = std::fwrite(csv.data(), 1, csv.size(), curves) == csv.size();
+        if (std::fclose(curves) != 0 || !ok) {
+          std::remove(recruitment.c_str());
+          tp::failure("--recruitment: cannot write '" + recruitment + "'");
+        }
+      }
+      tp::cli::write_stdout(table);
+      return;
+    }
     if (sd) {
       std::vector<double> ws = widths.empty()
                                    ? std::vector<double>{20, 50, 100, 200, 500, 1000, 2000}

@@ -408,7 +408,7 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
                     : 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) - 1) +
                           27.0
             : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
-    if (per_placement * placements > kMaxPotentials)
+    if (per_placement * (s.fixed_x_mm || s.fixed_offset_mm ? 1.0 : placements) > kMaxPotentials)
       bad_input("receptor " + r.name + ": " + number_text(per_placement * placements) +
                 " unit potentials to keep (at most " + number_text(kMaxPotentials) +
                 "): fewer electrodes, a shorter array or fewer --offsets");
@@ -481,7 +481,8 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
       steps += (ph.duration_ms + 0.1) / std::max(o.min_dt_ms, ph.duration_ms / 10.0);
   const bool vertical = r.fibre.orientation == Orientation::vertical;
   const double placements =
-      vertical && setup.array.two_d() ? kVertical2dPlacements
+      (vertical && s.fixed_x_mm) || (!vertical && s.fixed_offset_mm) ? 1.0
+      : vertical && setup.array.two_d()                              ? kVertical2dPlacements
       : vertical
           ? 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) + 1) + 1.0 + 18.0
           : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
@@ -535,7 +536,26 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   };
   const long guess = search.lattice().at_or_above(1.0);
 
-  if (!vertical) {
+  if (!vertical && s.fixed_offset_mm) {
+    Placement p;
+    p.offset_mm = *s.fixed_offset_mm;
+    const double left = reg.x0_mm - 5.0 * L_mm;
+    p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
+    p.y0_mm = r.depth_min_mm;
+    p.z0_mm = z_fibre;
+    p.ve_mV =
+        potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, false, z_fibre, two_d, cache);
+    evaluate({std::move(p)}, guess);
+  } else if (vertical && s.fixed_x_mm) {
+    Placement p;
+    p.vertical = true;
+    p.x0_mm = *s.fixed_x_mm;
+    p.y0_mm = r.depth_min_mm;
+    p.z0_mm = z_fibre;
+    p.ve_mV =
+        potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, z_fibre, two_d, cache);
+    evaluate({std::move(p)}, guess);
+  } else if (!vertical) {
     const std::size_t depths = r.depth_max_mm > r.depth_min_mm ? 5 : 1;
     std::vector<Placement> ps;
     for (std::size_t k = 0; k < depths; ++k) {

@@ -47,6 +47,11 @@ struct ThresholdSettings {
   // 2-D arrays: the point (x, z) in mm the fibres pass through (required there; a pixel's
   // place); 1-D arrays: not used.
   std::optional<std::array<double, 2>> through_mm;
+  // One fibre instead of a search over placements (a population's afferent): a vertical
+  // fibre at this x (under a 2-D array at through_mm's z), a horizontal one with its nodes
+  // at this alignment (mm from the lattice x = m internodes, [0, internode)) at the
+  // receptor's top depth.
+  std::optional<double> fixed_x_mm, fixed_offset_mm;
 };
 
 // Where and whether a receptor fired at its threshold.

@@ -86,3 +86,5 @@ tp_cli_test(fiber-threshold refuses-2d-point-outside refuses 2 --says "outside t
 tp_cli_test(fiber-threshold refuses-at-on-1d-array refuses 2 --says "--at: applies to 2-D arrays only" -- fiber-threshold --weights 0,0,-1,1,0,0,0,0 --at 0,0)
 tp_cli_test(fiber-threshold refuses-at-malformed refuses 2 --says "--at: expected X,Z" -- fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 1)
 tp_cli_test(fiber-threshold pixel-2d script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/pixel-2d.sh)
+tp_cli_test(fiber-threshold population script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/population.sh)
+set_tests_properties(fiber-threshold.population PROPERTIES TIMEOUT 300 PROCESSORS 2)

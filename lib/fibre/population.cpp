@@ -1,0 +1,210 @@
+#include "fibre/population.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "core/error.hpp"
+#include "io/number.hpp"
+#include "model/conductor.hpp"
+
+namespace tp::fibre {
+
+std::vector<AfferentClass> default_afferent_classes() {
+  return {
+      // Johansson & Vallbo 1979 (densities); Kajimoto et al., Table 1 (diameters, depths).
+      {"RA", 140.0, 3.0, 5.0, 0.7, 0.7},
+      {"SAI", 70.0, 7.0, 12.0, 0.9, 0.9},
+      // PC: Table 1 "2.0 ~"; the bottom, 3.0 mm, is our assumption (docs/fibres.md).
+      {"PC", 25.0, 5.0, 13.0, 2.0, 3.0},
+  };
+}
+
+namespace {
+
+// splitmix64 (Steele, Lea and Flood 2014): the same numbers on every platform, unlike the
+// standard distributions.
+struct Stream {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  double uniform(double lo, double hi) {  // [lo, hi]
+    const double u = static_cast<double>(next() >> 11) * 0x1.0p-53;
+    return lo + (hi - lo) * u;
+  }
+};
+
+}  // namespace
+
+Population sample_population(const Setup& setup, const std::vector<double>& weights,
+                             const FibreModel& model, const PulseSpec& pulse,
+                             const ThresholdSettings& settings,
+                             const std::vector<AfferentClass>& classes,
+                             const PopulationOptions& o) {
+  if (setup.array.two_d())
+    bad_input("--population: 2-D arrays are not sampled yet (a 1-D array's fibres)");
+  if (!(o.per_class >= 1 && o.per_class <= 10000))
+    bad_input("--population: " + std::to_string(o.per_class) + " outside [1, 10000]");
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const double margin = setup.lateral_margin_mm;
+  const double x0 = setup.array.x_min_mm() - margin, x1 = setup.array.x_max_mm() + margin;
+  Population p;
+  // The placed strip: the array's extent and margin along x, the electrodes' length across.
+  p.area_cm2 = (x1 - x0) * setup.array.length_mm / 100.0;
+
+  // Every fibre's receptor and settings, checked (and its work counted) before any work.
+  struct Job {
+    Receptor receptor;
+    ThresholdSettings settings;
+  };
+  std::vector<Job> jobs;
+  double work = 0;
+  Stream rng{o.seed};
+  const Waveform waveform = pulse.waveform(settings.delay_ms);
+  for (const AfferentClass& c : classes) {
+    const Receptor* base = nullptr;
+    for (const Receptor& r : setup.receptors)
+      if (r.name == c.receptor) base = &r;
+    if (!base) bad_input("--population: no receptor " + c.receptor + " in the document");
+    if (!(c.diameter_min_um > 0 && c.diameter_min_um <= c.diameter_max_um && c.depth_min_mm > 0 &&
+          c.depth_min_mm <= c.depth_max_mm))
+      bad_input("--population: class " + c.receptor + ": an empty or negative range");
+    p.classes.push_back(c.receptor);
+    p.expected.push_back(c.density_per_cm2 * p.area_cm2);
+    const bool vertical = base->fibre.orientation == Orientation::vertical;
+    for (std::size_t k = 0; k < o.per_class; ++k) {
+      Afferent a;
+      a.receptor = c.receptor;
+      a.vertical = vertical;
+      a.diameter_um = rng.uniform(c.diameter_min_um, c.diameter_max_um);
+      a.depth_mm = rng.uniform(c.depth_min_mm, c.depth_max_mm);
+      const double place = rng.uniform(0.0, 1.0);
+      Job j{*base, settings};
+      j.receptor.fibre.diameter_um = a.diameter_um;
+      j.receptor.depth_min_mm = a.depth_mm;
+      if (vertical) {
+        if (!(a.depth_mm < base->depth_max_mm))
+          bad_input("--population: class " + c.receptor + ": a top at " + number_text(a.depth_mm) +
+                    " mm, not above the fibre's bottom (" + number_text(base->depth_max_mm) +
+                    " mm)");
+        a.x_mm = x0 + (x1 - x0) * place;
+        j.settings.fixed_x_mm = a.x_mm;
+      } else {
+        j.receptor.depth_max_mm = a.depth_mm;
+        a.offset_mm = model.internode_um(a.diameter_um) * 1e-3 * place;
+        j.settings.fixed_offset_mm = a.offset_mm;
+      }
+      j.settings.threads = 1;  // the fibres run in parallel instead
+      check_model_depth(setup, vertical ? j.receptor.depth_max_mm : a.depth_mm,
+                        "--population: class " + c.receptor + "'s depth");
+      work += threshold_work(model, setup, *conductor, j.receptor, waveform, j.settings);
+      p.afferents.push_back(a);
+      jobs.push_back(std::move(j));
+    }
+  }
+  check_threshold_work(work, kMaxThresholdWork, "--population",
+                       "fewer afferents, a larger --tolerance, a shorter pulse");
+
+  // Each fibre's search on its own thread's turn; the results by index, so the output does
+  // not depend on the threads.
+  const unsigned threads = std::min<unsigned>(
+      settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency()),
+      static_cast<unsigned>(jobs.size()));
+  std::atomic<std::size_t> next{0};
+  std::mutex m;
+  std::exception_ptr error;
+  std::size_t error_index = jobs.size();
+  auto worker = [&] {
+    for (;;) {
+      const std::size_t i = next.fetch_add(1);
+      if (i >= jobs.size()) return;
+      try {
+        PotentialCache cache;
+        const ReceptorThreshold t =
+            receptor_threshold(model, setup, *conductor, weights, jobs[i].receptor, waveform,
+                               jobs[i].settings, &cache);
+        p.afferents[i].threshold_mA = t.threshold_mA;
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(m);
+        if (i < error_index) {
+          error_index = i;
+          error = std::current_exception();
+        }
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  return p;
+}
+
+std::string recruitment_csv(const Population& p) {
+  const std::size_t nc = p.classes.size();
+  std::vector<std::vector<double>> th(nc);
+  for (const Afferent& a : p.afferents) {
+    const auto it = std::find(p.classes.begin(), p.classes.end(), a.receptor);
+    if (a.threshold_mA)
+      th[static_cast<std::size_t>(it - p.classes.begin())].push_back(*a.threshold_mA);
+  }
+  std::vector<std::size_t> total(nc, 0);
+  for (const Afferent& a : p.afferents)
+    ++total[static_cast<std::size_t>(std::find(p.classes.begin(), p.classes.end(), a.receptor) -
+                                     p.classes.begin())];
+  std::vector<double> currents{0.0};
+  for (auto& t : th) {
+    std::sort(t.begin(), t.end());
+    currents.insert(currents.end(), t.begin(), t.end());
+  }
+  std::sort(currents.begin(), currents.end());
+  currents.erase(std::unique(currents.begin(), currents.end()), currents.end());
+  std::string out = "current_mA";
+  for (const std::string& c : p.classes) out += ",recruited_" + c;
+  for (const std::string& c : p.classes) out += ",si_" + c;
+  out += "\n";
+  for (double i : currents) {
+    std::vector<double> f(nc);
+    for (std::size_t k = 0; k < nc; ++k) {
+      const auto n = std::upper_bound(th[k].begin(), th[k].end(), i) - th[k].begin();
+      f[k] = total[k] ? static_cast<double>(n) / static_cast<double>(total[k]) : 0.0;
+    }
+    out += number_text(i);
+    for (double v : f) out += "," + number_text(v);
+    for (std::size_t k = 0; k < nc; ++k) {
+      double others = 0;
+      for (std::size_t q = 0; q < nc; ++q)
+        if (q != k) others += f[q];
+      const double si = nc > 1 ? f[k] - others / static_cast<double>(nc - 1) : f[k];
+      out += "," + number_text(si);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+std::string population_csv(const Population& p) {
+  std::string out = "class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA\n";
+  for (const Afferent& a : p.afferents) {
+    const bool vertical = a.vertical;
+    out += a.receptor + ",";
+    out += vertical ? number_text(a.x_mm) : "";
+    out += ",";
+    out += vertical ? "" : number_text(a.offset_mm);
+    out += "," + number_text(a.depth_mm) + "," + number_text(a.diameter_um) + ",";
+    if (a.threshold_mA) out += number_text(*a.threshold_mA);
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace tp::fibre
