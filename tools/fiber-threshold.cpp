@@ -118,20 +118,8 @@ int main(int argc, char** argv) {
     tp::Document doc = tp::cli::load_document(source, 1);
     if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
     tp::cli::apply_model_options(doc, conductor);
-    std::optional<std::array<double, 2>> through;
-    if (!at.empty()) {
-      if (!doc.setup.array.two_d())
-        tp::bad_input("--at: applies to 2-D arrays only (a 1-D array's fibres span it)");
-      const std::vector<double> xz = tp::parse_list(at, "--at");
-      if (xz.size() != 2) tp::bad_input("--at: expected X,Z (mm), got '" + at + "'");
-      through = std::array<double, 2>{xz[0], xz[1]};
-    } else if (doc.setup.array.two_d() && doc.extra.contains("focus")) {
-      const tp::Json& f = doc.extra["focus"];
-      if (!f.is_object() || !f.contains("x_mm") || !f.contains("z_mm") || !f["x_mm"].is_number() ||
-          !f["z_mm"].is_number())
-        tp::bad_input("focus: expected an object with numbers x_mm and z_mm");
-      through = std::array<double, 2>{f["x_mm"].get<double>(), f["z_mm"].get<double>()};
-    }
+    const std::optional<std::array<double, 2>> through = tp::fibre_point(
+        doc, at.empty() ? std::nullopt : std::optional(tp::parse_list(at, "--at")), at);
     if (!doc.weights)
       tp::bad_input("weights: the document has none (optimize-weights writes them; or --weights)");
     if (doc.weights->size() != doc.setup.array.size())

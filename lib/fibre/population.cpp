@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "core/splitmix.hpp"
 #include "io/number.hpp"
 #include "model/conductor.hpp"
 
@@ -24,23 +25,10 @@ std::vector<AfferentClass> default_afferent_classes() {
 }
 
 namespace {
-
-// splitmix64 (Steele, Lea and Flood 2014): the same numbers on every platform, unlike the
-// standard distributions.
-struct Stream {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo, double hi) {  // [lo, hi]
-    const double u = static_cast<double>(next() >> 11) * 0x1.0p-53;
-    return lo + (hi - lo) * u;
-  }
-};
-
+// Uniform in [lo, hi] from the project's portable stream (core/splitmix.hpp).
+double uniform(SplitMix64& rng, double lo, double hi) {
+  return lo + (hi - lo) * rng.unit();
+}
 }  // namespace
 
 Population sample_population(const Setup& setup, const std::vector<double>& weights,
@@ -66,7 +54,7 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
   };
   std::vector<Job> jobs;
   double work = 0;
-  Stream rng{o.seed};
+  SplitMix64 rng{o.seed};
   const Waveform waveform = pulse.waveform(settings.delay_ms);
   for (const AfferentClass& c : classes) {
     const Receptor* base = nullptr;
@@ -83,9 +71,9 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
       Afferent a;
       a.receptor = c.receptor;
       a.vertical = vertical;
-      a.diameter_um = rng.uniform(c.diameter_min_um, c.diameter_max_um);
-      a.depth_mm = rng.uniform(c.depth_min_mm, c.depth_max_mm);
-      const double place = rng.uniform(0.0, 1.0);
+      a.diameter_um = uniform(rng, c.diameter_min_um, c.diameter_max_um);
+      a.depth_mm = uniform(rng, c.depth_min_mm, c.depth_max_mm);
+      const double place = uniform(rng, 0.0, 1.0);
       Job j{*base, settings};
       j.receptor.fibre.diameter_um = a.diameter_um;
       j.receptor.depth_min_mm = a.depth_mm;

@@ -283,4 +283,21 @@ Json document_to_json(const Document& d) {
   return j;
 }
 
+std::optional<std::array<double, 2>> fibre_point(const Document& doc,
+                                                 const std::optional<std::vector<double>>& at,
+                                                 const std::string& at_text) {
+  if (at) {
+    if (!doc.setup.array.two_d())
+      bad_input("--at: applies to 2-D arrays only (a 1-D array's fibres span it)");
+    if (at->size() != 2) bad_input("--at: expected X,Z (mm), got '" + at_text + "'");
+    return std::array<double, 2>{(*at)[0], (*at)[1]};
+  }
+  if (!doc.setup.array.two_d() || !doc.extra.contains("focus")) return std::nullopt;
+  const Json& f = doc.extra["focus"];
+  if (!f.is_object() || !f.contains("x_mm") || !f.contains("z_mm") || !f["x_mm"].is_number() ||
+      !f["z_mm"].is_number())
+    bad_input("focus: expected an object with numbers x_mm and z_mm");
+  return std::array<double, 2>{f["x_mm"].get<double>(), f["z_mm"].get<double>()};
+}
+
 }  // namespace tp

@@ -3,6 +3,7 @@
 // program reads and writes this one format (docs/document-format.md); a program's own
 // results are added as further keys, which other programs carry along untouched.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,5 +48,13 @@ Json model_to_json(const Setup& s);
 // The document's own keys (format, array, model, receptors, weights, max_current_mA),
 // followed by `extra`.
 Json document_to_json(const Document& d);
+
+// Where the fibres under a 2-D array pass (fiber-threshold --at): `at` (X,Z, mm), or the
+// document's focus (optimize-weights --at); none for a 1-D array, or a 2-D one with
+// neither.  Bad input: `at` for a 1-D array, not two values (`at_text`: as it was given),
+// a malformed focus.
+std::optional<std::array<double, 2>> fibre_point(const Document& doc,
+                                                 const std::optional<std::vector<double>>& at,
+                                                 const std::string& at_text);
 
 }  // namespace tp

@@ -522,19 +522,10 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
     m.model = *conductor;
     tp::cli::apply_model_options(doc, m);
   }
-  std::optional<std::array<double, 2>> through;
-  if (at) {
-    if (!doc.setup.array.two_d())
-      tp::bad_input("--at: applies to 2-D arrays only (a 1-D array's fibres span it)");
-    if (at->size() != 2) tp::bad_input("--at: expected X,Z (mm)");
-    through = std::array<double, 2>{(*at)[0], (*at)[1]};
-  } else if (doc.setup.array.two_d() && doc.extra.contains("focus")) {
-    const tp::Json& f = doc.extra["focus"];
-    if (!f.is_object() || !f.contains("x_mm") || !f.contains("z_mm") || !f["x_mm"].is_number() ||
-        !f["z_mm"].is_number())
-      tp::bad_input("focus: expected an object with numbers x_mm and z_mm");
-    through = std::array<double, 2>{f["x_mm"].get<double>(), f["z_mm"].get<double>()};
-  }
+  std::string at_text;
+  if (at)
+    for (double v : *at) at_text += (at_text.empty() ? "" : ",") + number_arg(v);
+  const std::optional<std::array<double, 2>> through = tp::fibre_point(doc, at, at_text);
   // The programs' flag checks (CLI11's, in its words).
   if (stimulus && width_us) tp::bad_input("--stimulus excludes --width");
   if (stimulus && interphase_us) tp::bad_input("--stimulus excludes --interphase");
@@ -780,17 +771,7 @@ class Stimulator {
   // raises what ended it.  None when no live session runs.
   py::object stop() {
     if (!live_) return py::none();
-    close_write();
-    std::unique_ptr<SessionRun> run = std::move(live_);
-    try {
-      wait(*run);
-    } catch (...) {
-      close_read();
-      release();
-      throw;
-    }
-    close_read();
-    release();
+    const std::unique_ptr<SessionRun> run = take_live();
     return finish(*run);
   }
 
@@ -838,11 +819,7 @@ class Stimulator {
   // Takes the port for one operation; bad input when another holds it.
   void claim(const char* what) {
     if (live_ && live_->done) {  // a live session that ended by itself: its end is news
-      close_write();
-      std::unique_ptr<SessionRun> run = std::move(live_);
-      wait(*run);
-      close_read();
-      release();
+      const std::unique_ptr<SessionRun> run = take_live();
       finish(*run);  // raises what ended it, if it failed
     }
     std::lock_guard<std::mutex> lock(m_);
@@ -922,13 +899,13 @@ class Stimulator {
     live_read_fd_ = -1;
   }
 
-  // A live session that has ended: raises what ended it (the output is stopped).
-  void end_live(const char* what) {
+  // Ends the live session's input and waits for it (a signal's exception stops it first),
+  // then lets go of its pipe and the port: the run, for its report.
+  std::unique_ptr<SessionRun> take_live() {
     close_write();
     std::unique_ptr<SessionRun> run = std::move(live_);
     try {
       wait(*run);
-      finish(*run);
     } catch (...) {
       close_read();
       release();
@@ -936,6 +913,13 @@ class Stimulator {
     }
     close_read();
     release();
+    return run;
+  }
+
+  // A live session that has ended: raises what ended it (the output is stopped).
+  void end_live(const char* what) {
+    const std::unique_ptr<SessionRun> run = take_live();
+    finish(*run);
     tp::failure(std::string(what) + ": the live session has ended: " + run->report.end);
   }
 
