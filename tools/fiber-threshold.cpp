@@ -284,6 +284,16 @@ int main(int argc, char** argv) {
       }
       talk += k + 1 < rep.receptors.size() ? "," : "";
     }
+    {  // thresholds set by where a fibre was cut: said, not hidden
+      std::string cut;
+      for (const auto& t : rep.receptors)
+        if (t.threshold_mA && t.at_cut_end) cut += (cut.empty() ? "" : ", ") + t.receptor;
+      if (!cut.empty())
+        talk += "\nfiber-threshold: warning: " + cut +
+                " fired first at a cut end of the simulated fibre (at_cut_end): the threshold "
+                "depends on the fibre's length (model.lateral_margin_mm), not on the field "
+                "alone (docs/fibres.md, \"Cut ends\")";
+    }
     if (f.stimulus) {
       double amp = 0.0;
       for (double c : f.stimulus->currents_mA) amp = std::max(amp, std::fabs(c));

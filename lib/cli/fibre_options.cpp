@@ -14,6 +14,12 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
                  "Fibre model: mrg (McIntyre-Richardson-Grill 2002, 37 C, 2 to 16 um) or senn "
                  "(McNeal 1976 / Reilly, Frankenhaeuser-Huxley nodes, 20 C, 1 to 30 um) [mrg]")
       ->type_name("NAME");
+  app.add_option("--geometry", o.geometry,
+                 "Vertical (RA) fibres: straight (the paper's: a sealed node at the receptor's "
+                 "top, straight down) or afferent (an ending, a heminode, short internodes, "
+                 "a bend into a horizontal stem at the bottom of the receptor's range: "
+                 "docs/fibres.md) [straight]")
+      ->type_name("NAME");
   auto* st = app.add_option("--stimulus", o.stimulus,
                             "Stimulus document (make-pulse's output; - for stdin): its pulse "
                             "shape, and its amplitude in units of each threshold")
@@ -49,6 +55,7 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
   if (std::find(known.begin(), known.end(), o.model) == known.end())
     bad_input(o.model_flag + ": unknown fibre model '" + o.model + "' (mrg or senn)");
   f.model = fibre::make_fibre_model(o.model);
+  f.settings.geometry = fibre::geometry_from_string(o.geometry);
   if (!o.stimulus.empty()) {
     Stimulus s = stimulus_from_json(read_json(o.stimulus, "--stimulus"));
     check_stimulus(s, StimulusLimits{});

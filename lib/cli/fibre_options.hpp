@@ -18,6 +18,7 @@ namespace tp::cli {
 
 struct FibreOptions {
   std::string model = "mrg";
+  std::string geometry = "straight";
   std::string stimulus;
   std::string width, interphase, balance_width;
   bool monophasic = false;

@@ -1,7 +1,8 @@
 #pragma once
-// A myelinated axon discretised into compartments along a straight line: the electrical
-// network the simulator integrates.  Built by a fibre model (fibre/models.hpp) for a
-// diameter and a number of nodes.
+// A myelinated axon discretised into compartments: the electrical network the simulator
+// integrates.  Built by a fibre model (fibre/models.hpp) for a diameter and a number of
+// nodes, along a straight line; or laid along a path (fibre/geometry.hpp: an afferent that
+// ends in the skin and bends into a stem).
 //
 // Each compartment has an intracellular node joined to its neighbours through the axoplasm.
 // In a double cable (MRG) it also has a periaxonal node, joined to its neighbours through
@@ -16,7 +17,9 @@
 
 namespace tp::fibre {
 
-enum class CompartmentKind { node, mysa, flut, stin };
+// ending: an unmyelinated, passive terminal (an afferent's ending, geometry.hpp), whose
+// membrane faces the extracellular potential as a node's does.
+enum class CompartmentKind { node, mysa, flut, stin, ending };
 
 struct Compartment {
   CompartmentKind kind = CompartmentKind::node;
@@ -37,9 +40,16 @@ struct Axon {
   bool double_cable = false;
   double internode_um = 0.0;  // node-to-node distance
   std::vector<Compartment> compartments;
-  std::vector<double> centre_um;   // each compartment's centre, from the first node's centre
+  // Each compartment's centre along the axon: from the first node's centre (a straight
+  // fibre), or from the tip of the ending (a path's).
+  std::vector<double> centre_um;
   std::vector<std::size_t> nodes;  // compartment index of each node of Ranvier, in order
   double length_um() const { return centre_um.empty() ? 0.0 : centre_um.back(); }
+  // A fibre laid along a path: its name ("afferent+x", "afferent-x": what potentials are
+  // cached under) and each compartment centre's place in mm from the path's origin (x along
+  // the skin, y down into it).  Empty for a straight fibre.
+  std::string path;
+  std::vector<double> path_x_mm, path_y_mm;
 };
 
 }  // namespace tp::fibre

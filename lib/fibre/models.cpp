@@ -65,14 +65,23 @@ class Mrg final : public FibreModel {
   const NodeKinetics& kinetics() const override { return *node_; }
   double initial_mV() const override { return -80.0; }
 
-  Axon axon(double d, std::size_t nodes) const override {
+  Axon axon_with_internodes(double d, const std::vector<double>& internodes_um) const override {
     const MrgGeometry g = mrg_geometry(d);
+    for (double L : internodes_um)
+      if (!(L >= kMinInternodeUm && L <= g.internode_um))
+        bad_input("mrg: an internode of " + number_text(L) + " um at " + number_text(d) +
+                  " um (from " + number_text(kMinInternodeUm) + " um to the model's " +
+                  number_text(g.internode_um) + " um)");
+    const std::size_t nodes = internodes_um.size() + 1;
     Axon a;
     a.model = "mrg";
     a.diameter_um = d;
     a.double_cable = true;
     a.internode_um = g.internode_um;
-    const double stin_um = (g.internode_um - 1.0 - 2 * 3.0 - 2 * g.flut_length_um) / 6.0;
+    // Node (1 um) and two MYSA (3 um) keep their lengths; the rest (two FLUT, six STIN)
+    // scales to the internode's length: 1 at the model's own.
+    const double fixed_um = 1.0 + 2 * 3.0;
+    const double stin_um = (g.internode_um - fixed_um - 2 * g.flut_length_um) / 6.0;
     const double sheath_g = kMyelinGSPerCm2 / (2 * g.lamellae);
     const double sheath_c = kMyelinCUfPerCm2 / (2 * g.lamellae);
 
@@ -106,10 +115,13 @@ class Mrg final : public FibreModel {
       a.nodes.push_back(a.compartments.size());
       add(CompartmentKind::node, 1.0, g.node_um, kSpaceNodeUm);
       if (i + 1 == nodes) break;
+      const double L = internodes_um[i];
+      const double scale = L == g.internode_um ? 1.0 : (L - fixed_um) / (g.internode_um - fixed_um);
       add(CompartmentKind::mysa, 3.0, g.mysa_um, kSpaceNodeUm);
-      add(CompartmentKind::flut, g.flut_length_um, g.flut_um, kSpaceFlutUm);
-      for (int k = 0; k < 6; ++k) add(CompartmentKind::stin, stin_um, g.axon_um, kSpaceStinUm);
-      add(CompartmentKind::flut, g.flut_length_um, g.flut_um, kSpaceFlutUm);
+      add(CompartmentKind::flut, g.flut_length_um * scale, g.flut_um, kSpaceFlutUm);
+      for (int k = 0; k < 6; ++k)
+        add(CompartmentKind::stin, stin_um * scale, g.axon_um, kSpaceStinUm);
+      add(CompartmentKind::flut, g.flut_length_um * scale, g.flut_um, kSpaceFlutUm);
       add(CompartmentKind::mysa, 3.0, g.mysa_um, kSpaceNodeUm);
     }
     double s = -0.5;  // the first node (1 um long) is centred on 0
@@ -120,7 +132,25 @@ class Mrg final : public FibreModel {
     return a;
   }
 
+  // An unmyelinated ending: MRG's axoplasm and membrane capacitance, the leak of its FLUT and
+  // STIN at rest, the periaxonal node shorted to the outside as at a node.
+  Compartment ending(double length_um, double d) const override {
+    Compartment c;
+    c.kind = CompartmentKind::ending;
+    c.length_um = length_um;
+    c.area_cm2 = kPi * d * length_um * kCm2PerUm2;
+    c.c_uF = kCmUfPerCm2 * c.area_cm2;
+    c.ri_half_kohm =
+        kRhoAxOhmCm * (0.5 * length_um * kCmPerUm) / (kPi * d * d / 4 * kCm2PerUm2) * 1e-3;
+    c.rp_half_kohm = periaxonal_kohm_per_um(d, kSpaceNodeUm) * 0.5 * length_um;
+    c.g_sheath_mS = kNodeSheathG * c.area_cm2 * 1e3;
+    c.g_pas_mS = kGFlutStin * c.area_cm2 * 1e3;
+    c.e_pas_mV = kEPas;
+    return c;
+  }
+
  private:
+  static constexpr double kMinInternodeUm = 20.0;
   std::unique_ptr<NodeKinetics> node_;
 };
 
@@ -138,7 +168,19 @@ class Senn final : public FibreModel {
   const NodeKinetics& kinetics() const override { return *node_; }
   double initial_mV() const override { return p_.initial_mV; }
 
-  Axon axon(double d, std::size_t nodes) const override {
+  Compartment ending(double, double) const override {
+    bad_input(
+        "senn: no afferent geometry (its internodes are uniform): --model mrg, or "
+        "--geometry straight");
+  }
+
+  Axon axon_with_internodes(double d, const std::vector<double>& internodes_um) const override {
+    for (double L : internodes_um)
+      if (L != internode_um(d))
+        bad_input(
+            "senn: no afferent geometry (its internodes are uniform): --model mrg, or "
+            "--geometry straight");
+    const std::size_t nodes = internodes_um.size() + 1;
     if (!(d >= kSennMinDiameter && d <= kSennMaxDiameter))
       bad_input("senn: fibre diameter " + number_text(d) + " um outside the model's [" +
                 number_text(kSennMinDiameter) + ", " + number_text(kSennMaxDiameter) + "] um");

@@ -24,7 +24,19 @@ class FibreModel {
   virtual double internode_um(double diameter_um) const = 0;
   // The axon: `nodes` nodes of Ranvier, the first at 0, with everything between them.
   // Throws tp::Error (bad input) for a diameter outside the model's range.
-  virtual Axon axon(double diameter_um, std::size_t nodes) const = 0;
+  Axon axon(double diameter_um, std::size_t nodes) const {
+    return axon_with_internodes(
+        diameter_um, std::vector<double>(nodes > 0 ? nodes - 1 : 0, internode_um(diameter_um)));
+  }
+  // The same with each internode's node-to-node length given (um, one fewer than the nodes):
+  // MRG shortens an internode by shortening its paranodes (FLUT) and internodal segments
+  // (STIN) in proportion, keeping the node and MYSA; bad input below 20 um or above the
+  // model's own length, and for a model that cannot vary them (SENN's are uniform).
+  virtual Axon axon_with_internodes(double diameter_um,
+                                    const std::vector<double>& internodes_um) const = 0;
+  // An unmyelinated, passive ending compartment (CompartmentKind::ending) of this length
+  // and diameter, with the model's axoplasm and membrane (docs/fibres.md, "Afferents").
+  virtual Compartment ending(double length_um, double diameter_um) const = 0;
   virtual const NodeKinetics& kinetics() const = 0;
   // The membrane potential every compartment starts from (mV).
   virtual double initial_mV() const = 0;

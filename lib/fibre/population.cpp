@@ -1,6 +1,7 @@
 #include "fibre/population.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <exception>
@@ -36,16 +37,19 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
                              const ThresholdSettings& settings,
                              const std::vector<AfferentClass>& classes,
                              const PopulationOptions& o) {
-  if (setup.array.two_d())
-    bad_input("--population: 2-D arrays are not sampled yet (a 1-D array's fibres)");
   if (!(o.per_class >= 1 && o.per_class <= 10000))
     bad_input("--population: " + std::to_string(o.per_class) + " outside [1, 10000]");
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const double margin = setup.lateral_margin_mm;
   const double x0 = setup.array.x_min_mm() - margin, x1 = setup.array.x_max_mm() + margin;
+  const bool two_d = setup.array.two_d();
+  const double z0 = two_d ? setup.array.z_min_mm() - margin : 0.0;
+  const double z1 = two_d ? setup.array.z_max_mm() + margin : 0.0;
   Population p;
-  // The placed strip: the array's extent and margin along x, the electrodes' length across.
-  p.area_cm2 = (x1 - x0) * setup.array.length_mm / 100.0;
+  p.two_d = two_d;
+  // The placed area: a 1-D array's extent and margin along x by the electrodes' length
+  // across; a 2-D array's pads and margin in x and z.
+  p.area_cm2 = (x1 - x0) * (two_d ? z1 - z0 : setup.array.length_mm) / 100.0;
 
   // Every fibre's receptor and settings, checked (and its work counted) before any work.
   struct Job {
@@ -84,10 +88,20 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
                     " mm)");
         a.x_mm = x0 + (x1 - x0) * place;
         j.settings.fixed_x_mm = a.x_mm;
+        if (settings.geometry ==
+            Geometry::afferent) {  // a draw only then: straight keeps its bytes
+          a.stem = uniform(rng, 0.0, 1.0) < 0.5 ? -1 : 1;
+          j.settings.fixed_direction = a.stem;
+        }
       } else {
         j.receptor.depth_max_mm = a.depth_mm;
         a.offset_mm = model.internode_um(a.diameter_um) * 1e-3 * place;
         j.settings.fixed_offset_mm = a.offset_mm;
+      }
+      if (two_d) {  // a draw only then: a 1-D array's samples keep their bytes
+        a.z_mm = z0 + (z1 - z0) * uniform(rng, 0.0, 1.0);
+        // Vertical: the fibre at (x, z); horizontal: along x at z (its x is not used).
+        j.settings.through_mm = std::array<double, 2>{vertical ? a.x_mm : 0.5 * (x0 + x1), a.z_mm};
       }
       j.settings.threads = 1;  // the fibres run in parallel instead
       check_model_depth(setup, vertical ? j.receptor.depth_max_mm : a.depth_mm,
@@ -181,7 +195,13 @@ std::string recruitment_csv(const Population& p) {
 }
 
 std::string population_csv(const Population& p) {
-  std::string out = "class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA\n";
+  // Under a 2-D array a column z_mm; afferents (fibres with a stem) a last column, the
+  // stem's side.
+  bool stems = false;
+  for (const Afferent& a : p.afferents) stems = stems || a.stem != 0;
+  std::string out = "class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA";
+  out += p.two_d ? ",z_mm" : "";
+  out += stems ? ",stem\n" : "\n";
   for (const Afferent& a : p.afferents) {
     const bool vertical = a.vertical;
     out += a.receptor + ",";
@@ -190,6 +210,8 @@ std::string population_csv(const Population& p) {
     out += vertical ? "" : number_text(a.offset_mm);
     out += "," + number_text(a.depth_mm) + "," + number_text(a.diameter_um) + ",";
     if (a.threshold_mA) out += number_text(*a.threshold_mA);
+    if (p.two_d) out += "," + number_text(a.z_mm);
+    if (stems) out += a.stem < 0 ? ",-x" : a.stem > 0 ? ",+x" : ",";
     out += "\n";
   }
   return out;

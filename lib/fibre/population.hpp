@@ -48,6 +48,9 @@ struct Afferent {
   double offset_mm = 0;  // horizontal: its nodes' alignment, [0, internode)
   double depth_mm = 0;   // horizontal: its depth; vertical: its top
   double diameter_um = 0;
+  double z_mm =
+      0;  // under a 2-D array: the fibre's z (a vertical one's place, a horizontal one's row)
+  int stem = 0;  // an afferent (ThresholdSettings::geometry): its stem toward -x (-1) or +x (+1)
   std::optional<double> threshold_mA;  // none: does not fire below max_mA
 };
 
@@ -55,6 +58,7 @@ struct Population {
   std::vector<Afferent> afferents;  // per_class of each class, in the setup's receptor order
   std::vector<std::string> classes;
   double area_cm2 = 0;           // where they were placed
+  bool two_d = false;            // over a 2-D array (x and z), else along a 1-D one
   std::vector<double> expected;  // each class's density x area
 };
 

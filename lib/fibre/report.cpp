@@ -132,6 +132,7 @@ Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
   s["tolerance"] = r.settings.tolerance;
   s["max_mA"] = r.settings.max_mA;
   s["dt_us"] = r.dt_ms * 1e3;
+  if (r.settings.geometry != Geometry::straight) s["geometry"] = to_string(r.settings.geometry);
   if (r.settings.through_mm)
     s["through_mm"] = Json::array({(*r.settings.through_mm)[0], (*r.settings.through_mm)[1]});
   j["settings"] = s;
@@ -147,6 +148,8 @@ Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
       if (setup.array.two_d()) e["z_mm"] = t.z_mm;
       e["node"] = t.node;
       if (rec.fibre.orientation == Orientation::horizontal) e["offset_mm"] = t.offset_mm;
+      if (t.direction != 0) e["stem"] = t.direction < 0 ? "-x" : "+x";
+      if (t.at_cut_end) e["at_cut_end"] = true;
     } else {
       e["threshold_mA"] = nullptr;
       e["reason"] = t.reason;

@@ -275,15 +275,16 @@ std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>&
 }  // namespace
 
 bool PotentialCache::Key::operator<(const Key& o) const {
-  return std::tie(model, diameter_um, x0_mm, y0_mm, z0_mm, compartments, vertical, three_d) <
-         std::tie(o.model, o.diameter_um, o.x0_mm, o.y0_mm, o.z0_mm, o.compartments, o.vertical,
-                  o.three_d);
+  return std::tie(model, path, diameter_um, x0_mm, y0_mm, z0_mm, compartments, vertical, three_d) <
+         std::tie(o.model, o.path, o.diameter_um, o.x0_mm, o.y0_mm, o.z0_mm, o.compartments,
+                  o.vertical, o.three_d);
 }
 
 const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& axon, double x0,
                                                 double y0, bool vertical, double z0, bool three_d) {
   if (!three_d) z0 = 0.0;
-  Key key{axon.model, axon.diameter_um, x0, y0, z0, axon.centre_um.size(), vertical, three_d};
+  Key key{axon.model, axon.path, axon.diameter_um, x0, y0, z0, axon.centre_um.size(),
+          vertical,   three_d};
   auto it = std::lower_bound(entries_.begin(), entries_.end(), key,
                              [](const auto& e, const Key& k) { return e.first < k; });
   if (it != entries_.end() && !(key < it->first)) return it->second;
@@ -298,7 +299,11 @@ const std::vector<double>& PotentialCache::unit(const Conductor& c, const Axon& 
   }
   for (std::size_t k = 0; k < axon.centre_um.size(); ++k) {
     const double s = axon.centre_um[k] * 1e-3;
-    const double x = vertical ? x0 : x0 + s, y = vertical ? y0 + s : y0;
+    double x = vertical ? x0 : x0 + s, y = vertical ? y0 + s : y0;
+    if (!axon.path.empty()) {  // laid along a path from (x0, y0)
+      x = x0 + axon.path_x_mm[k];
+      y = y0 + axon.path_y_mm[k];
+    }
     if (three_d)
       c.unit_potentials_3d(x, y, z0, &psi[k * n]);
     else
@@ -329,6 +334,41 @@ double sampling_pitch_mm(const ElectrodeArray& a) {
 // Vertical fibres under a 2-D array: every quarter pitch within half a pitch of the point
 // in x and z (5 x 5), then twice 5 x 5 at half the step around the best.
 constexpr double kVertical2dPlacements = 75.0;
+
+bool is_afferent(const Receptor& r, const ThresholdSettings& s) {
+  return s.geometry == Geometry::afferent && r.fibre.orientation == Orientation::vertical;
+}
+// The x of every ending an afferent search tries: a population's one; under a 2-D array
+// within a pitch of the point; else across the pads, a pitch and a half beyond each side
+// (the search's first round reaches one pitch, its refinements a third of one more).
+std::array<double, 2> ending_range_mm(const Setup& setup, const ThresholdSettings& s) {
+  if (s.fixed_x_mm) return {*s.fixed_x_mm, *s.fixed_x_mm};
+  const double p = sampling_pitch_mm(setup.array);
+  if (setup.array.two_d()) return {(*s.through_mm)[0] - p, (*s.through_mm)[0] + p};
+  return {setup.array.x_min_mm() - 1.5 * p, setup.array.x_max_mm() + 1.5 * p};
+}
+// An afferent's stem, from the bend: from the farthest ending it serves, past the far side
+// of the pads plus the lateral margin (where horizontal fibres end) by five internodes.
+double afferent_stem_mm(const Setup& setup, const ThresholdSettings& s, double L_mm,
+                        int direction) {
+  const auto [lo, hi] = ending_range_mm(setup, s);
+  const double m = setup.lateral_margin_mm;
+  const double span =
+      direction < 0 ? hi - (setup.array.x_min_mm() - m) : (setup.array.x_max_mm() + m) - lo;
+  return std::max(span, 0.0) + 5.0 * L_mm;
+}
+Axon afferent_for(const FibreModel& model, const Setup& setup, const Receptor& r,
+                  const ThresholdSettings& s, int direction) {
+  const double d = r.fibre.diameter_um;
+  return afferent_axon(model, d, r.depth_max_mm - r.depth_min_mm, direction,
+                       afferent_stem_mm(setup, s, model.internode_um(d) * 1e-3, direction),
+                       s.shape);
+}
+// The stem directions an afferent's search tries, in order (ties go to the first).
+std::vector<int> afferent_directions(const ThresholdSettings& s) {
+  if (s.fixed_direction) return {*s.fixed_direction};
+  return {-1, 1};
+}
 }  // namespace
 
 std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
@@ -357,8 +397,14 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
   const bool vertical = r.fibre.orientation == Orientation::vertical;
   const Region reg = fibre_region(setup, r);
 
+  if (s.fixed_direction && *s.fixed_direction != 1 && *s.fixed_direction != -1)
+    bad_input("an afferent's stem direction must be -1 or +1");
+  const bool afferent = is_afferent(r, s);
   std::size_t nodes;
-  if (vertical) {
+  if (afferent) {
+    nodes = std::max(afferent_for(model, setup, r, s, -1).nodes.size(),
+                     afferent_for(model, setup, r, s, 1).nodes.size());
+  } else if (vertical) {
     nodes = static_cast<std::size_t>(std::ceil((r.depth_max_mm - r.depth_min_mm) / L_mm - 1e-9)) +
             s.extra_internodes + 1;
   } else {
@@ -373,8 +419,9 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
   if (setup.conductor.model == "point3d" && setup.conductor.source_depth_mm > 0.0) {
     const double src = setup.conductor.source_depth_mm;
     const double top = r.depth_min_mm;
-    const double bottom =
-        vertical ? r.depth_min_mm + static_cast<double>(nodes - 1) * L_mm : r.depth_max_mm;
+    const double bottom = vertical && !afferent
+                              ? r.depth_min_mm + static_cast<double>(nodes - 1) * L_mm
+                              : r.depth_max_mm;
     const double gap = src < top ? top - src : src > bottom ? src - bottom : 0.0;
     double dz = setup.conductor.plane_z_mm;
     if (two_d) {  // the nearest pad's source, from the fibres' z
@@ -403,11 +450,12 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     const double per_placement = compartments * static_cast<double>(conductor.size());
     // Vertical: every quarter pitch across the array +- one pitch, then 2 x 9 refinements.
     const double placements =
-        vertical
-            ? two_d ? kVertical2dPlacements
-                    : 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) - 1) +
-                          27.0
-            : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
+        (vertical
+             ? two_d ? kVertical2dPlacements
+                     : 4.0 * static_cast<double>(std::max<std::size_t>(setup.array.size(), 2) - 1) +
+                           27.0
+             : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1)) *
+        static_cast<double>(afferent ? afferent_directions(s).size() : 1);
     if (per_placement * (s.fixed_x_mm || s.fixed_offset_mm ? 1.0 : placements) > kMaxPotentials)
       bad_input("receptor " + r.name + ": " + number_text(per_placement * placements) +
                 " unit potentials to keep (at most " + number_text(kMaxPotentials) +
@@ -423,7 +471,19 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     const double x_min = setup.array.x_min_mm(), x_max = setup.array.x_max_mm();
     const double pitch_mm = sampling_pitch_mm(setup.array);
     double reach_mm, bottom_mm;
-    if (vertical && two_d) {  // within half a pitch of the point, refined a quarter beyond
+    if (afferent) {  // the stem's far end (either side), from the farthest pad
+      const double R = s.shape.bend_radius_mm;
+      const auto [lo, hi] = ending_range_mm(setup, s);
+      reach_mm = std::max(x_max - (lo - R - afferent_stem_mm(setup, s, L_mm, -1)),
+                          hi + R + afferent_stem_mm(setup, s, L_mm, 1) - x_min);
+      if (two_d) {
+        const double pz = (*s.through_mm)[1];
+        reach_mm =
+            std::hypot(reach_mm, std::max(std::fabs(pz + pitch_mm - setup.array.z_min_mm()),
+                                          std::fabs(setup.array.z_max_mm() - (pz - pitch_mm))));
+      }
+      bottom_mm = r.depth_max_mm;
+    } else if (vertical && two_d) {  // within half a pitch of the point, refined a quarter beyond
       const auto [px, pz] = *s.through_mm;
       const double dx =
           std::max(std::fabs(px + pitch_mm - x_min), std::fabs(x_max - (px - pitch_mm)));
@@ -452,20 +512,29 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
 }
 
 namespace {
-// The fibre a receptor's search simulates, and the simulation's end.
+// The fibres a receptor's search simulates (one; an afferent's, one per stem direction,
+// with the directions), and the simulation's end.
 struct FibreRun {
   std::size_t nodes;
   double internode_mm, tstop_ms;
-  Axon axon;
+  std::vector<Axon> axons;
+  std::vector<int> directions;
 };
 FibreRun fibre_run(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                    const Receptor& r, const Waveform& waveform, const ThresholdSettings& s) {
   const double d = r.fibre.diameter_um;
   const std::size_t nodes = fibre_nodes(model, setup, conductor, r, s);
-  Axon axon = model.axon(d, nodes);
-  const double length_mm = axon.length_um() * 1e-3;
+  FibreRun f{nodes, model.internode_um(d) * 1e-3, 0.0, {}, {0}};
+  if (is_afferent(r, s)) {
+    f.directions = afferent_directions(s);
+    for (int dir : f.directions) f.axons.push_back(afferent_for(model, setup, r, s, dir));
+  } else {
+    f.axons.push_back(model.axon(d, nodes));
+  }
+  const double length_mm = f.axons.front().length_um() * 1e-3;
   const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
-  return {nodes, model.internode_um(d) * 1e-3, waveform.end_ms() + after, std::move(axon)};
+  f.tstop_ms = waveform.end_ms() + after;
+  return f;
 }
 }  // namespace
 
@@ -488,7 +557,8 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
           : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
   const double probes =
       std::ceil(std::log2(static_cast<double>(Lattice(s.tolerance).per_octave))) + 4.0;
-  return static_cast<double>(f.axon.compartments.size()) * steps * placements * probes;
+  return static_cast<double>(f.axons.front().compartments.size()) * steps * placements *
+         static_cast<double>(f.axons.size()) * probes;
 }
 
 void check_threshold_work(double work, double bound, const std::string& what,
@@ -509,145 +579,173 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   PotentialCache local_cache;
   PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
   const FibreRun f = fibre_run(model, setup, conductor, r, waveform, s);
-  const std::size_t nodes = f.nodes;
   const double L_mm = f.internode_mm;
   const bool vertical = r.fibre.orientation == Orientation::vertical;
   const Region reg = fibre_region(setup, r);
-  const Axon& axon = f.axon;
   const bool two_d = setup.array.two_d();  // fibre_nodes: then through_mm is set
   const double z_fibre = two_d ? (*s.through_mm)[1] : 0.0;
 
-  SimOptions o;
-  o.dt_ms = s.dt_ms;
-  o.tstop_ms = f.tstop_ms;
-  o.detect =
-      vertical ? std::vector<std::size_t>{nodes - 6} : std::vector<std::size_t>{5, nodes - 6};
-
   ReceptorThreshold out;
   out.receptor = r.name;
-  Search search(model, axon, waveform, o, s);
-  Best best;
-  std::vector<Placement> all;
-  auto evaluate = [&](std::vector<Placement> ps, long guess) {
-    // A round of placements, indexed after all earlier ones (which win ties).
-    const std::size_t base = all.size();
-    for (auto& p : ps) all.push_back(std::move(p));
-    best = search.minimum(all, base, best, guess);
+  // The best over the fibres (an afferent's two directions): the lowest lattice point, the
+  // first fibre on ties.
+  struct Winner {
+    std::size_t fibre = 0;
+    Placement placement;
+    long j = 0;
+    bool found = false, below_range = false;
+  } winner;
+  std::size_t simulations = 0;
+  long jmin = 0;
+  auto options = [&](const Axon& axon) {
+    SimOptions o;
+    o.dt_ms = s.dt_ms;
+    o.tstop_ms = f.tstop_ms;
+    const std::size_t last = axon.nodes.size() - 1;
+    o.detect =
+        vertical ? std::vector<std::size_t>{last - 5} : std::vector<std::size_t>{5, last - 5};
+    return o;
   };
-  const long guess = search.lattice().at_or_above(1.0);
+  for (std::size_t fi = 0; fi < f.axons.size(); ++fi) {
+    const Axon& axon = f.axons[fi];
+    const SimOptions o = options(axon);
 
-  if (!vertical && s.fixed_offset_mm) {
-    Placement p;
-    p.offset_mm = *s.fixed_offset_mm;
-    const double left = reg.x0_mm - 5.0 * L_mm;
-    p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
-    p.y0_mm = r.depth_min_mm;
-    p.z0_mm = z_fibre;
-    p.ve_mV =
-        potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, false, z_fibre, two_d, cache);
-    evaluate({std::move(p)}, guess);
-  } else if (vertical && s.fixed_x_mm) {
-    Placement p;
-    p.vertical = true;
-    p.x0_mm = *s.fixed_x_mm;
-    p.y0_mm = r.depth_min_mm;
-    p.z0_mm = z_fibre;
-    p.ve_mV =
-        potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, z_fibre, two_d, cache);
-    evaluate({std::move(p)}, guess);
-  } else if (!vertical) {
-    const std::size_t depths = r.depth_max_mm > r.depth_min_mm ? 5 : 1;
-    std::vector<Placement> ps;
-    for (std::size_t k = 0; k < depths; ++k) {
-      const double y = depths == 1 ? r.depth_min_mm
-                                   : r.depth_min_mm + (r.depth_max_mm - r.depth_min_mm) *
-                                                          static_cast<double>(k) /
-                                                          static_cast<double>(depths - 1);
-      for (std::size_t q = 0; q < s.offsets; ++q) {
-        Placement p;
-        p.offset_mm = L_mm * static_cast<double>(q) / static_cast<double>(s.offsets);
-        // A node at offset + m L; the first at or before x0 - 5 internodes.
-        const double left = reg.x0_mm - 5.0 * L_mm;
-        p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
-        p.y0_mm = y;
-        p.z0_mm = z_fibre;
-        p.ve_mV = potentials_mV(conductor, weights, axon, p.x0_mm, y, false, z_fibre, two_d, cache);
-        ps.push_back(std::move(p));
-      }
-    }
-    evaluate(std::move(ps), guess);
-  } else if (two_d) {
-    // Every quarter pitch within half a pitch of the point in x and z, then twice 5 x 5
-    // around the best at half the step (to a sixteenth of a pitch).
-    auto round = [&](double cx, double cz, double step, int half) {
+    Search search(model, axon, waveform, o, s);
+    jmin = search.jmin();
+    Best best;
+    std::vector<Placement> all;
+    auto evaluate = [&](std::vector<Placement> ps, long guess) {
+      // A round of placements, indexed after all earlier ones (which win ties).
+      const std::size_t base = all.size();
+      for (auto& p : ps) all.push_back(std::move(p));
+      best = search.minimum(all, base, best, guess);
+    };
+    // Where to start: the best so far (another direction's), else 1 mA.
+    const long guess = winner.found ? winner.j : search.lattice().at_or_above(1.0);
+    auto vertical_placement = [&](double x, double z) {
+      Placement p;
+      p.vertical = true;
+      p.x0_mm = x;
+      p.z0_mm = z;
+      p.y0_mm = r.depth_min_mm;
+      p.ve_mV = potentials_mV(conductor, weights, axon, x, p.y0_mm, true, z, two_d, cache);
+      return p;
+    };
+
+    if (!vertical && s.fixed_offset_mm) {
+      Placement p;
+      p.offset_mm = *s.fixed_offset_mm;
+      const double left = reg.x0_mm - 5.0 * L_mm;
+      p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
+      p.y0_mm = r.depth_min_mm;
+      p.z0_mm = z_fibre;
+      p.ve_mV =
+          potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, false, z_fibre, two_d, cache);
+      evaluate({std::move(p)}, guess);
+    } else if (vertical && s.fixed_x_mm) {
       std::vector<Placement> ps;
-      for (int j = -half; j <= half; ++j)
-        for (int i = -half; i <= half; ++i) {
+      ps.push_back(vertical_placement(*s.fixed_x_mm, z_fibre));
+      evaluate(std::move(ps), guess);
+    } else if (!vertical) {
+      const std::size_t depths = r.depth_max_mm > r.depth_min_mm ? 5 : 1;
+      std::vector<Placement> ps;
+      for (std::size_t k = 0; k < depths; ++k) {
+        const double y = depths == 1 ? r.depth_min_mm
+                                     : r.depth_min_mm + (r.depth_max_mm - r.depth_min_mm) *
+                                                            static_cast<double>(k) /
+                                                            static_cast<double>(depths - 1);
+        for (std::size_t q = 0; q < s.offsets; ++q) {
           Placement p;
-          p.vertical = true;
-          p.x0_mm = cx + step * i;
-          p.z0_mm = cz + step * j;
-          p.y0_mm = r.depth_min_mm;
+          p.offset_mm = L_mm * static_cast<double>(q) / static_cast<double>(s.offsets);
+          // A node at offset + m L; the first at or before x0 - 5 internodes.
+          const double left = reg.x0_mm - 5.0 * L_mm;
+          p.x0_mm = p.offset_mm + L_mm * std::floor((left - p.offset_mm) / L_mm);
+          p.y0_mm = y;
+          p.z0_mm = z_fibre;
           p.ve_mV =
-              potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, p.z0_mm, true, cache);
+              potentials_mV(conductor, weights, axon, p.x0_mm, y, false, z_fibre, two_d, cache);
           ps.push_back(std::move(p));
         }
-      evaluate(std::move(ps), best.found ? best.j : guess);
-    };
-    double step = sampling_pitch_mm(setup.array) / 4;
-    round((*s.through_mm)[0], (*s.through_mm)[1], step, 2);
-    for (int refine = 0; refine < 2 && best.found; ++refine) {
-      const Placement c = all[best.index];
-      step /= 2;
-      round(c.x0_mm, c.z0_mm, step, 2);
-    }
-  } else {
-    const double pitch = sampling_pitch_mm(setup.array);
-    auto round = [&](double from, double to, double step) {
-      std::vector<Placement> ps;
-      const auto count = static_cast<std::size_t>(std::llround((to - from) / step));
-      for (std::size_t k = 0; k <= count; ++k) {
-        Placement p;
-        p.vertical = true;
-        p.x0_mm = from + step * static_cast<double>(k);
-        p.y0_mm = r.depth_min_mm;
-        p.ve_mV =
-            potentials_mV(conductor, weights, axon, p.x0_mm, p.y0_mm, true, 0.0, false, cache);
-        ps.push_back(std::move(p));
       }
-      evaluate(std::move(ps), best.found ? best.j : guess);
-    };
-    double step = pitch / 4;
-    round(setup.array.x_min_mm() - pitch, setup.array.x_max_mm() + pitch, step);
-    for (int refine = 0; refine < 2 && best.found; ++refine) {
-      const double c = all[best.index].x0_mm;
-      round(c - step, c + step, step / 4);
-      step /= 4;
+      evaluate(std::move(ps), guess);
+    } else if (two_d) {
+      // Every quarter pitch within half a pitch of the point in x and z, then twice 5 x 5
+      // around the best at half the step (to a sixteenth of a pitch).
+      auto round = [&](double cx, double cz, double step, int half) {
+        std::vector<Placement> ps;
+        for (int jz = -half; jz <= half; ++jz)
+          for (int ix = -half; ix <= half; ++ix)
+            ps.push_back(vertical_placement(cx + step * ix, cz + step * jz));
+        evaluate(std::move(ps), best.found ? best.j : guess);
+      };
+      double step = sampling_pitch_mm(setup.array) / 4;
+      round((*s.through_mm)[0], (*s.through_mm)[1], step, 2);
+      for (int refine = 0; refine < 2 && best.found; ++refine) {
+        const Placement c = all[best.index];
+        step /= 2;
+        round(c.x0_mm, c.z0_mm, step, 2);
+      }
+    } else {
+      const double pitch = sampling_pitch_mm(setup.array);
+      auto round = [&](double from, double to, double step) {
+        std::vector<Placement> ps;
+        const auto count = static_cast<std::size_t>(std::llround((to - from) / step));
+        for (std::size_t k = 0; k <= count; ++k)
+          ps.push_back(vertical_placement(from + step * static_cast<double>(k), 0.0));
+        evaluate(std::move(ps), best.found ? best.j : guess);
+      };
+      double step = pitch / 4;
+      round(setup.array.x_min_mm() - pitch, setup.array.x_max_mm() + pitch, step);
+      for (int refine = 0; refine < 2 && best.found; ++refine) {
+        const double c = all[best.index].x0_mm;
+        round(c - step, c + step, step / 4);
+        step /= 4;
+      }
+    }
+    out.placements += all.size();
+    simulations += search.simulations();
+    if (best.found && (!winner.found || best.j < winner.j)) {
+      winner.found = true;
+      winner.fibre = fi;
+      winner.j = best.j;
+      winner.placement = all[best.index];
     }
   }
-  out.placements = all.size();
-  if (!best.found) {
-    out.simulations = search.simulations();
+  out.simulations = simulations;
+  const Lattice lattice(s.tolerance);
+  if (!winner.found) {
     out.reason = "does not fire below " + number_text(s.max_mA) + " mA";
     return out;
   }
-  if (best.j < search.jmin()) {
-    out.simulations = search.simulations();
-    out.reason = "fires even at " + number_text(search.lattice().amplitude(search.jmin())) +
+  if (winner.j < jmin) {
+    out.reason = "fires even at " + number_text(lattice.amplitude(jmin)) +
                  " mA, the bottom of the search range";
     return out;
   }
-  const Placement& p = all[best.index];
+  const Axon& axon = f.axons[winner.fibre];
+  const Placement& p = winner.placement;
   CableSimulator sim(model, axon);
-  const SimResult res = search.run(sim, p, best.j);
-  out.threshold_mA = search.lattice().amplitude(best.j);
+  const SimResult res =
+      sim.run(p.ve_mV.data(), lattice.amplitude(winner.j), waveform, options(axon));
+  ++out.simulations;
+  out.threshold_mA = lattice.amplitude(winner.j);
   out.offset_mm = p.offset_mm;
+  out.direction = f.directions[winner.fibre];
   out.node = res.first_node;
-  const double s_mm = axon.centre_um[axon.nodes[res.first_node]] * 1e-3;
-  out.x_mm = vertical ? p.x0_mm : p.x0_mm + s_mm;
-  out.depth_mm = vertical ? p.y0_mm + s_mm : p.y0_mm;
+  {
+    const std::size_t last = axon.nodes.size() - 1;
+    out.at_cut_end = res.first_node + 5 > last || (!vertical && res.first_node < 5);
+  }
+  const std::size_t k = axon.nodes[res.first_node];
+  const double s_mm = axon.centre_um[k] * 1e-3;
+  if (!axon.path.empty()) {
+    out.x_mm = p.x0_mm + axon.path_x_mm[k];
+    out.depth_mm = p.y0_mm + axon.path_y_mm[k];
+  } else {
+    out.x_mm = vertical ? p.x0_mm : p.x0_mm + s_mm;
+    out.depth_mm = vertical ? p.y0_mm + s_mm : p.y0_mm;
+  }
   out.z_mm = p.z0_mm;
-  out.simulations = search.simulations();
   return out;
 }
 

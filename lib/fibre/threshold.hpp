@@ -15,13 +15,17 @@
 //  - vertical fibres start in a sealed terminal node at the receptor's top depth and run
 //    straight down through its depth range and `extra_internodes` internodes beyond; the
 //    threshold is the minimum over x, sampled every quarter pitch across the array +- one
-//    pitch and refined twice around the best sample (to a 64th of a pitch).
+//    pitch and refined twice around the best sample (to a 64th of a pitch);
+//  - afferents (Geometry::afferent, vertical receptors) are placed as vertical fibres are,
+//    by their ending's x, once with the stem toward -x and once toward +x: the stem reaches
+//    past the far side of the array plus the lateral margin by five internodes.
 // Under a 2-D array the fibres pass through one point (x, z) of the surface, a pixel's
 // (`through_mm`): horizontal fibres run along x at that z, over the pads plus the lateral
 // margin; vertical fibres are sampled every quarter pitch within half a pitch of it in x
 // and z, and refined twice around the best sample.
 // An action potential counts when it reaches the sixth node from each end of a horizontal
-// fibre, or the sixth node from the deep end of a vertical one (above -20 mV).
+// fibre, or the sixth node from the deep end of a vertical one or of an afferent's stem
+// (above -20 mV).
 
 #include <array>
 #include <cstddef>
@@ -30,6 +34,7 @@
 #include <vector>
 
 #include "fibre/cable.hpp"
+#include "fibre/geometry.hpp"
 #include "fibre/models.hpp"
 #include "model/field.hpp"
 
@@ -52,6 +57,11 @@ struct ThresholdSettings {
   // at this alignment (mm from the lattice x = m internodes, [0, internode)) at the
   // receptor's top depth.
   std::optional<double> fixed_x_mm, fixed_offset_mm;
+  // Vertical receptors' fibres: straight (the paper's) or afferents (geometry.hpp), whose
+  // stems are tried toward -x and +x (fixed_direction: one of them, -1 or +1).
+  Geometry geometry = Geometry::straight;
+  AfferentShape shape;
+  std::optional<int> fixed_direction;
 };
 
 // Where and whether a receptor fired at its threshold.
@@ -63,7 +73,13 @@ struct ReceptorThreshold {
   double z_mm = 0.0;                   // 2-D arrays: its z
   std::size_t node = 0;                // its number along the fibre (0: the first node)
   double offset_mm = 0.0;              // horizontal: the alignment that gave the minimum
-  std::size_t placements = 0;          // fibre positions tried
+  int direction = 0;                   // an afferent's stem: toward -x (-1) or +x (+1)
+  // The action potential started within five nodes of a cut end of the simulated fibre (a
+  // horizontal fibre's ends, a vertical fibre's deep end, an afferent's stem end; not a
+  // vertical fibre's terminal nor an afferent's ending): the threshold then depends on
+  // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").
+  bool at_cut_end = false;
+  std::size_t placements = 0;  // fibre positions tried
   std::size_t simulations = 0;
 };
 
@@ -92,7 +108,7 @@ class PotentialCache {
 
  private:
   struct Key {
-    std::string model;
+    std::string model, path;
     double diameter_um, x0_mm, y0_mm, z0_mm;
     std::size_t compartments;
     bool vertical, three_d;

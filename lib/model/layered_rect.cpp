@@ -346,8 +346,26 @@ class Tables {
   // The remainder's potential (V, 1 mA injected) of one rectangle at (u, y): a 2-D integral
   // of the tabulated point remainder (for unit_potentials, which only the checks use).
   // v: the point's offset from the rectangle's centre along z.
+  // Memoised: the arguments are rounded to 1 pm (1e-9 mm) and the potential computed at the
+  // rounded point, cached or not, so the value does not depend on what was asked before.
+  // Fibre placements on a lattice (vertical fibres and afferents every quarter pitch) meet
+  // the same offsets from different pads, and each is integrated once.
   double remainder_potential(double u, double v, double y) {
+    const std::array<long long, 3> key{std::llround(u * 1e9), std::llround(v * 1e9),
+                                       std::llround(y * 1e9)};
+    u = static_cast<double>(key[0]) * 1e-9;
+    v = static_cast<double>(key[1]) * 1e-9;
+    y = static_cast<double>(key[2]) * 1e-9;
     std::lock_guard<std::mutex> lock(mutex_);
+    if (const auto it = potential_memo_.find(key); it != potential_memo_.end()) return it->second;
+    const double value = remainder_potential_at(u, v, y);
+    if (potential_memo_.size() >= kPotentialMemo) potential_memo_.clear();  // bounded
+    potential_memo_.emplace(key, value);
+    return value;
+  }
+
+ private:
+  double remainder_potential_at(double u, double v, double y) {
     const double s = stack_.remainder_distance(y);
     const double b1 = v - 0.5 * l_, b2 = v + 0.5 * l_;
     RTable& rt = rtable(y);
@@ -358,7 +376,6 @@ class Tables {
     return total / (w_ * l_);
   }
 
- private:
   double layer_a_min(std::size_t k, double t0, double t1) const {
     return std::min(stack_.remainder_distance_in(k, t0), stack_.remainder_distance_in(k, t1));
   }
@@ -678,6 +695,8 @@ class Tables {
   double a_glob_ = 1.0, stack_depth_ = 1.0, lambda_max_ = 1.0;
   Lattice r_lattice_;
   std::mutex mutex_;
+  static constexpr std::size_t kPotentialMemo = 500'000;  // about 40 MB at most
+  std::map<std::array<long long, 3>, double> potential_memo_;
   std::map<std::pair<std::size_t, long>, std::unique_ptr<YTile>> ytiles_;
   std::vector<std::unique_ptr<RGrid>> rgrids_;
   std::map<double, std::unique_ptr<RTable>> rtables_;

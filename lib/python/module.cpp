@@ -514,7 +514,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
                            std::optional<double> tolerance, int threads,
                            std::optional<std::vector<double>> at,
                            std::optional<py::object> stimulus,
-                           std::optional<std::string> conductor) {
+                           std::optional<std::string> conductor, const std::string& geometry) {
   tp::Document doc = d.doc;
   if (conductor) {
     tp::cli::ModelOptions m;
@@ -548,6 +548,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
   if (!(wmax > 0.0)) tp::bad_input("weights: every weight is zero");
   tp::cli::FibreOptions o;
   o.model = model;
+  o.geometry = geometry;
   if (width_us) o.width = number_arg(*width_us);
   if (interphase_us) o.interphase = number_arg(*interphase_us);
   if (balance_width_us) o.balance_width = number_arg(*balance_width_us);
@@ -1111,9 +1112,10 @@ PYBIND11_MODULE(_core, m) {
         py::arg("interphase_us") = py::none(), py::arg("balance_width_us") = py::none(),
         py::arg("monophasic") = false, py::arg("offsets") = 8, py::arg("tolerance") = py::none(),
         py::arg("threads") = 0, py::arg("at") = py::none(), py::arg("stimulus") = py::none(),
-        py::arg("conductor") = py::none(),
+        py::arg("conductor") = py::none(), py::arg("geometry") = "straight",
         "fiber-threshold: each receptor's threshold (mA), where it fired and the ratios; the "
-        "document the program prints, as a dict.");
+        "document the program prints, as a dict.  geometry='afferent': RA as an afferent "
+        "(docs/fibres.md).");
   m.def("make_pulse", &make_pulse, py::arg("doc"), py::arg("amplitude_mA") = py::none(),
         py::arg("frequency_hz") = 200.0, py::kw_only(), py::arg("width_us") = 200.0,
         py::arg("balance_width_us") = py::none(), py::arg("interphase_us") = 0.0,

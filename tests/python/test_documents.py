@@ -1,6 +1,9 @@
 """Documents and the functions against the programs: byte-identical JSON where the
 program writes JSON, equal numbers where it writes CSV."""
+import json
+
 import numpy as np
+
 import pytest
 
 import tactile_primaries as tp
@@ -103,6 +106,16 @@ def test_fiber_threshold_equals_the_programs(sai_json):
     py = tp.fiber_threshold(tp.Document.from_json(sai_json.decode()), model="senn",
                             width_us=100, monophasic=True, conductor="rect3d")
     assert py == cli
+    # RA as an afferent (RA alone, a coarse lattice: a few seconds).
+    ra = json.loads(sai_json)
+    ra["receptors"] = [r for r in ra["receptors"] if r["name"] == "RA"]
+    ra = json.dumps(ra).encode()
+    cli = load(run("fiber-threshold", "--geometry", "afferent", "--tolerance", "0.05",
+                   stdin=ra)[0])
+    py = tp.fiber_threshold(tp.Document.from_json(ra.decode()), geometry="afferent",
+                            tolerance=0.05)
+    assert py == cli
+    assert py["thresholds"]["receptors"]["RA"]["stem"] in ("-x", "+x")
 
 
 def test_make_pulse_is_the_programs_json(sai_json):

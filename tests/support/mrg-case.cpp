@@ -15,7 +15,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
+
 #include "fibre/cable.hpp"
+#include "fibre/geometry.hpp"
 
 using namespace tp::fibre;
 using json = nlohmann::json;
@@ -23,8 +26,10 @@ using json = nlohmann::json;
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-std::vector<double> field(const json& c, const std::vector<double>& x) {
-  const double y = c.at("depth_mm").get<double>();
+// The field at (x, y): y from the case's depth_mm, or one per point (an afferent's path).
+std::vector<double> field(const json& c, const std::vector<double>& x,
+                          const std::vector<double>& ys = {}) {
+  const double depth = ys.empty() ? c.at("depth_mm").get<double>() : 0.0;
   const json& f = c.at("field");
   std::vector<double> out;
   if (f.contains("line2d")) {
@@ -33,7 +38,8 @@ std::vector<double> field(const json& c, const std::vector<double>& x) {
     const double pitch = p.at("pitch_mm").get<double>();
     const double rho = p.value("resistivity_ohm_m", 3.0), len = p.value("length_mm", 10.0);
     const double n = static_cast<double>(w.size());
-    for (double xx : x) {
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const double xx = x[k], y = ys.empty() ? depth : ys[k];
       double v = 0.0;
       for (std::size_t i = 0; i < w.size(); ++i) {
         const double r = std::hypot(xx - (static_cast<double>(i) - (n - 1) / 2) * pitch, y);
@@ -71,13 +77,45 @@ int main() {
     const json c = json::parse(std::string(std::istreambuf_iterator<char>(std::cin), {}));
     const auto t0 = std::chrono::steady_clock::now();
     auto model = make_fibre_model("mrg");
-    const auto nodes = c.value("nodes", 41);
-    CableSimulator sim(*model, model->axon(c.value("diameter_um", 10.0), nodes));
-    const Axon& a = sim.axon();
-    const double mid = a.centre_um[a.nodes[static_cast<std::size_t>(nodes / 2)]];
-    std::vector<double> x;
-    for (double s : a.centre_um) x.push_back((s - mid) / 1000.0 + c.value("offset_mm", 0.0));
-    const std::vector<double> ve = field(c, x);
+    const double d = c.value("diameter_um", 10.0);
+    std::vector<double> ve;
+    std::vector<std::size_t> detect;
+    std::unique_ptr<CableSimulator> simulator;
+    if (c.contains("afferent")) {
+      // {"afferent": {"x_mm", "top_mm", "drop_mm", "direction", "stem_mm", and optionally
+      // the shape's ending_um, ending_diameter_um, short_internodes, short_internode_um,
+      // bend_radius_mm}}: the ending's tip at (x_mm, top_mm); detection at the sixth node
+      // from the stem's end.
+      const json& g = c["afferent"];
+      AfferentShape shape;
+      shape.ending_um = g.value("ending_um", shape.ending_um);
+      shape.ending_diameter_um = g.value("ending_diameter_um", shape.ending_diameter_um);
+      shape.short_internodes = g.value("short_internodes", shape.short_internodes);
+      shape.short_internode_um = g.value("short_internode_um", shape.short_internode_um);
+      shape.bend_radius_mm = g.value("bend_radius_mm", shape.bend_radius_mm);
+      simulator = std::make_unique<CableSimulator>(
+          *model,
+          afferent_axon(*model, d, g.at("drop_mm").get<double>(), g.at("direction").get<int>(),
+                        g.at("stem_mm").get<double>(), shape));
+      const Axon& a = simulator->axon();
+      std::vector<double> x, y;
+      for (std::size_t k = 0; k < a.centre_um.size(); ++k) {
+        x.push_back(g.at("x_mm").get<double>() + a.path_x_mm[k]);
+        y.push_back(g.at("top_mm").get<double>() + a.path_y_mm[k]);
+      }
+      ve = field(c, x, y);
+      detect = {a.nodes.size() - 6};
+    } else {
+      const auto nodes = c.value("nodes", 41);
+      simulator = std::make_unique<CableSimulator>(*model, model->axon(d, nodes));
+      const Axon& a = simulator->axon();
+      const double mid = a.centre_um[a.nodes[static_cast<std::size_t>(nodes / 2)]];
+      std::vector<double> x;
+      for (double s : a.centre_um) x.push_back((s - mid) / 1000.0 + c.value("offset_mm", 0.0));
+      ve = field(c, x);
+      detect = {5, static_cast<std::size_t>(nodes - 6)};
+    }
+    CableSimulator& sim = *simulator;
     Waveform w;
     w.delay_ms = 0.1;
     for (const auto& p : c.value("pulse", json::array({json::array({0.2, 1.0})})))
@@ -85,7 +123,7 @@ int main() {
     SimOptions o;
     o.dt_ms = c.value("dt_ms", 0.005);
     o.tstop_ms = c.value("tstop_ms", 3.0);
-    o.detect = {5, static_cast<std::size_t>(nodes - 6)};
+    o.detect = detect;
     const double tol = c.value("tolerance", 1e-3);
     double lo = 0.0, hi = 0.05;
     bool none = false;

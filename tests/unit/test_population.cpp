@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -139,4 +140,53 @@ TEST_CASE("populations: seeds, bounds, recruitment", "[fibre][population]") {
       if (f.receptor == a.classes[k] && f.threshold_mA) ++fired;
     CHECK(last[k] == Approx(static_cast<double>(fired) / 12.0).margin(1e-9));
   }
+}
+
+TEST_CASE("a population over a 2-D array", "[fibre][population][array2d]") {
+  // A 3 x 3 grid of 1 x 1 mm pads at 2 mm under rect3d, a cross of weights: afferents are
+  // placed over the pads and margin in x and z, and each one's threshold is the single
+  // fibre's through its (x, z).
+  Setup setup;
+  setup.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
+  setup.conductor.model = "rect3d";
+  setup.lateral_margin_mm = 2.0;
+  const std::vector<double> w{0, -0.25, 0, -0.25, 1, -0.25, 0, -0.25, 0};
+  const auto model = make_fibre_model("mrg");
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  ThresholdSettings s;
+  s.tolerance = 0.01;
+  s.offsets = 2;
+  PopulationOptions o;
+  o.per_class = 2;
+  o.seed = 3;
+  const PulseSpec pulse;
+  const Population p = sample_population(setup, w, *model, pulse, s, default_afferent_classes(), o);
+  REQUIRE(p.afferents.size() == 6);
+  CHECK(p.area_cm2 == Approx(0.64));  // (4 + 2 x 2)^2 mm^2
+  CHECK(population_csv(p).rfind("class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm\n",
+                                0) == 0);
+  std::size_t checked = 0;
+  for (const Afferent& a : p.afferents) {
+    CHECK(a.z_mm >= -4.0);
+    CHECK(a.z_mm <= 4.0);
+    if (!a.threshold_mA || a.receptor == "PC") continue;
+    Receptor r = setup.receptors[a.vertical ? 0 : 1];
+    r.fibre.diameter_um = a.diameter_um;
+    r.depth_min_mm = a.depth_mm;
+    ThresholdSettings one = s;
+    one.threads = 1;
+    one.through_mm = std::array<double, 2>{a.vertical ? a.x_mm : 0.0, a.z_mm};
+    if (a.vertical) {
+      one.fixed_x_mm = a.x_mm;
+    } else {
+      r.depth_max_mm = a.depth_mm;
+      one.fixed_offset_mm = a.offset_mm;
+    }
+    const auto t =
+        receptor_threshold(*model, setup, *conductor, w, r, pulse.waveform(s.delay_ms), one);
+    REQUIRE(t.threshold_mA);
+    CHECK(*t.threshold_mA == *a.threshold_mA);
+    ++checked;
+  }
+  CHECK(checked >= 2);
 }

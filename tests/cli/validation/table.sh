@@ -1,5 +1,5 @@
 # docs/validation.md is regenerated: the model's numbers computed again (scripts/validate,
-# about a minute) match data/validation.json within 1e-6 (golden-diff, which rewrites it
+# two to three minutes) match data/validation.json within 1e-6 (golden-diff, which rewrites it
 # with TP_REGEN=1), and the page is what that file gives.
 TP_BIN="$TP_BUILD/tools" "$TP_SOURCE/scripts/validate" --json now.json --markdown now.md 2> err.txt \
   || fail "scripts/validate: $(cat err.txt)"
