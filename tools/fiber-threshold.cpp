@@ -291,7 +291,7 @@ int main(int argc, char** argv) {
       if (!cut.empty())
         talk += "\nfiber-threshold: warning: " + cut +
                 " fired first at a cut end of the simulated fibre (at_cut_end): the threshold "
-                "depends on the fibre's length (model.lateral_margin_mm), not on the field "
+                "depends on where the fibre was cut (model.lateral_margin_mm), not on the field "
                 "alone (docs/fibres.md, \"Cut ends\")";
     }
     if (f.stimulus) {

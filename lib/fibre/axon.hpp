@@ -45,9 +45,10 @@ struct Axon {
   std::vector<double> centre_um;
   std::vector<std::size_t> nodes;  // compartment index of each node of Ranvier, in order
   double length_um() const { return centre_um.empty() ? 0.0 : centre_um.back(); }
-  // A fibre laid along a path: its name ("afferent+x", "afferent-x": what potentials are
-  // cached under) and each compartment centre's place in mm from the path's origin (x along
-  // the skin, y down into it).  Empty for a straight fibre.
+  // A fibre laid along a path: its name ("afferent+x ..." with every dimension that places
+  // its compartments: what potentials are cached under) and each compartment centre's place
+  // in mm from the path's origin (x along the skin, y down into it).  Empty for a straight
+  // fibre.
   std::string path;
   std::vector<double> path_x_mm, path_y_mm;
 };

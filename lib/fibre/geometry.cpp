@@ -3,6 +3,7 @@
 #include "fibre/geometry.hpp"
 
 #include <cmath>
+#include <string>
 
 #include "core/error.hpp"
 #include "io/number.hpp"
@@ -50,7 +51,13 @@ Axon afferent_axon(const FibreModel& model, double d, double drop_mm, int direct
   a.diameter_um = d;
   a.double_cable = myelinated.double_cable;
   a.internode_um = myelinated.internode_um;
-  a.path = direction > 0 ? "afferent+x" : "afferent-x";
+  // The path's name keys cached potentials: everything that places its compartments.
+  a.path = std::string(direction > 0 ? "afferent+x" : "afferent-x") + " drop " +
+           number_text(drop_mm) + " stem " + number_text(stem_mm) + " ending " +
+           number_text(shape.ending_um) + "/" + number_text(shape.ending_diameter_um) + "/" +
+           std::to_string(shape.ending_compartments) + " short " +
+           std::to_string(shape.short_internodes) + "x" + number_text(shape.short_internode_um) +
+           " bend " + number_text(R);
   const double piece_um = shape.ending_um / static_cast<double>(shape.ending_compartments);
   double s_um = 0.0;  // arc length from the tip
   for (std::size_t k = 0; k < shape.ending_compartments; ++k) {

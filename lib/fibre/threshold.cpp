@@ -471,11 +471,15 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     const double x_min = setup.array.x_min_mm(), x_max = setup.array.x_max_mm();
     const double pitch_mm = sampling_pitch_mm(setup.array);
     double reach_mm, bottom_mm;
-    if (afferent) {  // the stem's far end (either side), from the farthest pad
-      const double R = s.shape.bend_radius_mm;
+    if (afferent) {  // either stem's far end, as built, from the farthest pad
       const auto [lo, hi] = ending_range_mm(setup, s);
-      reach_mm = std::max(x_max - (lo - R - afferent_stem_mm(setup, s, L_mm, -1)),
-                          hi + R + afferent_stem_mm(setup, s, L_mm, 1) - x_min);
+      reach_mm = std::max(x_max - lo, hi - x_min);
+      for (int dir : {-1, 1}) {
+        const double back = afferent_for(model, setup, r, s, dir).path_x_mm.back();
+        for (double tip : {lo, hi})
+          reach_mm =
+              std::max({reach_mm, std::fabs(tip + back - x_min), std::fabs(tip + back - x_max)});
+      }
       if (two_d) {
         const double pz = (*s.through_mm)[1];
         reach_mm =
@@ -531,7 +535,8 @@ FibreRun fibre_run(const FibreModel& model, const Setup& setup, const Conductor&
   } else {
     f.axons.push_back(model.axon(d, nodes));
   }
-  const double length_mm = f.axons.front().length_um() * 1e-3;
+  double length_mm = 0.0;  // the longest fibre's: one end time for every direction
+  for (const Axon& a : f.axons) length_mm = std::max(length_mm, a.length_um() * 1e-3);
   const double after = s.after_ms > 0 ? s.after_ms : 1.0 + length_mm / (2.0 * d);
   f.tstop_ms = waveform.end_ms() + after;
   return f;
@@ -557,8 +562,9 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
           : static_cast<double>(s.offsets) * (r.depth_max_mm > r.depth_min_mm ? 5 : 1);
   const double probes =
       std::ceil(std::log2(static_cast<double>(Lattice(s.tolerance).per_octave))) + 4.0;
-  return static_cast<double>(f.axons.front().compartments.size()) * steps * placements *
-         static_cast<double>(f.axons.size()) * probes;
+  double compartments = 0.0;  // over the fibres (an afferent's two directions)
+  for (const Axon& a : f.axons) compartments += static_cast<double>(a.compartments.size());
+  return compartments * steps * placements * probes;
 }
 
 void check_threshold_work(double work, double bound, const std::string& what,

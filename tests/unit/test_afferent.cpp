@@ -17,18 +17,27 @@
 using namespace tp;
 using namespace tp::fibre;
 
-TEST_CASE("the model's own internodes give the straight axon", "[fibre][afferent]") {
+TEST_CASE("MRG's internodes, the model's own length and shortened", "[fibre][afferent]") {
+  // MRGaxon.hoc's 10 um fibre: node 1 um, MYSA 3 um, FLUT 46 um, six STIN of
+  // (1150 - 1 - 6 - 92) / 6 um, nodes 1150 um apart; an internode of 80 um keeps the node
+  // and MYSA and shortens FLUT and STIN by (80 - 7) / (1150 - 7).
   const auto mrg = make_fibre_model("mrg");
-  for (double d : {4.0, 10.0}) {
-    const Axon a = mrg->axon(d, 7);
-    const Axon b = mrg->axon_with_internodes(d, std::vector<double>(6, mrg->internode_um(d)));
-    REQUIRE(a.compartments.size() == b.compartments.size());
-    for (std::size_t k = 0; k < a.compartments.size(); ++k) {
-      CHECK(a.centre_um[k] == b.centre_um[k]);
-      CHECK(a.compartments[k].ri_half_kohm == b.compartments[k].ri_half_kohm);
-      CHECK(a.compartments[k].c_uF == b.compartments[k].c_uF);
-    }
-  }
+  const Axon a = mrg->axon_with_internodes(10.0, {1150.0, 80.0});
+  const double stin = (1150.0 - 1.0 - 6.0 - 92.0) / 6.0, k = (80.0 - 7.0) / (1150.0 - 7.0);
+  const std::vector<double> lengths{
+      1, 3,      46,       stin,     stin,     stin,     stin,     stin,     stin,   46, 3, 1,
+      3, 46 * k, stin * k, stin * k, stin * k, stin * k, stin * k, stin * k, 46 * k, 3,  1};
+  REQUIRE(a.compartments.size() == lengths.size());
+  for (std::size_t c = 0; c < lengths.size(); ++c)
+    CHECK(a.compartments[c].length_um == Approx(lengths[c]).epsilon(1e-12));
+  REQUIRE(a.nodes.size() == 3);
+  CHECK(a.centre_um[a.nodes[1]] - a.centre_um[a.nodes[0]] == Approx(1150.0).epsilon(1e-12));
+  CHECK(a.centre_um[a.nodes[2]] - a.centre_um[a.nodes[1]] == Approx(80.0).epsilon(1e-12));
+  // The same axon as axon(d, n) where every internode is the model's own.
+  const Axon b = mrg->axon(10.0, 2), c = mrg->axon_with_internodes(10.0, {1150.0});
+  REQUIRE(b.compartments.size() == c.compartments.size());
+  for (std::size_t q = 0; q < b.compartments.size(); ++q)
+    CHECK(b.compartments[q].ri_half_kohm == c.compartments[q].ri_half_kohm);
 }
 
 TEST_CASE("an afferent's path: ending, heminode, short internodes, bend, stem",
@@ -70,7 +79,9 @@ TEST_CASE("an afferent's path: ending, heminode, short internodes, bend, stem",
 
 TEST_CASE("afferents are refused where they cannot be built", "[fibre][afferent]") {
   const auto mrg = make_fibre_model("mrg");
-  CHECK_THROWS_AS(afferent_axon(*mrg, 4.0, 0.3, 1, 5.0), Error);  // no room for the ending
+  // The drop must hold the ending (0.08 mm), four 80 um internodes and the bend (0.1 mm).
+  CHECK_NOTHROW(afferent_axon(*mrg, 4.0, 0.5, 1, 5.0));
+  CHECK_THROWS_AS(afferent_axon(*mrg, 4.0, 0.499, 1, 5.0), Error);
   CHECK_THROWS_AS(afferent_axon(*mrg, 4.0, 1.3, 0, 5.0), Error);
   CHECK_THROWS_AS(afferent_axon(*make_fibre_model("senn"), 4.0, 1.3, 1, 5.0), Error);
   CHECK_THROWS_AS(mrg->axon_with_internodes(4.0, {10.0}), Error);
@@ -110,6 +121,7 @@ TEST_CASE("a mirrored pattern finds the mirrored afferent", "[fibre][afferent]")
   REQUIRE(a.threshold_mA);
   REQUIRE(b.threshold_mA);
   CHECK(*a.threshold_mA == Approx(*b.threshold_mA).epsilon(1e-12));
+  CHECK(a.direction != 0);
   CHECK(a.direction == -b.direction);
   CHECK(a.x_mm == Approx(-b.x_mm).margin(1e-9));
   s.geometry = Geometry::straight;
@@ -143,4 +155,14 @@ TEST_CASE("a fibre that fires at a cut end is marked", "[fibre][cut]") {
   REQUIRE(a2.threshold_mA);
   CHECK(*c2.threshold_mA == Approx(*c.threshold_mA).epsilon(0.011));
   CHECK(std::fabs(*a2.threshold_mA / *a.threshold_mA - 1) > 0.02);
+  // RA's straight vertical fibre: a cathode fires its terminal, which is no cut; an anode
+  // its deep end, ten internodes below the receptor, which is.
+  const auto rc = line(cathode, 0, s);
+  const auto ra = line(anode, 0, s);
+  REQUIRE(rc.threshold_mA);
+  REQUIRE(ra.threshold_mA);
+  CHECK(rc.node == 0);
+  CHECK_FALSE(rc.at_cut_end);
+  CHECK(ra.at_cut_end);
+  CHECK(ra.depth_mm > line.setup.receptors[0].depth_max_mm);
 }
