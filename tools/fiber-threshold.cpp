@@ -160,8 +160,12 @@ int main(int argc, char** argv) {
         std::string talk;
         for (std::size_t k = 0; k < pop.classes.size(); ++k) {
           std::vector<double> t;
+          std::size_t cut = 0;
           for (const auto& a : pop.afferents)
-            if (a.receptor == pop.classes[k] && a.threshold_mA) t.push_back(*a.threshold_mA);
+            if (a.receptor == pop.classes[k] && a.threshold_mA) {
+              t.push_back(*a.threshold_mA);
+              cut += a.at_cut_end ? 1 : 0;
+            }
           std::sort(t.begin(), t.end());
           char b[200];
           std::snprintf(b, sizeof b,
@@ -170,6 +174,7 @@ int main(int argc, char** argv) {
                         t.empty() ? "-" : num(t.front()).c_str(),
                         t.empty() ? "-" : num(t[t.size() / 2]).c_str(), pop.expected[k]);
           talk += b;
+          if (cut) talk += ", " + std::to_string(cut) + " of them at a cut end (at_cut_end)";
           talk += k + 1 < pop.classes.size() ? ";" : "";
         }
         std::fprintf(stderr, "fiber-threshold: %s, %s, %.3g cm2, seed %llu:%s\n", f.model->name(),

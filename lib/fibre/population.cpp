@@ -133,6 +133,7 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
             receptor_threshold(model, setup, *conductor, weights, jobs[i].receptor, waveform,
                                jobs[i].settings, &cache);
         p.afferents[i].threshold_mA = t.threshold_mA;
+        p.afferents[i].at_cut_end = t.threshold_mA && t.at_cut_end;
       } catch (...) {
         std::lock_guard<std::mutex> lock(m);
         if (i < error_index) {
@@ -197,11 +198,16 @@ std::string recruitment_csv(const Population& p) {
 std::string population_csv(const Population& p) {
   // Under a 2-D array a column z_mm; afferents (fibres with a stem) a last column, the
   // stem's side.
-  bool stems = false;
-  for (const Afferent& a : p.afferents) stems = stems || a.stem != 0;
+  // A last column at_cut_end (0 or 1) where any fired first at a cut end of its fibre.
+  bool stems = false, cuts = false;
+  for (const Afferent& a : p.afferents) {
+    stems = stems || a.stem != 0;
+    cuts = cuts || a.at_cut_end;
+  }
   std::string out = "class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA";
   out += p.two_d ? ",z_mm" : "";
-  out += stems ? ",stem\n" : "\n";
+  out += stems ? ",stem" : "";
+  out += cuts ? ",at_cut_end\n" : "\n";
   for (const Afferent& a : p.afferents) {
     const bool vertical = a.vertical;
     out += a.receptor + ",";
@@ -212,6 +218,7 @@ std::string population_csv(const Population& p) {
     if (a.threshold_mA) out += number_text(*a.threshold_mA);
     if (p.two_d) out += "," + number_text(a.z_mm);
     if (stems) out += a.stem < 0 ? ",-x" : a.stem > 0 ? ",+x" : ",";
+    if (cuts) out += a.at_cut_end ? ",1" : ",0";
     out += "\n";
   }
   return out;

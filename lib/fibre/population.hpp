@@ -50,7 +50,10 @@ struct Afferent {
   double diameter_um = 0;
   double z_mm =
       0;  // under a 2-D array: the fibre's z (a vertical one's place, a horizontal one's row)
-  int stem = 0;  // an afferent (ThresholdSettings::geometry): its stem toward -x (-1) or +x (+1)
+  int stem = 0;
+  bool at_cut_end =
+      false;  // fired first at a cut end of its simulated fibre (threshold.hpp)  // an afferent
+              // (ThresholdSettings::geometry): its stem toward -x (-1) or +x (+1)
   std::optional<double> threshold_mA;  // none: does not fire below max_mA
 };
 

@@ -163,7 +163,7 @@ TEST_CASE("a population over a 2-D array", "[fibre][population][array2d]") {
   const Population p = sample_population(setup, w, *model, pulse, s, default_afferent_classes(), o);
   REQUIRE(p.afferents.size() == 6);
   CHECK(p.area_cm2 == Approx(0.64));  // (4 + 2 x 2)^2 mm^2
-  CHECK(population_csv(p).rfind("class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm\n",
+  CHECK(population_csv(p).rfind("class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm",
                                 0) == 0);
   std::size_t checked = 0;
   for (const Afferent& a : p.afferents) {

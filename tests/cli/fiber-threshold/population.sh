@@ -9,7 +9,12 @@ ft=(fiber-threshold --config sai.json --population 15)
 cmp -s p1.csv p2.csv && cmp -s r1.csv r2.csv || fail "the same seed gave other bytes"
 "${ft[@]}" --seed 4 > p3.csv 2> /dev/null || fail "population, seed 4"
 cmp -s p1.csv p3.csv && fail "seeds 3 and 4 gave the same population"
-[[ $(head -1 p1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA ]] || fail "header: $(head -1 p1.csv)"
+# (A last column at_cut_end, 0 or 1, where any afferent fired first at a cut end of its fibre.)
+[[ $(head -1 p1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA?(,at_cut_end) ]] || fail "header: $(head -1 p1.csv)"
+if [[ $(head -1 p1.csv) == *,at_cut_end ]]; then
+  awk -F, 'NR > 1 && $7 != 0 && $7 != 1 { exit 1 }' p1.csv || fail "at_cut_end not 0 or 1"
+  grep -E "RA 15 of 15 fire .*, [0-9]+ of them at a cut end" e1.txt > /dev/null || fail "stderr does not count the cut ends: $(cat e1.txt)"
+fi
 awk -F, 'NR > 1 {
     n[$1]++
     if ($1 == "RA" && !($5 >= 3 && $5 <= 5 && $4 == 0.7 && $2 >= -8.5 && $2 <= 8.5 && $3 == "")) bad = $0
@@ -45,7 +50,7 @@ refuses 2 --says "give one" -- fiber-threshold --config sai.json --population 3 
 fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,0 --population 3 > g1.csv 2> g.txt || fail "2-D: $(cat g.txt)"
 fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,0 --population 3 > g2.csv 2> g.txt || fail "2-D: $(cat g.txt)"
 cmp -s g1.csv g2.csv || fail "2-D: not the same bytes twice"
-[[ $(head -1 g1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm ]] || fail "2-D header: $(head -1 g1.csv)"
+[[ $(head -1 g1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm?(,at_cut_end) ]] || fail "2-D header: $(head -1 g1.csv)"
 awk -F, 'NR > 1 && ($7 < -5.5 || $7 > 5.5) { exit 1 }' g1.csv || fail "2-D: a z outside the pads and margin"
 [[ $(wc -l < g1.csv) -eq 10 ]] || fail "2-D: $(wc -l < g1.csv) lines"
 echo "ok: 2-D: $(cat g.txt)"
