@@ -400,10 +400,13 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
   if (s.fixed_direction && *s.fixed_direction != 1 && *s.fixed_direction != -1)
     bad_input("an afferent's stem direction must be -1 or +1");
   const bool afferent = is_afferent(r, s);
+  // An afferent's two stems, built once: their node counts and, below, their far ends.
+  std::vector<Axon> stems;
+  if (afferent)
+    for (int dir : {-1, 1}) stems.push_back(afferent_for(model, setup, r, s, dir));
   std::size_t nodes;
   if (afferent) {
-    nodes = std::max(afferent_for(model, setup, r, s, -1).nodes.size(),
-                     afferent_for(model, setup, r, s, 1).nodes.size());
+    nodes = std::max(stems[0].nodes.size(), stems[1].nodes.size());
   } else if (vertical) {
     nodes = static_cast<std::size_t>(std::ceil((r.depth_max_mm - r.depth_min_mm) / L_mm - 1e-9)) +
             s.extra_internodes + 1;
@@ -474,8 +477,8 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     if (afferent) {  // either stem's far end, as built, from the farthest pad
       const auto [lo, hi] = ending_range_mm(setup, s);
       reach_mm = std::max(x_max - lo, hi - x_min);
-      for (int dir : {-1, 1}) {
-        const double back = afferent_for(model, setup, r, s, dir).path_x_mm.back();
+      for (const Axon& a : stems) {
+        const double back = a.path_x_mm.back();
         for (double tip : {lo, hi})
           reach_mm =
               std::max({reach_mm, std::fabs(tip + back - x_min), std::fabs(tip + back - x_max)});
