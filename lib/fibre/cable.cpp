@@ -47,6 +47,37 @@ CableSimulator::CableSimulator(const FibreModel& model, Axon axon)
   vp_.assign(n_, 0.0);
   gate_.assign(n_ * gates_, 0.0);
   for (auto* v : {&inv11_, &inv12_, &inv22_, &y1_, &y2_}) v->assign(n_, 0.0);
+  // Condensation: runs of passive compartments between nodes (double cable, nodes in order).
+  const std::size_t m = axon_.nodes.size();
+  bool ordered = axon_.double_cable;
+  for (std::size_t j = 0; ordered && j < m; ++j)
+    ordered = axon_.nodes[j] < n_ && (j == 0 || axon_.nodes[j] > axon_.nodes[j - 1]);
+  if (ordered) {
+    run_after_node_.assign(m, -1);
+    run_before_node_.assign(m, -1);
+    long node = -1;  // the last node seen
+    for (std::size_t k = 0; k < n_;) {
+      if (is_node_[k]) {
+        ++node;
+        ++k;
+        continue;
+      }
+      Run r{k, k, node, -1};
+      while (r.q + 1 < n_ && !is_node_[r.q + 1]) ++r.q;
+      if (r.q + 1 < n_) r.right = node + 1;
+      const long index = static_cast<long>(runs_.size());
+      if (r.left >= 0) run_after_node_[static_cast<std::size_t>(r.left)] = index;
+      if (r.right >= 0) run_before_node_[static_cast<std::size_t>(r.right)] = index;
+      runs_.push_back(r);
+      k = r.q + 1;
+    }
+    slots_.resize(3);
+    for (Condensed& c : slots_) {
+      c.f.assign(n_, Condensed::Factors{});
+      for (auto* v : {&c.s11, &c.s12, &c.s22, &c.c11, &c.c12, &c.c21, &c.c22}) v->assign(m, 0.0);
+    }
+    for (auto* v : {&nd11_, &nd12_, &nd22_, &nr1_, &nr2_}) v->assign(m, 0.0);
+  }
   final_node_mV_.assign(axon_.nodes.size(), 0.0);
   peak_node_mV_.assign(axon_.nodes.size(), 0.0);
   cross_ms_.assign(axon_.nodes.size(), -1.0);
@@ -59,10 +90,265 @@ void CableSimulator::reset() {
     if (is_node_[k]) kin_.steady_state(v_init_, &gate_[k * gates_]);
 }
 
+// The factors of step length dt, if a slot holds them or dt is seen a second time (a step
+// cut short at a phase's edge is seen once, and takes the direct solve).
+const CableSimulator::Condensed* CableSimulator::condensed_for(double dt) {
+  if (slots_.empty() || !condense_) return nullptr;
+  for (const Condensed& c : slots_)
+    if (c.dt == dt) return &c;
+  if (dt != candidate_dt_) {
+    candidate_dt_ = dt;
+    return nullptr;
+  }
+  Condensed& c = slots_[next_slot_];
+  next_slot_ = (next_slot_ + 1) % slots_.size();
+  fill(c, dt);
+  return &c;
+}
+
+namespace {
+// 2x2 products, row-major: out = a b.
+void mul22(const double* a, const double* b, double* out) {
+  const double o0 = a[0] * b[0] + a[1] * b[2], o1 = a[0] * b[1] + a[1] * b[3];
+  const double o2 = a[2] * b[0] + a[3] * b[2], o3 = a[2] * b[1] + a[3] * b[3];
+  out[0] = o0;
+  out[1] = o1;
+  out[2] = o2;
+  out[3] = o3;
+}
+// out = dinv (symmetric 11, 12, 22) b.
+void sym_mul22(const double* d, const double* b, double* out) {
+  const double full[4] = {d[0], d[1], d[1], d[2]};
+  mul22(full, b, out);
+}
+}  // namespace
+
+// Each run of passive compartments p..q is a block-tridiagonal system T of its own, whose
+// blocks depend on dt alone: T y = r, with the neighbouring nodes' potentials entering
+// through the links G(p-1) and G(q).  So x = y + U x_left + W x_right, with U = T^-1 e_p
+// G(p-1) and W = T^-1 e_q G(q) fixed, and the nodes see the Schur complements G(p-1) U_p,
+// G(q) W_q on their diagonals and G(p-1) W_p as their coupling.
+void CableSimulator::fill(Condensed& c, double dt) {
+  const std::vector<Compartment>& cs = axon_.compartments;
+  const std::size_t m = axon_.nodes.size();
+  for (auto* v : {&c.s11, &c.s12, &c.s22, &c.c11, &c.c12, &c.c21, &c.c22})
+    std::fill(v->begin(), v->end(), 0.0);
+  for (std::size_t j = 0; j + 1 < m; ++j)
+    if (axon_.nodes[j + 1] == axon_.nodes[j] + 1) {  // adjacent nodes: the link itself
+      c.c11[j] = gi_link_[axon_.nodes[j]];
+      c.c22[j] = gp_link_[axon_.nodes[j]];
+    }
+  for (std::size_t k = 0; k < n_; ++k) {
+    c.f[k].c_dt = cs[k].c_uF / dt;
+    c.f[k].cs_dt = cs[k].c_sheath_uF / dt;
+  }
+  for (const Run& r : runs_) {
+    for (std::size_t k = r.p; k <= r.q; ++k) {
+      Condensed::Factors& f = c.f[k];
+      const Compartment& x = cs[k];
+      const double a = f.c_dt + x.g_pas_mS;
+      const double e = f.cs_dt + x.g_sheath_mS;
+      const double pi = k > 0 ? gi_link_[k - 1] : 0.0, pp = k > 0 ? gp_link_[k - 1] : 0.0;
+      double d11 = a + pi + gi_link_[k], d12 = -a, d22 = a + e + pp + gp_link_[k];
+      if (k > r.p) {
+        const double* q = c.f[k - 1].dinv;
+        d11 -= pi * pi * q[0];
+        d12 -= pi * pp * q[1];
+        d22 -= pp * pp * q[2];
+        f.m[0] = pi * q[0];
+        f.m[1] = pi * q[1];
+        f.m[2] = pp * q[1];
+        f.m[3] = pp * q[2];
+      }
+      const double det = d11 * d22 - d12 * d12;
+      f.dinv[0] = d22 / det;
+      f.dinv[1] = -d12 / det;
+      f.dinv[2] = d11 / det;
+      const double gi = gi_link_[k], gp = gp_link_[k];
+      f.p[0] = f.dinv[0] * gi;
+      f.p[1] = f.dinv[1] * gp;
+      f.p[2] = f.dinv[1] * gi;
+      f.p[3] = f.dinv[2] * gp;
+    }
+    // U: forward from G(p-1) at p, then back.
+    if (r.left >= 0) {
+      Condensed::Factors& fp = c.f[r.p];
+      fp.u[0] = gi_link_[r.p - 1];
+      fp.u[1] = fp.u[2] = 0.0;
+      fp.u[3] = gp_link_[r.p - 1];
+      for (std::size_t k = r.p + 1; k <= r.q; ++k) mul22(c.f[k].m, c.f[k - 1].u, c.f[k].u);
+      sym_mul22(c.f[r.q].dinv, c.f[r.q].u, c.f[r.q].u);
+      for (std::size_t k = r.q; k-- > r.p;) {
+        double a[4], b[4];
+        sym_mul22(c.f[k].dinv, c.f[k].u, a);
+        mul22(c.f[k].p, c.f[k + 1].u, b);
+        for (int i = 0; i < 4; ++i) c.f[k].u[i] = a[i] + b[i];
+      }
+    } else {
+      for (std::size_t k = r.p; k <= r.q; ++k) std::fill(c.f[k].u, c.f[k].u + 4, 0.0);
+    }
+    // W: G(q) at q alone, so back from q.
+    if (r.right >= 0) {
+      const double g[4] = {gi_link_[r.q], 0.0, 0.0, gp_link_[r.q]};
+      sym_mul22(c.f[r.q].dinv, g, c.f[r.q].w);
+      for (std::size_t k = r.q; k-- > r.p;) mul22(c.f[k].p, c.f[k + 1].w, c.f[k].w);
+    } else {
+      for (std::size_t k = r.p; k <= r.q; ++k) std::fill(c.f[k].w, c.f[k].w + 4, 0.0);
+    }
+    if (r.left >= 0) {
+      const auto L = static_cast<std::size_t>(r.left);
+      const double gi = gi_link_[r.p - 1], gp = gp_link_[r.p - 1];
+      const double* u = c.f[r.p].u;
+      c.s11[L] += gi * u[0];
+      c.s12[L] += gi * u[1];
+      c.s22[L] += gp * u[3];
+      if (r.right >= 0) {
+        const double* w = c.f[r.p].w;
+        c.c11[L] = gi * w[0];
+        c.c12[L] = gi * w[1];
+        c.c21[L] = gp * w[2];
+        c.c22[L] = gp * w[3];
+      }
+    }
+    if (r.right >= 0) {
+      const auto R = static_cast<std::size_t>(r.right);
+      const double gi = gi_link_[r.q], gp = gp_link_[r.q];
+      const double* w = c.f[r.q].w;
+      c.s11[R] += gi * w[0];
+      c.s12[R] += gi * w[1];
+      c.s22[R] += gp * w[3];
+    }
+  }
+  c.dt = dt;
+}
+
+void CableSimulator::step_condensed(const Condensed& c, double s_old, double s_new,
+                                    const double* ve) {
+  const std::vector<Compartment>& cs = axon_.compartments;
+  const std::size_t m = axon_.nodes.size();
+  // Right-hand sides of every compartment (rows as in step()), and the nodes' diagonals.
+  for (std::size_t k = 0, j = 0; k < n_; ++k) {
+    const Compartment& x = cs[k];
+    const double vm = vi_[k] - vp_[k];
+    double g, i;
+    if (is_node_[k]) {
+      i = kin_.current(vm, &gate_[k * gates_], &g) * x.area_cm2 * 1e3;
+      g *= x.area_cm2 * 1e3;
+    } else {
+      g = x.g_pas_mS;
+      i = g * (vm - x.e_pas_mV);
+    }
+    const double a = c.f[k].c_dt + g;
+    const double b = a * vm - i;
+    const double cs_dt = c.f[k].cs_dt;
+    const double e = cs_dt + x.g_sheath_mS;
+    const double f = cs_dt * (vp_[k] - s_old * ve[k]) + e * s_new * ve[k];
+    y1_[k] = b;
+    y2_[k] = f - b;
+    if (is_node_[k]) {
+      const double pi = k > 0 ? gi_link_[k - 1] : 0.0, pp = k > 0 ? gp_link_[k - 1] : 0.0;
+      nd11_[j] = a + pi + gi_link_[k] - c.s11[j];
+      nd12_[j] = -a - c.s12[j];
+      nd22_[j] = a + e + pp + gp_link_[k] - c.s22[j];
+      ++j;
+    }
+  }
+  // Each run's own solution y = T^-1 r, in place.
+  for (const Run& r : runs_) {
+    for (std::size_t k = r.p + 1; k <= r.q; ++k) {
+      const double* M = c.f[k].m;
+      y1_[k] += M[0] * y1_[k - 1] + M[1] * y2_[k - 1];
+      y2_[k] += M[2] * y1_[k - 1] + M[3] * y2_[k - 1];
+    }
+    double n1 = 0.0, n2 = 0.0;  // y at k + 1
+    for (std::size_t k = r.q + 1; k-- > r.p;) {
+      const double* d = c.f[k].dinv;
+      const double* P = c.f[k].p;
+      const double z1 = y1_[k], z2 = y2_[k];
+      double v1 = d[0] * z1 + d[1] * z2, v2 = d[1] * z1 + d[2] * z2;
+      if (k < r.q) {
+        v1 += P[0] * n1 + P[1] * n2;
+        v2 += P[2] * n1 + P[3] * n2;
+      }
+      y1_[k] = n1 = v1;
+      y2_[k] = n2 = v2;
+    }
+  }
+  // The nodes' system: B_j x_j - C_(j-1)^T x_(j-1) - C_j x_(j+1) = r_j, forward elimination.
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t k = axon_.nodes[j];
+    double r1 = y1_[k], r2 = y2_[k];
+    if (run_before_node_[j] >= 0) {
+      const std::size_t q = runs_[static_cast<std::size_t>(run_before_node_[j])].q;
+      r1 += gi_link_[q] * y1_[q];
+      r2 += gp_link_[q] * y2_[q];
+    }
+    if (run_after_node_[j] >= 0) {
+      const std::size_t p = runs_[static_cast<std::size_t>(run_after_node_[j])].p;
+      r1 += gi_link_[k] * y1_[p];
+      r2 += gp_link_[k] * y2_[p];
+    }
+    double d11 = nd11_[j], d12 = nd12_[j], d22 = nd22_[j];
+    if (j > 0) {
+      const double i11 = inv11_[j - 1], i12 = inv12_[j - 1], i22 = inv22_[j - 1];
+      const double c11 = c.c11[j - 1], c12 = c.c12[j - 1], c21 = c.c21[j - 1], c22 = c.c22[j - 1];
+      const double q11 = i11 * c11 + i12 * c21, q12 = i11 * c12 + i12 * c22;
+      const double q21 = i12 * c11 + i22 * c21, q22 = i12 * c12 + i22 * c22;
+      d11 -= c11 * q11 + c21 * q21;
+      d12 -= c11 * q12 + c21 * q22;
+      d22 -= c12 * q12 + c22 * q22;
+      const double s1 = nr1_[j - 1], s2 = nr2_[j - 1];
+      const double t1 = i11 * s1 + i12 * s2, t2 = i12 * s1 + i22 * s2;
+      r1 += c11 * t1 + c21 * t2;
+      r2 += c12 * t1 + c22 * t2;
+    }
+    const double det = d11 * d22 - d12 * d12;
+    inv11_[j] = d22 / det;
+    inv12_[j] = -d12 / det;
+    inv22_[j] = d11 / det;
+    nr1_[j] = r1;
+    nr2_[j] = r2;
+  }
+  double x1 = 0.0, x2 = 0.0;  // node j + 1
+  for (std::size_t j = m; j-- > 0;) {
+    double s1 = nr1_[j], s2 = nr2_[j];
+    if (j + 1 < m) {
+      s1 += c.c11[j] * x1 + c.c12[j] * x2;
+      s2 += c.c21[j] * x1 + c.c22[j] * x2;
+    }
+    x1 = inv11_[j] * s1 + inv12_[j] * s2;
+    x2 = inv12_[j] * s1 + inv22_[j] * s2;
+    vi_[axon_.nodes[j]] = x1;
+    vp_[axon_.nodes[j]] = x2;
+  }
+  // The passive compartments from their nodes.
+  for (const Run& r : runs_) {
+    double l1 = 0.0, l2 = 0.0, q1 = 0.0, q2 = 0.0;
+    if (r.left >= 0) {
+      const std::size_t k = axon_.nodes[static_cast<std::size_t>(r.left)];
+      l1 = vi_[k];
+      l2 = vp_[k];
+    }
+    if (r.right >= 0) {
+      const std::size_t k = axon_.nodes[static_cast<std::size_t>(r.right)];
+      q1 = vi_[k];
+      q2 = vp_[k];
+    }
+    for (std::size_t k = r.p; k <= r.q; ++k) {
+      const double* U = c.f[k].u;
+      const double* W = c.f[k].w;
+      vi_[k] = y1_[k] + U[0] * l1 + U[1] * l2 + W[0] * q1 + W[1] * q2;
+      vp_[k] = y2_[k] + U[2] * l1 + U[3] * l2 + W[2] * q1 + W[3] * q2;
+    }
+  }
+}
+
 // One step: the linear network at t + dt with the ionic conductance of the gates at t.
 void CableSimulator::step(double dt, double s_old, double s_new, const double* ve) {
   const std::vector<Compartment>& cs = axon_.compartments;
-  if (axon_.double_cable) {
+  if (const Condensed* cond = axon_.double_cable ? condensed_for(dt) : nullptr) {
+    step_condensed(*cond, s_old, s_new, ve);
+  } else if (axon_.double_cable) {
     // Unknowns per compartment: intracellular u and periaxonal w.  Rows:
     //   a (u - w) + sum gi (u - u_j)                  =  b
     //  -a (u - w) + e w + sum gp (w - w_j)            = -b + f

@@ -3,8 +3,11 @@
 // network with the ionic conductances taken from the previous step, then the gates advanced
 // by exponential Euler at the new potential (NEURON's fixed-step scheme, secondorder = 0).
 // Each step is one block-tridiagonal solve (2x2 blocks in a double cable, scalars in a
-// single one).  All storage is allocated when the simulator is built; run() allocates
-// nothing.  docs/fibres.md ("Numerics") says why this scheme.
+// single one).  In a double cable the passive compartments between two nodes are
+// eliminated first, with factors that depend on the step alone and are computed once per
+// step length; what remains is a system over the nodes (docs/fibres.md, "Numerics").  All
+// storage is allocated when the simulator is built; run() allocates nothing.
+// docs/fibres.md ("Numerics") says why this scheme.
 
 #include <cstddef>
 #include <memory>
@@ -58,6 +61,10 @@ class CableSimulator {
   SimResult run(const double* ve_unit_mV, double amplitude, const Waveform& waveform,
                 const SimOptions& options);
 
+  // Double cables: eliminate the passive compartments first (the default), or solve the
+  // whole network directly each step (the same numbers to rounding; for tests).
+  void condense(bool on) { condense_ = on; }
+
   // After run(): each node's membrane potential at the end, and its largest value.
   const std::vector<double>& final_node_mV() const { return final_node_mV_; }
   const std::vector<double>& peak_node_mV() const { return peak_node_mV_; }
@@ -71,6 +78,26 @@ class CableSimulator {
  private:
   void reset();
   void step(double dt, double ve_old_scale, double ve_new_scale, const double* ve_unit);
+  // Double cable, condensed: the factors of one step length (a slot), and the step with them.
+  struct Condensed {
+    double dt = -1.0;  // -1: empty
+    // Per passive compartment k, of its run's own tridiagonal system T (T y = r): the
+    // inverse of the eliminated diagonal block (symmetric: 11, 12, 22), the forward factor
+    // M = G(k-1) Dinv(k-1) and the backward factor P = Dinv(k) G(k) (row-major), and the
+    // responses U, W to the left and right nodes' potentials (x = y + U x_left + W x_right).
+    // Also, for every compartment, its capacitances over dt (membrane, sheath).
+    struct Factors {
+      double dinv[3], m[4], p[4], u[4], w[4];
+      double c_dt, cs_dt;
+    };
+    std::vector<Factors> f;  // per compartment (nodes' entries: c_dt and cs_dt alone)
+    // Per node j: what its runs take from its diagonal block (symmetric), and its coupling
+    // to node j+1 (row-major, the row of j): the runs' Schur complements.
+    std::vector<double> s11, s12, s22, c11, c12, c21, c22;
+  };
+  const Condensed* condensed_for(double dt);
+  void fill(Condensed& c, double dt);
+  void step_condensed(const Condensed& c, double s_old, double s_new, const double* ve);
 
   const NodeKinetics& kin_;
   Axon axon_;
@@ -80,6 +107,19 @@ class CableSimulator {
   std::vector<double> gi_link_, gp_link_;                // conductance between k and k+1
   std::vector<double> vi_, vp_, gate_;                   // state
   std::vector<double> inv11_, inv12_, inv22_, y1_, y2_;  // solver workspace
+  // Condensation (double cable): maximal runs of passive compartments, each between two
+  // nodes or between a node and an end of the fibre.
+  struct Run {
+    std::size_t p, q;  // first and last compartment
+    long left, right;  // the node (index into Axon::nodes) before p and after q, or -1
+  };
+  std::vector<Run> runs_;
+  std::vector<long> run_after_node_, run_before_node_;  // the run right of / left of node j
+  std::vector<Condensed> slots_;                        // factors of up to three step lengths
+  bool condense_ = true;
+  double candidate_dt_ = -1.0;  // a step length seen once
+  std::size_t next_slot_ = 0;
+  std::vector<double> nd11_, nd12_, nd22_, nr1_, nr2_;  // the node system, per node
   std::vector<double> final_node_mV_, peak_node_mV_, cross_ms_;
   struct Window {
     double from_ms, until_ms, dt_ms;
