@@ -89,7 +89,14 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
   auto evaluate = [&](const std::vector<double>& z) {
     const std::vector<double> w = weights_of(z);
     if (w.empty()) return std::numeric_limits<double>::infinity();
-    ThresholdReport r = compute_thresholds(setup, w, model, pulse, settings, &cache);
+    // The searches start from the best weights' thresholds (nearby weights, nearby
+    // thresholds): less work, the same answer.
+    ThresholdSettings near = settings;
+    near.start_mA.clear();
+    for (const ReceptorThreshold& t : best_r.receptors)
+      near.start_mA.push_back(t.threshold_mA.value_or(0.0));
+    ThresholdReport r = compute_thresholds(setup, w, model, pulse, near, &cache);
+    r.settings.start_mA.clear();
     ++out.evaluations;
     const double f = threshold_objective(r, target, settings.max_mA);
     if (f < best_f) {

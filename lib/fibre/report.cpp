@@ -91,9 +91,13 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
   r.pulse = pulse;
   r.settings = settings;
   r.dt_ms = time_step_ms(pulse);
-  for (const Receptor& rec : setup.receptors)
+  for (std::size_t k = 0; k < setup.receptors.size(); ++k) {
+    ThresholdSettings one = settings;
+    one.start_mA.clear();
+    if (k < settings.start_mA.size()) one.start_mA = {settings.start_mA[k]};
     r.receptors.push_back(
-        receptor_threshold(model, setup, *conductor, weights, rec, w, settings, cache));
+        receptor_threshold(model, setup, *conductor, weights, setup.receptors[k], w, one, cache));
+  }
   for (std::size_t m = 0; m < r.receptors.size(); ++m) {
     std::optional<double> other;
     for (std::size_t k = 0; k < r.receptors.size(); ++k)

@@ -89,11 +89,26 @@ class Search {
   // The lexicographic minimum of (threshold lattice point, index) over placements
   // ps[base..], given `best` over the placements before them.
   //
-  // No exception leaves a worker: each is caught there, the placements after the failing
-  // one are skipped, and the failure of the lowest placement index is rethrown here, on the
-  // caller's thread, once every worker has joined.
-  Best minimum(const std::vector<Placement>& ps, std::size_t base, Best best, long guess) {
-    std::atomic<std::size_t> next{base};
+  // No exception leaves a worker: each is caught there, the placements with a higher index
+  // than the failing one are skipped, and the failure of the lowest placement index is
+  // rethrown here, on the caller's thread, once every worker has joined.
+  //
+  // The placements are searched in the order of their activating function, the strongest
+  // first (drive()): the answer does not depend on the order, but the work does, since a
+  // placement that cannot beat the best so far costs one simulation.
+  // guess: where a search starts without a best; close: it is a threshold (of another
+  // fibre, or of nearby weights), not the default 1 mA.
+  Best minimum(const std::vector<Placement>& ps, std::size_t base, Best best, long guess,
+               bool close) {
+    std::vector<std::size_t> order(ps.size() - base);
+    std::vector<double> key(ps.size() - base);
+    for (std::size_t i = base; i < ps.size(); ++i) {
+      order[i - base] = i;
+      key[i - base] = drive(ps[i]);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return key[a - base] > key[b - base]; });
+    std::atomic<std::size_t> next{0};
     std::mutex m;
     std::exception_ptr error;
     std::size_t error_index = ps.size();
@@ -101,27 +116,30 @@ class Search {
       try {
         CableSimulator sim(model_, axon_);
         for (;;) {
-          const std::size_t i = next.fetch_add(1);
-          if (i >= ps.size()) return;
+          const std::size_t position = next.fetch_add(1);
+          if (position >= order.size()) return;
+          const std::size_t i = order[position];
           Best snap;
           long g;
+          bool near;
           {
             std::lock_guard<std::mutex> lock(m);
-            if (i > error_index) return;
+            if (i > error_index) continue;  // after a failure: skipped
             snap = best;
             g = best.found ? best.j : guess;
+            near = close || best.found;
           }
           long j;
           bool found;
           try {
-            found = search_one(sim, ps[i], i, snap, g, j);
+            found = search_one(sim, ps[i], i, snap, g, near, j);
           } catch (...) {
             std::lock_guard<std::mutex> lock(m);
             if (i < error_index) {
               error_index = i;
               error = std::current_exception();
             }
-            return;
+            continue;  // a lower index may fail too: its failure is the one reported
           }
           if (!found) continue;
           std::lock_guard<std::mutex> lock(m);
@@ -140,7 +158,7 @@ class Search {
       try {
         for (unsigned t = 0; t < n; ++t) pool.emplace_back(work);
       } catch (...) {  // no thread to be had: join those started, then report
-        next = ps.size();
+        next = order.size();
         for (auto& t : pool) t.join();
         throw;
       }
@@ -148,6 +166,25 @@ class Search {
     }
     if (error) std::rethrow_exception(error);
     return best;
+  }
+
+  // A placement's largest activating function at its nodes, either sign (a biphasic pulse
+  // drives both): the second difference of the potential, or at an end node the first.
+  double drive(const Placement& p) const {
+    const std::vector<std::size_t>& n = axon_.nodes;
+    const double* ve = p.ve_mV.data();
+    double most = 0.0;
+    for (std::size_t j = 0; j < n.size(); ++j) {
+      double af;
+      if (j == 0)
+        af = n.size() > 1 ? ve[n[1]] - ve[n[0]] : 0.0;
+      else if (j + 1 == n.size())
+        af = ve[n[j - 1]] - ve[n[j]];
+      else
+        af = ve[n[j - 1]] - 2.0 * ve[n[j]] + ve[n[j + 1]];
+      most = std::max(most, std::fabs(af));
+    }
+    return most;
   }
 
   SimResult run(CableSimulator& sim, const Placement& p, long j) {
@@ -178,19 +215,24 @@ class Search {
   // itself).  Both depend on this placement alone, not on the bracket the search started
   // from: the answer is the same whichever thread searched it, and in whatever order.
   bool search_one(CableSimulator& sim, const Placement& p, std::size_t i, const Best& best,
-                  long guess, long& out) {
+                  long guess, bool near, long& out) {
     // The largest lattice point at which firing would still beat the best.
     const long limit = !best.found ? jmax_ : (i < best.index ? best.j : best.j - 1);
     if (limit < jmin_) return false;
     long lo, hi;  // lo does not excite, hi excites
     bool hi_fired;
     const long g = best.found ? limit : std::min(std::max(guess, jmin_), limit);
+    // Galloping from g, by steps that double: from 1/32 octave (2.2 %) when g is near (a
+    // threshold: the best so far, another fibre's, nearby weights'), so that a close guess
+    // costs a few probes; else from an octave.
+    const long first_step =
+        near || best.found ? std::max(1L, lat_.per_octave / 32) : lat_.per_octave;
     Probe pg = probe(sim, p, g);
     if (pg.excited) {
       hi = g;
       hi_fired = pg.fired;
-      for (lo = g - lat_.per_octave;; lo -= lat_.per_octave) {
-        if (lo < jmin_) lo = jmin_;
+      for (long step = first_step;; step *= 2) {
+        lo = std::max(hi - step, jmin_);
         const Probe q = probe(sim, p, lo);
         if (!q.excited) break;
         hi = lo;
@@ -203,7 +245,8 @@ class Search {
     } else {
       if (g == limit) return false;  // not even excited at the limit
       lo = g;
-      for (hi = std::min(g + lat_.per_octave, limit);; hi = std::min(hi + lat_.per_octave, limit)) {
+      for (long step = first_step;; step *= 2) {
+        hi = std::min(lo + step, limit);
         const Probe q = probe(sim, p, hi);
         if (q.excited) {
           hi_fired = q.fired;
@@ -623,14 +666,21 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
     jmin = search.jmin();
     Best best;
     std::vector<Placement> all;
-    auto evaluate = [&](std::vector<Placement> ps, long guess) {
+    // Where to start: the best so far (another direction's), else the caller's guess, else
+    // 1 mA.
+    const double start_mA =
+        !s.start_mA.empty() && s.start_mA.front() > 0.0 && std::isfinite(s.start_mA.front())
+            ? std::min(s.start_mA.front(), s.max_mA)
+            : 1.0;
+    const long guess = winner.found ? winner.j : search.lattice().at_or_above(start_mA);
+    const bool near_start = winner.found || start_mA != 1.0;
+    auto evaluate = [&](std::vector<Placement> ps, long from) {
+      const bool close = best.found || near_start;
       // A round of placements, indexed after all earlier ones (which win ties).
       const std::size_t base = all.size();
       for (auto& p : ps) all.push_back(std::move(p));
-      best = search.minimum(all, base, best, guess);
+      best = search.minimum(all, base, best, from, close);
     };
-    // Where to start: the best so far (another direction's), else 1 mA.
-    const long guess = winner.found ? winner.j : search.lattice().at_or_above(1.0);
     auto vertical_placement = [&](double x, double z) {
       Placement p;
       p.vertical = true;

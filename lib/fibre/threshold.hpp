@@ -62,6 +62,10 @@ struct ThresholdSettings {
   Geometry geometry = Geometry::straight;
   AfferentShape shape;
   std::optional<int> fixed_direction;
+  // Where the first search starts, per receptor in the setup's order (a guess, such as the
+  // thresholds of nearby weights: the answer does not depend on it, only the work does).
+  // Missing or not positive: 1 mA.
+  std::vector<double> start_mA;
 };
 
 // Where and whether a receptor fired at its threshold.

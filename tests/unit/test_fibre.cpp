@@ -210,7 +210,7 @@ TEST_CASE("The condensed cable solve equals the direct one", "[fibre][mrg]") {
         swing = std::max(swing, direct.peak_node_mV()[j] - model->initial_mV());
       }
       INFO("fibre " << fibre << ", amplitude " << amplitude << ", swing " << swing);
-      CHECK(swing > 1.0);  // the field moved the membrane
+      CHECK(swing > 1.0);   // the field moved the membrane
       CHECK(worst < 1e-6);  // mV; a wrong factor moves them by mV
     }
   }
@@ -247,6 +247,27 @@ TEST_CASE("The threshold does not depend on the number of threads", "[fibre][mrg
   PaperCase p;
   const Waveform wf = pulse_waveform(200, 0, 200, false);
   CHECK(sai_threshold(p, p.w, wf, 1, 8) == sai_threshold(p, p.w, wf, 2, 8));
+}
+
+// Where a search starts (the caller's guess, near or far, on either side) changes the work,
+// not the answer: the lattice point and the placement are the same bytes.
+TEST_CASE("The threshold does not depend on where its search starts", "[fibre][mrg]") {
+  PaperCase p;
+  const Waveform wf = pulse_waveform(200, 0, 200, false);
+  ThresholdSettings s;
+  s.threads = 2;
+  s.offsets = 4;
+  const auto base = receptor_threshold(*p.model, p.setup, *p.conductor, p.w, p.sai(), wf, s);
+  REQUIRE(base.threshold_mA);
+  for (double start : {1e-3, 0.999 * *base.threshold_mA, *base.threshold_mA, 1.2, 80.0}) {
+    s.start_mA = {start};
+    const auto r = receptor_threshold(*p.model, p.setup, *p.conductor, p.w, p.sai(), wf, s);
+    INFO("start " << start << " mA");
+    REQUIRE(r.threshold_mA);
+    CHECK(*r.threshold_mA == *base.threshold_mA);
+    CHECK(r.offset_mm == base.offset_mm);
+    CHECK(r.node == base.node);
+  }
 }
 
 TEST_CASE("Strength-duration is monotone and charge-balanced pulses need more", "[fibre][mrg]") {
