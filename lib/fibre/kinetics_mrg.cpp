@@ -52,24 +52,25 @@ class MrgNode final : public NodeKinetics {
   }
 
   void advance(double v, double dt, double* g) const override {
-    Rates r = rates(v);
-    for (int k = 0; k < 4; ++k) g[k] += (1.0 - std::exp(-dt / r.tau[k])) * (r.inf[k] - g[k]);
+    Rates r = rates(v);  // 1 - exp(-dt / tau), with 1 / tau = alpha + beta
+    for (int k = 0; k < 4; ++k) g[k] += (1.0 - std::exp(-dt * r.rate[k])) * (r.inf[k] - g[k]);
   }
 
  private:
   struct Rates {
-    double inf[4], tau[4];
+    double inf[4], rate[4];  // rate = 1 / tau = alpha + beta
   };
   Rates rates(double v) const {
     Rates r{};
     auto set = [&](int k, double a, double b) {
-      if (!(a + b > 0.0) || !std::isfinite(a + b)) {         // both rates under- or overflowed
-        r.tau[k] = std::numeric_limits<double>::infinity();  // the gate holds still
+      const double sum = a + b;
+      if (!(sum > 0.0) || !std::isfinite(sum)) {  // both rates under- or overflowed:
+        r.rate[k] = 0.0;                          // the gate holds still
         r.inf[k] = 0.0;
         return;
       }
-      r.tau[k] = 1.0 / (a + b);
-      r.inf[k] = a / (a + b);
+      r.rate[k] = sum;
+      r.inf[k] = a / sum;
     };
     set(0, q10_1_ * rising(v, 0.01, 27.0, 10.2), q10_1_ * falling(v, 0.00025, 34.0, 10.0));
     set(1, q10_1_ * rising(v, 1.86, 21.4, 10.3), q10_1_ * falling(v, 0.086, 25.7, 9.16));
