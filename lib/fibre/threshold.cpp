@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <tuple>
@@ -270,8 +271,12 @@ class Search {
       out = hi;
       return true;
     }
-    // Excited at e = hi without an action potential reaching the detection nodes: gallop
-    // up to the first point that fires, then bisect back.
+    return first_firing(sim, p, hi, limit, out);
+  }
+
+  // Excited at e = hi without an action potential reaching the detection nodes: gallop up
+  // to the first point that fires, then bisect back.
+  bool first_firing(CableSimulator& sim, const Placement& p, long hi, long limit, long& out) {
     long f_lo = hi, f_hi = hi;
     for (long step = 1;; step *= 2) {
       f_hi = hi + step;
@@ -622,6 +627,24 @@ void check_threshold_work(double work, double bound, const std::string& what,
               " compartment-steps of fibre simulation, more than the bound of " +
               number_text(bound) + " (" + remedy + ")");
   }
+}
+
+std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
+                                      const std::vector<double>& ve_unit_mV,
+                                      const Waveform& waveform, const SimOptions& options,
+                                      const ThresholdSettings& settings) {
+  if (ve_unit_mV.size() != axon.compartments.size())
+    bad_input("fibre: one potential per compartment is needed");
+  Search search(model, axon, waveform, options, settings);
+  const bool near = !settings.start_mA.empty() && settings.start_mA.front() > 0.0 &&
+                    std::isfinite(settings.start_mA.front());
+  const long guess = search.lattice().at_or_above(
+      near ? std::min(settings.start_mA.front(), settings.max_mA) : 1.0);
+  std::vector<Placement> ps(1);
+  ps[0].ve_mV = ve_unit_mV;
+  const Best best = search.minimum(ps, 0, Best{}, guess, near);
+  if (!best.found || best.j < search.jmin()) return std::nullopt;
+  return search.lattice().amplitude(best.j);
 }
 
 ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,

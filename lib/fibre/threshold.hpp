@@ -159,4 +159,14 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
                                      const ThresholdSettings& settings,
                                      PotentialCache* cache = nullptr);
 
+// One fibre in a given potential (ve_unit_mV: per compartment, for 1 mA): its threshold by
+// receptor_threshold's search, on the lattice of settings.tolerance, with the options'
+// detection nodes, step and stop time, on one core; settings.start_mA (its first entry)
+// is where the search starts.  Empty: no threshold up
+// to settings.max_mA, or excitation even at the bottom of the search range.
+std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
+                                      const std::vector<double>& ve_unit_mV,
+                                      const Waveform& waveform, const SimOptions& options,
+                                      const ThresholdSettings& settings);
+
 }  // namespace tp::fibre

@@ -4,6 +4,10 @@
 // same pulse after 0.1 ms, the same detection (-20 mV at the sixth node from each end) and
 // the same bisection (from 0.05 mA, doubling, to a relative tolerance).  Used by the
 // `neuron` tests and scripts/bench, side by side with the peer.
+// With "search": "lattice", the library's own search instead (fibre_threshold: the lattice
+// of the tolerance, bracketed from 1 mA by octaves, one core), as fiber-threshold runs it:
+// a threshold within the tolerance of the bisection's, with fewer runs below threshold
+// (the costly ones: they run to the end).
 
 #include <chrono>
 #include <cmath>
@@ -19,6 +23,7 @@
 
 #include "fibre/cable.hpp"
 #include "fibre/geometry.hpp"
+#include "fibre/threshold.hpp"
 
 using namespace tp::fibre;
 using json = nlohmann::json;
@@ -125,6 +130,19 @@ int main() {
     o.tstop_ms = c.value("tstop_ms", 3.0);
     o.detect = detect;
     const double tol = c.value("tolerance", 1e-3);
+    if (c.value("search", std::string("bisection")) == "lattice") {
+      ThresholdSettings s;
+      s.tolerance = tol;
+      const auto t = fibre_threshold(*model, sim.axon(), ve, w, o, s);
+      json out;
+      out["threshold_mA"] = t ? json(*t) : json(nullptr);
+      out["time_s"] =
+          std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() *
+                     1e4) /
+          1e4;
+      std::cout << out.dump() << "\n";
+      return 0;
+    }
     double lo = 0.0, hi = 0.05;
     bool none = false;
     while (!sim.run(ve.data(), hi, w, o).fired) {

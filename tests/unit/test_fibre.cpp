@@ -175,6 +175,16 @@ TEST_CASE("MRG reproduces the NEURON peer's example", "[fibre][mrg]") {
     (sim.run(ve.data(), m, w, o).fired ? hi : lo) = m;
   }
   CHECK(hi == Approx(0.35566406).epsilon(1e-6));
+  // The library's search (lattice, galloping, one core) on the same fibre: a lattice point
+  // within the tolerance of the bisection's answer, whatever its start.
+  ThresholdSettings s;
+  for (double start : {0.0, 0.3, 5.0}) {
+    s.start_mA = {start};
+    const auto t = fibre_threshold(*model, a, ve, w, o, s);
+    REQUIRE(t);
+    CHECK(std::fabs(*t / hi - 1) <= 1e-3);
+    CHECK(*t == Approx(0.35567847).epsilon(1e-7));
+  }
 }
 
 // The condensed solve (passive runs eliminated first, factors per step length) against the
