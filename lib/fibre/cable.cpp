@@ -90,20 +90,24 @@ void CableSimulator::reset() {
     if (is_node_[k]) kin_.steady_state(v_init_, &gate_[k * gates_]);
 }
 
-// The factors of step length dt, if a slot holds them or dt is seen a second time (a step
-// cut short at a phase's edge is seen once, and takes the direct solve).
+// The factors of step length dt: from the slot that holds them, else computed into the
+// least recently used slot.  Every step of a double cable is condensed, so a run's numbers
+// depend on its inputs alone, not on what the simulator ran before (the factors are a
+// function of dt).
 const CableSimulator::Condensed* CableSimulator::condensed_for(double dt) {
   if (slots_.empty() || !condense_) return nullptr;
-  for (const Condensed& c : slots_)
-    if (c.dt == dt) return &c;
-  if (dt != candidate_dt_) {
-    candidate_dt_ = dt;
-    return nullptr;
+  ++clock_;
+  Condensed* oldest = &slots_[0];
+  for (Condensed& c : slots_) {
+    if (c.dt == dt) {
+      c.used = clock_;
+      return &c;
+    }
+    if (c.used < oldest->used) oldest = &c;
   }
-  Condensed& c = slots_[next_slot_];
-  next_slot_ = (next_slot_ + 1) % slots_.size();
-  fill(c, dt);
-  return &c;
+  fill(*oldest, dt);
+  oldest->used = clock_;
+  return oldest;
 }
 
 namespace {
@@ -469,11 +473,12 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
   std::size_t detected = 0;
   double t1 = 0.0;
   for (std::size_t n = 0;; ++n) {
-    double t0;
+    double t0, h;
     if (uniform) {  // t from the step count: no rounding accumulates
       if (n >= uniform_steps) break;
       t0 = static_cast<double>(n) * o.dt_ms;
       t1 = static_cast<double>(n + 1) * o.dt_ms;
+      h = o.dt_ms;
     } else {
       if (t1 >= o.tstop_ms - 1e-12) break;
       t0 = t1;
@@ -487,9 +492,12 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
         }
       }
       t1 = std::min(t0 + dt, edge);
+      h = t0 + dt <= edge ? dt : edge - t0;
     }
     const double s_new = amplitude * w.mean_level(t0, t1);
-    step(t1 - t0, s_old, s_new, ve);
+    // The step's length: dt itself (t1 - t0 differs from it in the last bits), or what is
+    // left before an edge.
+    step(h, s_old, s_new, ve);
     s_old = s_new;
     r.steps = n + 1;
     for (std::size_t j = 0; j < nn; ++j) {

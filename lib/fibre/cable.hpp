@@ -4,9 +4,10 @@
 // by exponential Euler at the new potential (NEURON's fixed-step scheme, secondorder = 0).
 // Each step is one block-tridiagonal solve (2x2 blocks in a double cable, scalars in a
 // single one).  In a double cable the passive compartments between two nodes are
-// eliminated first, with factors that depend on the step alone and are computed once per
-// step length; what remains is a system over the nodes (docs/fibres.md, "Numerics").  All
-// storage is allocated when the simulator is built; run() allocates nothing.
+// eliminated first, with factors that depend on the step length alone (kept for the three
+// lengths used last); what remains is a system over the nodes (docs/fibres.md,
+// "Numerics").  All storage is allocated when the simulator is built; run() allocates
+// nothing.
 // docs/fibres.md ("Numerics") says why this scheme.
 
 #include <cstddef>
@@ -81,6 +82,7 @@ class CableSimulator {
   // Double cable, condensed: the factors of one step length (a slot), and the step with them.
   struct Condensed {
     double dt = -1.0;  // -1: empty
+    unsigned long used = 0;
     // Per passive compartment k, of its run's own tridiagonal system T (T y = r): the
     // inverse of the eliminated diagonal block (symmetric: 11, 12, 22), the forward factor
     // M = G(k-1) Dinv(k-1) and the backward factor P = Dinv(k) G(k) (row-major), and the
@@ -117,8 +119,7 @@ class CableSimulator {
   std::vector<long> run_after_node_, run_before_node_;  // the run right of / left of node j
   std::vector<Condensed> slots_;                        // factors of up to three step lengths
   bool condense_ = true;
-  double candidate_dt_ = -1.0;  // a step length seen once
-  std::size_t next_slot_ = 0;
+  unsigned long clock_ = 0;                             // slots' last use
   std::vector<double> nd11_, nd12_, nd22_, nr1_, nr2_;  // the node system, per node
   std::vector<double> final_node_mV_, peak_node_mV_, cross_ms_;
   struct Window {

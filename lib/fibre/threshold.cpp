@@ -275,23 +275,27 @@ class Search {
   }
 
   // Excited at e = hi without an action potential reaching the detection nodes: gallop up
-  // to the first point that fires, then bisect back.
+  // to a point that fires, then bisect back.  Firing need not be monotone above e, so the
+  // gallop runs to the top of the search range whatever `limit` is, and the point it finds
+  // depends on e alone (not on the best so far, nor on the order of the placements); it
+  // counts only if it is at most `limit`.
   bool first_firing(CableSimulator& sim, const Placement& p, long hi, long limit, long& out) {
     long f_lo = hi, f_hi = hi;
     for (long step = 1;; step *= 2) {
       f_hi = hi + step;
-      if (f_hi > limit) {
-        if (f_lo == limit) return false;
-        f_hi = limit;
+      if (f_hi > jmax_) {
+        if (f_lo == jmax_) return false;
+        f_hi = jmax_;
       }
       if (probe(sim, p, f_hi).fired) break;
-      if (f_hi == limit) return false;
+      if (f_hi == jmax_) return false;
       f_lo = f_hi;
     }
     while (f_hi - f_lo > 1) {
       const long mid = f_lo + (f_hi - f_lo) / 2;
       (probe(sim, p, mid).fired ? f_hi : f_lo) = mid;
     }
+    if (f_hi > limit) return false;
     out = f_hi;
     return true;
   }
@@ -635,6 +639,10 @@ std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
                                       const ThresholdSettings& settings) {
   if (ve_unit_mV.size() != axon.compartments.size())
     bad_input("fibre: one potential per compartment is needed");
+  if (!(settings.tolerance >= 1e-4 && settings.tolerance <= 0.1))
+    bad_input("fibre: tolerance must be within 1e-4 to 0.1");
+  if (!(settings.max_mA > 0.0 && std::isfinite(settings.max_mA)))
+    bad_input("fibre: max_mA must be positive and finite");
   Search search(model, axon, waveform, options, settings);
   const bool near = !settings.start_mA.empty() && settings.start_mA.front() > 0.0 &&
                     std::isfinite(settings.start_mA.front());

@@ -226,6 +226,31 @@ TEST_CASE("The condensed cable solve equals the direct one", "[fibre][mrg]") {
   }
 }
 
+// A run's numbers depend on its inputs alone: on a new simulator and on one that has run
+// other pulses (other step lengths) before, the same bits.
+TEST_CASE("A run does not depend on what the simulator ran before", "[fibre][mrg]") {
+  auto model = make_fibre_model("mrg");
+  const Axon axon = model->axon(10.0, 21);
+  std::vector<double> ve(axon.compartments.size());
+  for (std::size_t k = 0; k < ve.size(); ++k)
+    ve[k] =
+        -300.0 /
+        (4 * kPi * std::hypot((axon.centre_um[k] - axon.centre_um[axon.nodes[10]]) * 1e-4, 0.05));
+  const Waveform w = pulse_waveform(200, 0, 200, false);
+  Waveform other;
+  other.phases = {{0.02, 1.0}, {0.007, 0.0}, {0.03, -1.0}};  // finer steps, cut steps
+  SimOptions o;
+  o.detect = {5, 15};  // runs that fire stop early, at different steps
+  CableSimulator fresh(*model, axon), used(*model, axon);
+  for (double a : {3.0, 0.01, 3.0}) used.run(ve.data(), a, w, o);
+  for (double a : {0.3, 3.0}) used.run(ve.data(), a, other, o);
+  for (double a : {3.0, 0.01, 3.0}) used.run(ve.data(), a, w, o);
+  fresh.run(ve.data(), 0.2, w, o);
+  used.run(ve.data(), 0.2, w, o);
+  CHECK(fresh.final_node_mV() == used.final_node_mV());
+  CHECK(fresh.peak_node_mV() == used.peak_node_mV());
+}
+
 namespace {
 struct PaperCase {
   Setup setup;
