@@ -90,6 +90,19 @@ void CableSimulator::reset() {
     if (is_node_[k]) kin_.steady_state(v_init_, &gate_[k * gates_]);
 }
 
+// Compartment k's membrane at vm: its ionic (or passive) current in uA, and the current's
+// derivative in vm, g (mS).
+double CableSimulator::membrane(std::size_t k, double vm, double& g) const {
+  const Compartment& c = axon_.compartments[k];
+  if (is_node_[k]) {
+    const double i = kin_.current(vm, &gate_[k * gates_], &g) * c.area_cm2 * 1e3;
+    g *= c.area_cm2 * 1e3;
+    return i;
+  }
+  g = c.g_pas_mS;
+  return g * (vm - c.e_pas_mV);
+}
+
 // The factors of step length dt: from the slot that holds them, else computed into the
 // least recently used slot.  Every step of a double cable is condensed, so a run's numbers
 // depend on its inputs alone, not on what the simulator ran before (the factors are a
@@ -111,6 +124,13 @@ const CableSimulator::Condensed* CableSimulator::condensed_for(double dt) {
 }
 
 namespace {
+// The inverse of the symmetric 2x2 block (d11 d12; d12 d22).
+void inverse_sym(double d11, double d12, double d22, double& i11, double& i12, double& i22) {
+  const double det = d11 * d22 - d12 * d12;
+  i11 = d22 / det;
+  i12 = -d12 / det;
+  i22 = d11 / det;
+}
 // 2x2 products, row-major: out = a b.
 void mul22(const double* a, const double* b, double* out) {
   const double o0 = a[0] * b[0] + a[1] * b[2], o1 = a[0] * b[1] + a[1] * b[3];
@@ -164,10 +184,7 @@ void CableSimulator::fill(Condensed& c, double dt) {
         f.m[2] = pp * q[1];
         f.m[3] = pp * q[2];
       }
-      const double det = d11 * d22 - d12 * d12;
-      f.dinv[0] = d22 / det;
-      f.dinv[1] = -d12 / det;
-      f.dinv[2] = d11 / det;
+      inverse_sym(d11, d12, d22, f.dinv[0], f.dinv[1], f.dinv[2]);
       const double gi = gi_link_[k], gp = gp_link_[k];
       f.p[0] = f.dinv[0] * gi;
       f.p[1] = f.dinv[1] * gp;
@@ -234,14 +251,8 @@ void CableSimulator::step_condensed(const Condensed& c, double s_old, double s_n
   for (std::size_t k = 0, j = 0; k < n_; ++k) {
     const Compartment& x = cs[k];
     const double vm = vi_[k] - vp_[k];
-    double g, i;
-    if (is_node_[k]) {
-      i = kin_.current(vm, &gate_[k * gates_], &g) * x.area_cm2 * 1e3;
-      g *= x.area_cm2 * 1e3;
-    } else {
-      g = x.g_pas_mS;
-      i = g * (vm - x.e_pas_mV);
-    }
+    double g;
+    const double i = membrane(k, vm, g);
     const double a = c.f[k].c_dt + g;
     const double b = a * vm - i;
     const double cs_dt = c.f[k].cs_dt;
@@ -306,10 +317,7 @@ void CableSimulator::step_condensed(const Condensed& c, double s_old, double s_n
       r1 += c11 * t1 + c21 * t2;
       r2 += c12 * t1 + c22 * t2;
     }
-    const double det = d11 * d22 - d12 * d12;
-    inv11_[j] = d22 / det;
-    inv12_[j] = -d12 / det;
-    inv22_[j] = d11 / det;
+    inverse_sym(d11, d12, d22, inv11_[j], inv12_[j], inv22_[j]);
     nr1_[j] = r1;
     nr2_[j] = r2;
   }
@@ -362,14 +370,8 @@ void CableSimulator::step(double dt, double s_old, double s_new, const double* v
     for (std::size_t k = 0; k < n_; ++k) {
       const Compartment& c = cs[k];
       const double vm = vi_[k] - vp_[k];
-      double g, i;
-      if (is_node_[k]) {
-        i = kin_.current(vm, &gate_[k * gates_], &g) * c.area_cm2 * 1e3;  // uA
-        g *= c.area_cm2 * 1e3;                                            // mS
-      } else {
-        g = c.g_pas_mS;
-        i = g * (vm - c.e_pas_mV);
-      }
+      double g;
+      const double i = membrane(k, vm, g);
       const double a = c.c_uF / dt + g;
       const double b = a * vm - i;
       const double cs_dt = c.c_sheath_uF / dt;
@@ -385,10 +387,7 @@ void CableSimulator::step(double dt, double s_old, double s_new, const double* v
         r1 += pi * (inv11_[k - 1] * y1_[k - 1] + inv12_[k - 1] * y2_[k - 1]);
         r2 += pp * (inv12_[k - 1] * y1_[k - 1] + inv22_[k - 1] * y2_[k - 1]);
       }
-      const double det = d11 * d22 - d12 * d12;
-      inv11_[k] = d22 / det;
-      inv12_[k] = -d12 / det;
-      inv22_[k] = d11 / det;
+      inverse_sym(d11, d12, d22, inv11_[k], inv12_[k], inv22_[k]);
       y1_[k] = r1;
       y2_[k] = r2;
       pi = ni;
@@ -413,14 +412,8 @@ void CableSimulator::step(double dt, double s_old, double s_new, const double* v
     for (std::size_t k = 0; k < n_; ++k) {
       const Compartment& c = cs[k];
       const double vm = vi_[k] - vp_[k];
-      double g, i;
-      if (is_node_[k]) {
-        i = kin_.current(vm, &gate_[k * gates_], &g) * c.area_cm2 * 1e3;
-        g *= c.area_cm2 * 1e3;
-      } else {
-        g = c.g_pas_mS;
-        i = g * (vm - c.e_pas_mV);
-      }
+      double g;
+      const double i = membrane(k, vm, g);
       const double a = c.c_uF / dt + g;
       const double ni = gi_link_[k];
       double d = a + pi + ni;

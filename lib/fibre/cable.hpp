@@ -78,6 +78,7 @@ class CableSimulator {
 
  private:
   void reset();
+  double membrane(std::size_t k, double vm_mV, double& g_mS) const;
   void step(double dt, double ve_old_scale, double ve_new_scale, const double* ve_unit);
   // Double cable, condensed: the factors of one step length (a slot), and the step with them.
   struct Condensed {
