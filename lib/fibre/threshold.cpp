@@ -633,6 +633,16 @@ void check_threshold_work(double work, double bound, const std::string& what,
   }
 }
 
+namespace {
+// The caller's guess (settings.start_mA's first entry), if it is one: positive and finite,
+// at most max_mA.
+std::optional<double> caller_start(const ThresholdSettings& s) {
+  if (s.start_mA.empty() || !(s.start_mA.front() > 0.0) || !std::isfinite(s.start_mA.front()))
+    return std::nullopt;
+  return std::min(s.start_mA.front(), s.max_mA);
+}
+}  // namespace
+
 std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
                                       const std::vector<double>& ve_unit_mV,
                                       const Waveform& waveform, const SimOptions& options,
@@ -644,10 +654,9 @@ std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
   if (!(settings.max_mA > 0.0 && std::isfinite(settings.max_mA)))
     bad_input("fibre: max_mA must be positive and finite");
   Search search(model, axon, waveform, options, settings);
-  const bool near = !settings.start_mA.empty() && settings.start_mA.front() > 0.0 &&
-                    std::isfinite(settings.start_mA.front());
-  const long guess = search.lattice().at_or_above(
-      near ? std::min(settings.start_mA.front(), settings.max_mA) : 1.0);
+  const std::optional<double> start = caller_start(settings);
+  const long guess = search.lattice().at_or_above(start.value_or(1.0));
+  const bool near = start.has_value();
   std::vector<Placement> ps(1);
   ps[0].ve_mV = ve_unit_mV;
   const Best best = search.minimum(ps, 0, Best{}, guess, near);
@@ -699,12 +708,9 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
     std::vector<Placement> all;
     // Where to start: the best so far (another direction's), else the caller's guess, else
     // 1 mA.
-    const double start_mA =
-        !s.start_mA.empty() && s.start_mA.front() > 0.0 && std::isfinite(s.start_mA.front())
-            ? std::min(s.start_mA.front(), s.max_mA)
-            : 1.0;
-    const long guess = winner.found ? winner.j : search.lattice().at_or_above(start_mA);
-    const bool near_start = winner.found || start_mA != 1.0;
+    const std::optional<double> start = caller_start(s);
+    const long guess = winner.found ? winner.j : search.lattice().at_or_above(start.value_or(1.0));
+    const bool near_start = winner.found || start.has_value();
     auto evaluate = [&](std::vector<Placement> ps, long from) {
       const bool close = best.found || near_start;
       // A round of placements, indexed after all earlier ones (which win ties).
