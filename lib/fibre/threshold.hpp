@@ -64,7 +64,7 @@ struct ThresholdSettings {
   std::optional<int> fixed_direction;
   // Where the first search starts, per receptor in the setup's order (a guess, such as the
   // thresholds of nearby weights: the answer does not depend on it, only the work does).
-  // Missing or not positive: 1 mA.
+  // Missing or not positive: the passive estimate (docs/fibres.md, "The threshold search").
   std::vector<double> start_mA;
 };
 

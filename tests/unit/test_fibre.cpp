@@ -305,6 +305,32 @@ TEST_CASE("The threshold does not depend on where its search starts", "[fibre][m
   }
 }
 
+TEST_CASE("A search without a guess starts near the threshold (the passive estimate)",
+          "[fibre][mrg]") {
+  // One fibre, thresholds from 0.11 to 28 mA (the weights scaled by powers of 2, the
+  // threshold exactly inversely), 50 us to 1 ms, with the run that locates the first node:
+  // 11 or 12 simulations from the estimate; 12 to 17 started at 1 mA by octaves (5 of the
+  // 9 above 13).
+  PaperCase p;
+  ThresholdSettings s;
+  s.threads = 1;
+  s.fixed_offset_mm = 0.0;
+  for (double width : {50.0, 200.0, 1000.0}) {
+    const Waveform wf = pulse_waveform(width, 0, width, false);
+    std::optional<double> reference;
+    for (double scale : {1.0 / 8, 1.0, 8.0}) {
+      CAPTURE(width, scale);
+      std::vector<double> w;
+      for (double x : p.w) w.push_back(scale * x);
+      const auto r = receptor_threshold(*p.model, p.setup, *p.conductor, w, p.sai(), wf, s);
+      REQUIRE(r.threshold_mA);
+      if (!reference) reference = *r.threshold_mA * scale;
+      CHECK(*r.threshold_mA * scale == *reference);
+      CHECK(r.simulations <= 13);
+    }
+  }
+}
+
 TEST_CASE("Strength-duration is monotone and charge-balanced pulses need more", "[fibre][mrg]") {
   PaperCase p;
   double last = 1e9;
