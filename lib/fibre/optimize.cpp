@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "model/conductor.hpp"
 
 namespace tp::fibre {
 
@@ -70,49 +71,21 @@ void check_search_work(const Setup& setup, const FibreModel& model, const PulseS
       "or pulse");
 }
 
-ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
-                                    const std::vector<double>& af, const FibreModel& model,
-                                    const PulseSpec& pulse, const ThresholdSettings& settings,
-                                    const ThresholdSearchOptions& opt) {
-  const std::size_t n = af.size();
-  if (n < 2) bad_input("array: optimisation needs at least 2 electrodes");
-  check_search_work(setup, model, pulse, settings, opt);
-  PotentialCache cache;
-  ThresholdOptimum out;
-  out.start = compute_thresholds(setup, af, model, pulse, settings, &cache);
-  out.evaluations = 1;
-  const double f0 = threshold_objective(out.start, target, settings.max_mA);
-  std::vector<double> best_w = af;
-  ThresholdReport best_r = out.start;
-  double best_f = f0;
+namespace {
 
-  auto evaluate = [&](const std::vector<double>& z) {
-    const std::vector<double> w = weights_of(z);
-    if (w.empty()) return std::numeric_limits<double>::infinity();
-    // The searches start from the best weights' thresholds (nearby weights, nearby
-    // thresholds): less work, the same answer.
-    ThresholdSettings near = settings;
-    near.start_mA.clear();
-    for (const ReceptorThreshold& t : best_r.receptors)
-      near.start_mA.push_back(t.threshold_mA.value_or(0.0));
-    ThresholdReport r = compute_thresholds(setup, w, model, pulse, near, &cache);
-    r.settings.start_mA.clear();
-    ++out.evaluations;
-    const double f = threshold_objective(r, target, settings.max_mA);
-    if (f < best_f) {
-      best_f = f;
-      best_w = w;
-      best_r = std::move(r);
-    }
-    return f;
-  };
+// Stand-in evaluations per free weight in a round (optimize_threshold).
+constexpr std::size_t kGuesses = 30;
 
-  // The simplex: the AF optimum and one step along each free weight.
-  const std::size_t d = n - 1;
-  std::vector<std::vector<double>> x(d + 1, std::vector<double>(af.begin(), af.end() - 1));
+// Nelder-Mead from x0 (whose value is f0), a first simplex of one step along each
+// coordinate, until the simplex is smaller than 1e-3 or count() reaches cap.
+template <class F, class C>
+void nelder_mead(const std::vector<double>& x0, double f0, double initial_step, std::size_t cap,
+                 F&& evaluate, C&& count) {
+  const std::size_t d = x0.size();
+  std::vector<std::vector<double>> x(d + 1, x0);
   std::vector<double> f(d + 1, f0);
-  for (std::size_t k = 0; k < d && out.evaluations < opt.max_evaluations; ++k) {
-    x[k + 1][k] += x[k + 1][k] > 0 ? -opt.initial_step : opt.initial_step;
+  for (std::size_t k = 0; k < d && count() < cap; ++k) {
+    x[k + 1][k] += x[k + 1][k] > 0 ? -initial_step : initial_step;
     f[k + 1] = evaluate(x[k + 1]);
   }
   std::vector<std::size_t> order(d + 1);
@@ -121,7 +94,7 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
     for (std::size_t i = 0; i < d; ++i) r[i] = c[i] + t * (p[i] - c[i]);
     return r;
   };
-  while (out.evaluations + 2 <= opt.max_evaluations) {
+  while (count() + 2 <= cap) {
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return f[a] < f[b]; });
@@ -157,13 +130,122 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
         x[hi] = xc;
         f[hi] = fc;
       } else {  // shrink towards the best
-        for (std::size_t k = 0; k <= d && out.evaluations < opt.max_evaluations; ++k) {
+        for (std::size_t k = 0; k <= d && count() < cap; ++k) {
           if (k == lo) continue;
           x[k] = point(x[lo], x[k], 0.5);
           f[k] = evaluate(x[k]);
         }
       }
     }
+  }
+}
+
+}  // namespace
+
+ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
+                                    const std::vector<double>& af, const FibreModel& model,
+                                    const PulseSpec& pulse, const ThresholdSettings& settings,
+                                    const ThresholdSearchOptions& opt) {
+  const std::size_t n = af.size();
+  if (n < 2) bad_input("array: optimisation needs at least 2 electrodes");
+  check_search_work(setup, model, pulse, settings, opt);
+  PotentialCache cache;
+  ThresholdOptimum out;
+  out.start = compute_thresholds(setup, af, model, pulse, settings, &cache);
+  out.evaluations = 1;
+  const double f0 = threshold_objective(out.start, target, settings.max_mA);
+  // The best weights a whole search has seen (z: the free weights).
+  std::vector<double> best_z(af.begin(), af.end() - 1), best_w = af;
+  ThresholdReport best_r = out.start;
+  double best_f = f0;
+  // A whole search at z, started from the best's thresholds (nearby weights, nearby
+  // thresholds: less work, the same answer); keeps the best.
+  auto search = [&](const std::vector<double>& z, ThresholdReport& r) {
+    const std::vector<double> w = weights_of(z);
+    if (w.empty()) return std::numeric_limits<double>::infinity();
+    ThresholdSettings near = settings;
+    near.start_mA.clear();
+    for (const ReceptorThreshold& t : best_r.receptors)
+      near.start_mA.push_back(t.threshold_mA.value_or(0.0));
+    r = compute_thresholds(setup, w, model, pulse, near, &cache);
+    r.settings.start_mA.clear();
+    ++out.evaluations;
+    const double f = threshold_objective(r, target, settings.max_mA);
+    if (f < best_f) {
+      best_f = f;
+      best_z = z;
+      best_w = w;
+      best_r = r;
+    }
+    return f;
+  };
+
+  // 1. Rounds on the stand-ins (threshold.hpp: LinearStandIn), each calibrated by the whole
+  //    searches so far: Nelder-Mead on the stand-ins' ratio from the best (kGuesses x n
+  //    stand-in evaluations at most), then a whole search at its best.  A round that finds
+  //    nothing better halves the first simplex's step; the rounds end below 1/16 of it.
+  const std::size_t m = setup.receptors.size();
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  const Waveform waveform = pulse.waveform(settings.delay_ms);
+  ThresholdSettings fine = settings;
+  fine.dt_ms = 0.005;  // as compute_thresholds()
+  std::vector<LinearStandIn> stand;
+  for (std::size_t k = 0; k < m; ++k)
+    stand.emplace_back(model, setup, *conductor, setup.receptors[k], waveform, fine);
+  auto calibrate = [&](const ThresholdReport& r, const std::vector<double>& w) {
+    for (std::size_t k = 0; k < m; ++k) stand[k].calibrate(r.receptors[k], w, cache);
+  };
+  calibrate(out.start, af);
+  std::size_t guesses = 0;
+  std::vector<double> guide_z;
+  double guide_f = 0.0;
+  auto guess = [&](const std::vector<double>& z) {
+    ++guesses;
+    const std::vector<double> w = weights_of(z);
+    if (w.empty()) return std::numeric_limits<double>::infinity();
+    std::vector<double> t(m);
+    for (std::size_t k = 0; k < m; ++k) t[k] = stand[k].threshold_mA(w);
+    // As threshold_objective(): none above max_mA.
+    if (!(t[target] <= settings.max_mA)) return std::numeric_limits<double>::infinity();
+    double other = settings.max_mA;
+    for (std::size_t k = 0; k < m; ++k)
+      if (k != target) other = std::min(other, t[k]);
+    const double f = t[target] / other;
+    if (f < guide_f) {
+      guide_f = f;
+      guide_z = z;
+    }
+    return f;
+  };
+  auto guessed = [&] { return guesses; };
+  for (double step = opt.initial_step;
+       out.evaluations < opt.max_evaluations && step >= opt.initial_step / 16;) {
+    guesses = 0;
+    guide_z = best_z;
+    guide_f = std::numeric_limits<double>::infinity();
+    nelder_mead(best_z, guess(best_z), step, kGuesses * n, guess, guessed);
+    if (guide_z == best_z) {
+      step /= 2;
+      continue;
+    }
+    const std::vector<double> z = guide_z;
+    ThresholdReport r;
+    const double before = best_f;
+    search(z, r);
+    ++out.rounds;
+    calibrate(r, weights_of(z));
+    if (!(best_f < before)) step /= 2;
+  }
+
+  // 2. Nelder-Mead on whole searches from the best, with the evaluations left (at least a
+  //    first simplex's worth).
+  if (out.evaluations + n <= opt.max_evaluations) {
+    const std::vector<double> z0 = best_z;
+    ThresholdReport scratch;
+    nelder_mead(
+        z0, best_f, opt.initial_step, opt.max_evaluations,
+        [&](const std::vector<double>& z) { return search(z, scratch); },
+        [&] { return out.evaluations; });
   }
   out.improved = best_f < f0;
   out.weights = out.improved ? best_w : af;

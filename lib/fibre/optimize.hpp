@@ -1,11 +1,15 @@
 #pragma once
 // Weights chosen by threshold: minimise threshold_ratio of a mode (its receptor's threshold
-// over the lowest other receptor's) from the AF optimum, by a Nelder-Mead search over the
-// weights with Sum w = 0 (docs/fibres.md, "Weights by threshold").  The thresholds are
-// points of an amplitude lattice and minima over node alignments, so the objective is
-// piecewise constant: no gradient to follow, hence a derivative-free search.  The search is
-// bounded by a number of evaluations (not by time, so the result is the same on any
-// machine) and never returns weights worse than the AF optimum it starts from.
+// over the lowest other receptor's) from the AF optimum, over the weights with Sum w = 0
+// (docs/fibres.md, "Weights by threshold").  The thresholds are points of an amplitude
+// lattice and minima over placements, so the objective is piecewise constant: no gradient
+// to follow, hence Nelder-Mead, derivative-free.  A whole search (every receptor's
+// threshold) costs about a hundred simulations, so the search works mostly on stand-ins
+// (LinearStandIn: a fibre's linear response, calibrated by the whole searches) and makes a
+// whole search only to check the stand-ins' best; the whole searches left, if any, polish
+// by Nelder-Mead on whole searches.  It is bounded by a number of whole searches (not by
+// time, so the result is the same on any machine) and returns the best weights a whole
+// search found: never worse than the AF optimum it starts from.
 
 #include <cstddef>
 #include <string>
@@ -16,16 +20,17 @@
 namespace tp::fibre {
 
 struct ThresholdSearchOptions {
-  std::size_t max_evaluations = 120;  // threshold evaluations (each: every receptor)
-  double initial_step = 0.25;         // the first simplex's size, in weight units
+  std::size_t max_evaluations = 12;  // whole searches (each: every receptor's threshold)
+  double initial_step = 0.25;        // the first simplex's size, in weight units
 };
 
 struct ThresholdOptimum {
   std::vector<double> weights;  // Sum = 0 (to rounding), max |w| = 1
   ThresholdReport report;       // at the weights
   ThresholdReport start;        // at the AF optimum
-  std::size_t evaluations = 0;
-  bool improved = false;  // false: the AF optimum is returned
+  std::size_t evaluations = 0;  // whole searches (each: every receptor's threshold)
+  std::size_t rounds = 0;       // of them, checks of the stand-ins' best
+  bool improved = false;        // false: the AF optimum is returned
 };
 
 // target: the receptor index of the mode; af_weights: the AF optimum (Sum = 0, max |w| = 1).

@@ -74,6 +74,16 @@ struct Best {
   bool beats(long jj, std::size_t ii) const { return !found || jj < j || (jj == j && ii < index); }
 };
 
+// The depolarisation at the end of a pulse at which an MRG node fires, about (the passive
+// estimate, Search::estimate): 4.3 + 5.3 / sqrt(the longest phase in ms) mV; 0 for a
+// waveform without a phase.
+double passive_k_mV(const Waveform& w) {
+  double longest = 0.0;
+  for (const Waveform::Phase& ph : w.phases)
+    if (ph.level != 0.0) longest = std::max(longest, ph.duration_ms);
+  return longest > 0.0 ? 4.3 + 5.3 / std::sqrt(longest) : 0.0;
+}
+
 class Search {
  public:
   Search(const FibreModel& model, const Axon& axon, const Waveform& w, const SimOptions& o,
@@ -217,10 +227,8 @@ class Search {
   std::optional<long> estimate(CableSimulator& sim, const Placement& p) {
     const double a0 = 1.0 / drive(p);
     if (!std::isfinite(a0) || !(a0 > 0.0)) return std::nullopt;
-    double longest = 0.0;
-    for (const Waveform::Phase& ph : w_.phases)
-      if (ph.level != 0.0) longest = std::max(longest, ph.duration_ms);
-    if (!(longest > 0.0)) return std::nullopt;
+    const double k_mV = passive_k_mV(w_);
+    if (!(k_mV > 0.0)) return std::nullopt;
     SimOptions o = o_;
     o.tstop_ms = std::min(o_.tstop_ms, w_.end_ms() + 0.05);
     o.detect.clear();
@@ -229,7 +237,7 @@ class Search {
     double dv = 0.0;
     for (double v : sim.peak_node_mV()) dv = std::max(dv, v - model_.initial_mV());
     if (!(dv > 1e-9)) return std::nullopt;
-    const double a = a0 * (4.3 + 5.3 / std::sqrt(longest)) / dv;
+    const double a = a0 * k_mV / dv;
     if (!std::isfinite(a) || a > lat_.amplitude(jmax_)) return jmax_;
     if (a < lat_.amplitude(jmin_)) return jmin_;
     return lat_.at_or_above(a);
@@ -360,6 +368,11 @@ std::vector<double> potentials_mV(const Conductor& c, const std::vector<double>&
 }
 
 }  // namespace
+
+bool Spot::operator==(const Spot& o) const {
+  return direction == o.direction && x0_mm == o.x0_mm && y0_mm == o.y0_mm && z0_mm == o.z0_mm &&
+         offset_mm == o.offset_mm;
+}
 
 bool PotentialCache::Key::operator<(const Key& o) const {
   return std::tie(model, path, diameter_um, x0_mm, y0_mm, z0_mm, compartments, vertical, three_d) <
@@ -834,6 +847,8 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
       }
     }
     out.placements += all.size();
+    for (const Placement& q : all)
+      out.tried.push_back({f.directions[fi], q.x0_mm, q.y0_mm, q.z0_mm, q.offset_mm});
     simulations += search.simulations();
     if (best.found && (!winner.found || best.j < winner.j)) {
       winner.found = true;
@@ -862,6 +877,7 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   out.threshold_mA = lattice.amplitude(winner.j);
   out.offset_mm = p.offset_mm;
   out.direction = f.directions[winner.fibre];
+  out.spot = {out.direction, p.x0_mm, p.y0_mm, p.z0_mm, p.offset_mm};
   out.node = res.first_node;
   {
     const std::size_t last = axon.nodes.size() - 1;
@@ -878,6 +894,111 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   }
   out.z_mm = p.z0_mm;
   return out;
+}
+
+LinearStandIn::LinearStandIn(const FibreModel& model, const Setup& setup,
+                             const Conductor& conductor, const Receptor& receptor,
+                             const Waveform& waveform, const ThresholdSettings& settings)
+    : model_(model),
+      setup_(setup),
+      conductor_(conductor),
+      receptor_(receptor),
+      waveform_(waveform),
+      settings_(settings),
+      k_mV_(passive_k_mV(waveform)) {}
+
+void LinearStandIn::add(const std::vector<Spot>& spots, PotentialCache& cache) {
+  const FibreRun f = fibre_run(model_, setup_, conductor_, receptor_, waveform_, settings_);
+  const bool vertical = receptor_.fibre.orientation == Orientation::vertical;
+  const bool two_d = setup_.array.two_d();
+  const std::size_t n = setup_.array.size();
+  SimOptions o;
+  o.dt_ms = settings_.dt_ms;
+  o.tstop_ms = std::min(f.tstop_ms, waveform_.end_ms() + 0.05);
+  // Room for every other step, finer windows included (a tenth of dt: ten times the steps);
+  // a run that outgrows it stops recording, at the same step for every electrode.
+  const auto steps = static_cast<std::size_t>(std::ceil(o.tstop_ms / o.dt_ms)) + 1;
+  std::vector<double> trace, unit(n, 0.0);
+  for (const Spot& at : spots) {
+    if (std::find(spots_.begin(), spots_.end(), at) != spots_.end()) continue;
+    const auto fi = static_cast<std::size_t>(
+        std::find(f.directions.begin(), f.directions.end(), at.direction) - f.directions.begin());
+    if (fi >= f.axons.size()) continue;
+    const Axon& axon = f.axons[fi];
+    const std::size_t nodes = axon.nodes.size();
+    const std::size_t room = 5 * steps * (nodes + 1);
+    // Bounded: past kMaxPotentials values the stand-in takes no more placements (it guides,
+    // the whole searches decide).
+    if (static_cast<double>(stored_ + room / (nodes + 1) * nodes * n) > kMaxPotentials) break;
+    CableSimulator sim(model_, axon);
+    std::vector<std::vector<double>> per_electrode(n);
+    std::size_t samples = 0;
+    for (std::size_t e = 0; e < n; ++e) {
+      std::fill(unit.begin(), unit.end(), 0.0);
+      unit[e] = 1.0;
+      const std::vector<double> ve = potentials_mV(conductor_, unit, axon, at.x0_mm, at.y0_mm,
+                                                   vertical, at.z0_mm, two_d, cache);
+      double most = 0.0;  // the largest activating function at a node, either sign
+      for (std::size_t j = 1; j + 1 < nodes; ++j)
+        most = std::max(most, std::fabs(ve[axon.nodes[j - 1]] - 2.0 * ve[axon.nodes[j]] +
+                                        ve[axon.nodes[j + 1]]));
+      if (nodes > 1)
+        most = std::max({most, std::fabs(ve[axon.nodes[1]] - ve[axon.nodes[0]]),
+                         std::fabs(ve[axon.nodes[nodes - 2]] - ve[axon.nodes[nodes - 1]])});
+      if (!(most > 0.0) || !std::isfinite(most)) continue;  // no field: no response
+      const double a0 = 1.0 / most;                         // 1 mV of activating function: linear
+      trace.clear();
+      trace.reserve(room);
+      sim.record(&trace, 2);  // every other step: the peak moves little between them
+      sim.run(ve.data(), a0, waveform_, o);
+      sim.record(nullptr, 2);
+      std::vector<double>& r = per_electrode[e];
+      for (std::size_t t = 0; t + nodes + 1 <= trace.size(); t += nodes + 1)
+        for (std::size_t j = 0; j < nodes; ++j)
+          r.push_back((trace[t + 1 + j] - model_.initial_mV()) / a0);
+      samples = std::max(samples, r.size());
+    }
+    std::vector<double> response(samples * n, 0.0);  // samples x electrodes
+    for (std::size_t e = 0; e < n; ++e)
+      for (std::size_t q = 0; q < per_electrode[e].size(); ++q)
+        response[q * n + e] = per_electrode[e][q];
+    stored_ += response.size();
+    spots_.push_back(at);
+    scale_.push_back(0.0);
+    response_.push_back(std::move(response));
+  }
+}
+
+double LinearStandIn::raw_mA(std::size_t i, const std::vector<double>& w) const {
+  const std::size_t n = w.size();
+  const std::vector<double>& r = response_[i];
+  double most = 0.0;
+  for (std::size_t q = 0; q + n <= r.size(); q += n) {
+    double v = 0.0;
+    for (std::size_t e = 0; e < n; ++e) v += w[e] * r[q + e];
+    most = std::max(most, v);
+  }
+  return most > 0.0 ? k_mV_ / most : std::numeric_limits<double>::infinity();
+}
+
+double LinearStandIn::threshold_mA(const std::vector<double>& w) const {
+  double least = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < response_.size(); ++i)
+    least = std::min(least, (scale_[i] > 0.0 ? scale_[i] : default_scale_) * raw_mA(i, w));
+  return least;
+}
+
+void LinearStandIn::calibrate(const ReceptorThreshold& exact, const std::vector<double>& w,
+                              PotentialCache& cache) {
+  add(exact.tried, cache);
+  if (!exact.threshold_mA) return;
+  add({exact.spot}, cache);
+  const auto i = static_cast<std::size_t>(std::find(spots_.begin(), spots_.end(), exact.spot) -
+                                          spots_.begin());
+  if (i >= spots_.size()) return;
+  const double raw = raw_mA(i, w);
+  if (!(raw > 0.0) || !std::isfinite(raw)) return;
+  scale_[i] = default_scale_ = *exact.threshold_mA / raw;
 }
 
 }  // namespace tp::fibre

@@ -40,6 +40,15 @@
 
 namespace tp::fibre {
 
+// Where a fibre lay in a search: its direction, first node and node alignment.
+struct Spot {
+  int direction = 0;                // an afferent's stem, -1 or +1; else 0
+  double x0_mm = 0.0, y0_mm = 0.0;  // the first node (a vertical fibre's top)
+  double z0_mm = 0.0;               // 2-D arrays: the fibre's z
+  double offset_mm = 0.0;           // horizontal: the node alignment
+  bool operator==(const Spot& o) const;
+};
+
 struct ThresholdSettings {
   double tolerance = 1e-3;            // relative lattice step, 1e-4 to 0.1
   double max_mA = 100.0;              // no threshold below this: the fibre "does not fire"
@@ -83,6 +92,8 @@ struct ReceptorThreshold {
   // vertical fibre's terminal nor an afferent's ending): the threshold then depends on
   // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").
   bool at_cut_end = false;
+  Spot spot;                   // the placement that gave the threshold
+  std::vector<Spot> tried;     // every placement tried
   std::size_t placements = 0;  // fibre positions tried
   std::size_t simulations = 0;
 };
@@ -158,6 +169,45 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
                                      const Receptor& receptor, const Waveform& waveform,
                                      const ThresholdSettings& settings,
                                      PotentialCache* cache = nullptr);
+
+// A stand-in for one receptor's threshold, cheap to evaluate for any weights (optimize.cpp):
+// the passive estimate (docs/fibres.md, "The threshold search") over a set of placements.
+// Far below threshold a fibre responds linearly, so its response to each electrode alone,
+// recorded at its nodes from the pulse's start to 0.05 ms after the waveform, gives its
+// response to any weights by superposition; the stand-in is K / the largest depolarisation
+// over the placements, nodes and times, per mA.  Within tens of per cent of the threshold,
+// not on its lattice: a guide for a search, never an answer.
+class LinearStandIn {
+ public:
+  LinearStandIn(const FibreModel& model, const Setup& setup, const Conductor& conductor,
+                const Receptor& receptor, const Waveform& waveform,
+                const ThresholdSettings& settings);
+  // Adds the placements not yet held.
+  void add(const std::vector<Spot>& spots, PotentialCache& cache);
+  // In mA; +infinity when nothing depolarises.
+  double threshold_mA(const std::vector<double>& weights) const;
+  // A whole search's answer at weights: its placement's estimate is scaled to it from now
+  // on, and so are the placements that never gave one (adding it first if needed).
+  void calibrate(const ReceptorThreshold& exact, const std::vector<double>& weights,
+                 PotentialCache& cache);
+  std::size_t placements() const { return spots_.size(); }
+
+ private:
+  const FibreModel& model_;
+  const Setup& setup_;
+  const Conductor& conductor_;
+  const Receptor& receptor_;
+  const Waveform& waveform_;
+  ThresholdSettings settings_;
+  double k_mV_;
+  std::vector<Spot> spots_;
+  std::vector<double> scale_;  // per placement; 0: default_scale_
+  std::size_t stored_ = 0;     // values in response_
+  double default_scale_ = 1.0;
+  double raw_mA(std::size_t placement, const std::vector<double>& weights) const;
+  // Per placement: samples (node, time) x electrodes, the depolarisation (mV per mA).
+  std::vector<std::vector<double>> response_;
+};
 
 // One fibre in a given potential (ve_unit_mV: per compartment, for 1 mA): its threshold by
 // receptor_threshold's search, on the lattice of settings.tolerance, with the options'

@@ -15,3 +15,9 @@ jq -e --slurpfile t t.json '.threshold_ratio.SAI == $t[0].threshold_ratio.SAI' a
   fail "fiber-threshold disagrees: $(jq .threshold_ratio.SAI t.json)"
 grep -q "threshold ratio .* (AF optimum: " err.txt || fail "stderr: $(cat err.txt)"
 echo "ok: $(cat err.txt)"
+# More whole searches follow the same path further (the polish on whole searches): never a
+# higher ratio, and never more searches than allowed.
+optimize-weights --mode SAI --objective threshold --max-evaluations 24 > c.json 2>/dev/null
+jq -e --slurpfile a a.json '.threshold_search.evaluations <= 24 and
+  .threshold_ratio.SAI <= $a[0].threshold_ratio.SAI' c.json >/dev/null ||
+  fail "24 whole searches: $(jq -c '[.threshold_search, .threshold_ratio.SAI]' c.json)"
