@@ -356,26 +356,52 @@ class Tables {
     u = static_cast<double>(key[0]) * 1e-9;
     v = static_cast<double>(key[1]) * 1e-9;
     y = static_cast<double>(key[2]) * 1e-9;
+    // Under the lock: the memo, and the r-tiles the integral reaches, built if need be and
+    // copied out; the integral itself runs outside it, so that threads integrate at once.
+    const double a1 = u - 0.5 * w_, a2 = u + 0.5 * w_, b1 = v - 0.5 * l_, b2 = v + 0.5 * l_;
+    auto nearest = [](double lo, double hi) { return lo > 0.0 ? lo : hi < 0.0 ? -hi : 0.0; };
+    const double r_lo = std::hypot(nearest(a1, a2), nearest(b1, b2));
+    const double r_hi =
+        std::hypot(std::max(std::fabs(a1), std::fabs(a2)), std::max(std::fabs(b1), std::fabs(b2)));
+    RTable* rt = nullptr;
+    long m0 = 0;
+    std::vector<std::array<double, kNr>> local;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (const auto it = potential_memo_.find(key); it != potential_memo_.end()) return it->second;
+      rt = &rtable(y);
+      m0 = r_lattice_.index(r_lo);
+      const long m1 = r_lattice_.index(r_hi);
+      for (long m = m0; m <= m1; ++m) {
+        const auto mi = static_cast<std::size_t>(m);
+        if (rt->have_pot.size() <= mi || !rt->have_pot[mi]) fill(*rt, m, true);
+        local.push_back(rt->pot[mi]);
+      }
+    }
+    // The same tiles and the same arithmetic as RTable::eval: the same value.  A point the
+    // rounding puts past the range is evaluated under the lock.
+    auto eval = [&](double r) {
+      const long m = r_lattice_.index(r);
+      if (m < m0 || m - m0 >= static_cast<long>(local.size())) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return rt->eval(*this, r, true);
+      }
+      const double r0 = r_lattice_.at(m), r1 = r_lattice_.at(m + 1);
+      return Chebyshev<kNr>::eval(local[static_cast<std::size_t>(m - m0)].data(),
+                                  (2.0 * r - r0 - r1) / (r1 - r0));
+    };
+    const double s = stack_.remainder_distance(y);
+    const double total = graded_integral(a1, a2, s, [&](double a) {
+      return graded_integral(b1, b2, s, [&](double b) { return eval(std::hypot(a, b)); });
+    });
+    const double value = total / (w_ * l_);
     std::lock_guard<std::mutex> lock(mutex_);
-    if (const auto it = potential_memo_.find(key); it != potential_memo_.end()) return it->second;
-    const double value = remainder_potential_at(u, v, y);
     if (potential_memo_.size() >= kPotentialMemo) potential_memo_.clear();  // bounded
     potential_memo_.emplace(key, value);
     return value;
   }
 
  private:
-  double remainder_potential_at(double u, double v, double y) {
-    const double s = stack_.remainder_distance(y);
-    const double b1 = v - 0.5 * l_, b2 = v + 0.5 * l_;
-    RTable& rt = rtable(y);
-    const double total = graded_integral(u - 0.5 * w_, u + 0.5 * w_, s, [&](double a) {
-      return graded_integral(b1, b2, s,
-                             [&](double b) { return rt.eval(*this, std::hypot(a, b), true); });
-    });
-    return total / (w_ * l_);
-  }
-
   double layer_a_min(std::size_t k, double t0, double t1) const {
     return std::min(stack_.remainder_distance_in(k, t0), stack_.remainder_distance_in(k, t1));
   }
