@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
   tp::cli::add_fibre_options(*fibre_group, fibre, "--fibre-model");
   fibre_group
       ->add_option("--max-evaluations", max_evaluations,
-                   "Whole threshold searches, 10 to 10000 [12: 3 to 4 s on 2 cores for "
+                   "Whole threshold searches, 10 to 10000 [12: about 3 s on 2 cores for "
                    "the paper's array; more polish by Nelder-Mead on whole searches, about "
                    "0.2 s each]")
       ->check(CLI::Range(10, 10000))

@@ -181,7 +181,7 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
   };
 
   // 1. Rounds on the stand-ins (threshold.hpp: LinearStandIn), each calibrated by the whole
-  //    searches so far: Nelder-Mead on the stand-ins' ratio from the best (kGuesses x n
+  //    searches so far: Nelder-Mead on the stand-ins' ratio from the best (kGuesses x n - 1
   //    stand-in evaluations at most), then a whole search at its best.  A round that finds
   //    nothing better halves the first simplex's step; the rounds end below 1/16 of it.
   const std::size_t m = setup.receptors.size();
@@ -223,7 +223,7 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
     guesses = 0;
     guide_z = best_z;
     guide_f = std::numeric_limits<double>::infinity();
-    nelder_mead(best_z, guess(best_z), step, kGuesses * n, guess, guessed);
+    nelder_mead(best_z, guess(best_z), step, kGuesses * (n - 1), guess, guessed);
     if (guide_z == best_z) {
       step /= 2;
       continue;

@@ -108,7 +108,8 @@ class Search {
   // first (drive()): the answer does not depend on the order, but the work does, since a
   // placement that cannot beat the best so far costs one simulation.
   // guess: where a search starts without a best; close: it is a threshold (of another
-  // fibre, or of nearby weights), not the default 1 mA.
+  // fibre, or of nearby weights); not close: the passive estimate, if there is one, else
+  // guess (1 mA).
   Best minimum(const std::vector<Placement>& ps, std::size_t base, Best best, long guess,
                bool close) {
     std::vector<std::size_t> order(ps.size() - base);
@@ -755,7 +756,7 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
     Best best;
     std::vector<Placement> all;
     // Where to start: the best so far (another direction's), else the caller's guess, else
-    // 1 mA.
+    // the passive estimate (Search::estimate; 1 mA without one).
     const std::optional<double> start = caller_start(s);
     const long guess = winner.found ? winner.j : search.lattice().at_or_above(start.value_or(1.0));
     const bool near_start = winner.found || start.has_value();
@@ -915,10 +916,31 @@ void LinearStandIn::add(const std::vector<Spot>& spots, PotentialCache& cache) {
   SimOptions o;
   o.dt_ms = settings_.dt_ms;
   o.tstop_ms = std::min(f.tstop_ms, waveform_.end_ms() + 0.05);
-  // Room for every other step, finer windows included (a tenth of dt: ten times the steps);
-  // a run that outgrows it stops recording, at the same step for every electrode.
-  const auto steps = static_cast<std::size_t>(std::ceil(o.tstop_ms / o.dt_ms)) + 1;
-  std::vector<double> trace, unit(n, 0.0);
+  // The steps of a run, at most: dt's, and each short phase's window at its finer step
+  // (CableSimulator::run's schedule).
+  double steps = std::ceil(o.tstop_ms / o.dt_ms) + 2.0;
+  for (const Waveform::Phase& ph : waveform_.phases)
+    if (ph.duration_ms < o.short_phase_ms && ph.level != 0.0 && ph.duration_ms > 0.0)
+      steps += std::ceil((ph.duration_ms + 0.1) /
+                         std::max(o.min_dt_ms, std::min(o.dt_ms, ph.duration_ms / 10.0))) +
+               1.0;
+  std::vector<double> unit(n, 0.0);
+  // A run at zero amplitude: where the nodes drift without a field (the resting state is
+  // not exactly steady), taken off every response before it is scaled.
+  std::vector<std::vector<double>> rest(f.axons.size());
+  auto record = [&](CableSimulator& sim, const double* ve, double amplitude) {
+    const std::size_t nodes = sim.axon().nodes.size();
+    std::vector<double> trace;
+    trace.reserve(static_cast<std::size_t>(steps / 2.0 + 2.0) * (nodes + 1));
+    sim.record(&trace, 2);  // every other step: the peak moves little between them
+    sim.run(ve, amplitude, waveform_, o);
+    sim.record(nullptr, 2);
+    std::vector<double> v;  // (time, node), without the times
+    for (std::size_t t = 0; t + nodes + 1 <= trace.size(); t += nodes + 1)
+      v.insert(v.end(), trace.begin() + static_cast<long>(t + 1),
+               trace.begin() + static_cast<long>(t + 1 + nodes));
+    return v;
+  };
   for (const Spot& at : spots) {
     if (std::find(spots_.begin(), spots_.end(), at) != spots_.end()) continue;
     const auto fi = static_cast<std::size_t>(
@@ -926,11 +948,16 @@ void LinearStandIn::add(const std::vector<Spot>& spots, PotentialCache& cache) {
     if (fi >= f.axons.size()) continue;
     const Axon& axon = f.axons[fi];
     const std::size_t nodes = axon.nodes.size();
-    const std::size_t room = 5 * steps * (nodes + 1);
-    // Bounded: past kMaxPotentials values the stand-in takes no more placements (it guides,
+    // Bounded: past kMaxStandIn values the stand-in takes no more placements (it guides,
     // the whole searches decide).
-    if (static_cast<double>(stored_ + room / (nodes + 1) * nodes * n) > kMaxPotentials) break;
+    if (static_cast<double>(stored_) + (steps / 2.0 + 2.0) * static_cast<double>(nodes * n) >
+        kMaxStandIn)
+      break;
     CableSimulator sim(model_, axon);
+    if (rest[fi].empty()) {
+      const std::vector<double> zero(axon.compartments.size(), 0.0);
+      rest[fi] = record(sim, zero.data(), 0.0);
+    }
     std::vector<std::vector<double>> per_electrode(n);
     std::size_t samples = 0;
     for (std::size_t e = 0; e < n; ++e) {
@@ -947,16 +974,11 @@ void LinearStandIn::add(const std::vector<Spot>& spots, PotentialCache& cache) {
                          std::fabs(ve[axon.nodes[nodes - 2]] - ve[axon.nodes[nodes - 1]])});
       if (!(most > 0.0) || !std::isfinite(most)) continue;  // no field: no response
       const double a0 = 1.0 / most;                         // 1 mV of activating function: linear
-      trace.clear();
-      trace.reserve(room);
-      sim.record(&trace, 2);  // every other step: the peak moves little between them
-      sim.run(ve.data(), a0, waveform_, o);
-      sim.record(nullptr, 2);
-      std::vector<double>& r = per_electrode[e];
-      for (std::size_t t = 0; t + nodes + 1 <= trace.size(); t += nodes + 1)
-        for (std::size_t j = 0; j < nodes; ++j)
-          r.push_back((trace[t + 1 + j] - model_.initial_mV()) / a0);
+      std::vector<double> r = record(sim, ve.data(), a0);
+      const std::vector<double>& r0 = rest[fi];
+      for (std::size_t q = 0; q < r.size(); ++q) r[q] = (r[q] - (q < r0.size() ? r0[q] : 0.0)) / a0;
       samples = std::max(samples, r.size());
+      per_electrode[e] = std::move(r);
     }
     std::vector<double> response(samples * n, 0.0);  // samples x electrodes
     for (std::size_t e = 0; e < n; ++e)

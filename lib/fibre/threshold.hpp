@@ -203,6 +203,9 @@ class LinearStandIn {
   std::vector<Spot> spots_;
   std::vector<double> scale_;  // per placement; 0: default_scale_
   std::size_t stored_ = 0;     // values in response_
+  // At most 1e7 values (80 MB) per stand-in: an evaluation is at most as many
+  // multiply-adds.
+  static constexpr double kMaxStandIn = 1e7;
   double default_scale_ = 1.0;
   double raw_mA(std::size_t placement, const std::vector<double>& weights) const;
   // Per placement: samples (node, time) x electrodes, the depolarisation (mV per mA).

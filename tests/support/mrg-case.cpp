@@ -5,7 +5,7 @@
 // the same bisection (from 0.05 mA, doubling, to a relative tolerance).  Used by the
 // `neuron` tests and scripts/bench, side by side with the peer.
 // With "search": "lattice", the library's own search instead (fibre_threshold: the lattice
-// of the tolerance, bracketed from 1 mA by steps that double from an octave, one core), as
+// of the tolerance, bracketed from the passive estimate by steps that double, one core), as
 // fiber-threshold runs it:
 // a threshold within the tolerance of the bisection's, with fewer runs below threshold
 // (the costly ones: they run to the end).

@@ -333,7 +333,7 @@ TEST_CASE("A search without a guess starts near the threshold (the passive estim
 
 TEST_CASE("The linear stand-in: superposition, calibration, nearby weights", "[fibre][mrg]") {
   // The paper's SAI pattern and weights near it: after one whole search, the stand-in
-  // gives that threshold back, scales as 1 / amplitude, and predicts the whole search's
+  // gives that threshold back and predicts the whole search's
   // threshold at nearby weights (weights moved by up to 0.1) within 3 % (0.3 to 1.6 % here);
   // uncalibrated, its K alone is within 25 %.
   PaperCase p;
@@ -349,9 +349,8 @@ TEST_CASE("The linear stand-in: superposition, calibration, nearby weights", "[f
   CHECK(stand.placements() == r.tried.size());
   const double raw = stand.threshold_mA(p.w);
   CHECK(raw == Approx(*r.threshold_mA).epsilon(0.25));
-  std::vector<double> twice;
-  for (double x : p.w) twice.push_back(2 * x);
-  CHECK(stand.threshold_mA(twice) == Approx(raw / 2).epsilon(1e-12));
+  // Exact where it was calibrated: here the whole search's placement is also the
+  // stand-in's lowest (the others share its scale and could undercut it elsewhere).
   stand.calibrate(r, p.w, cache);
   CHECK(stand.threshold_mA(p.w) == Approx(*r.threshold_mA).epsilon(1e-12));
   const std::vector<std::vector<double>> moves{{0.1, -0.1, 0, 0, 0, 0, 0, 0},
