@@ -74,6 +74,24 @@ struct Best {
   bool beats(long jj, std::size_t ii) const { return !found || jj < j || (jj == j && ii < index); }
 };
 
+// A fibre's largest activating function at its nodes, either sign (a biphasic pulse drives
+// both): the second difference of the potential, or at an end node the first.
+double largest_af(const Axon& axon, const double* ve) {
+  const std::vector<std::size_t>& n = axon.nodes;
+  double most = 0.0;
+  for (std::size_t j = 0; j < n.size(); ++j) {
+    double af;
+    if (j == 0)
+      af = n.size() > 1 ? ve[n[1]] - ve[n[0]] : 0.0;
+    else if (j + 1 == n.size())
+      af = ve[n[j - 1]] - ve[n[j]];
+    else
+      af = ve[n[j - 1]] - 2.0 * ve[n[j]] + ve[n[j + 1]];
+    most = std::max(most, std::fabs(af));
+  }
+  return most;
+}
+
 // The depolarisation at the end of a pulse at which an MRG node fires, about (the passive
 // estimate, Search::estimate): 4.3 + 5.3 / sqrt(the longest phase in ms) mV; 0 for a
 // waveform without a phase.
@@ -180,24 +198,8 @@ class Search {
     return best;
   }
 
-  // A placement's largest activating function at its nodes, either sign (a biphasic pulse
-  // drives both): the second difference of the potential, or at an end node the first.
-  double drive(const Placement& p) const {
-    const std::vector<std::size_t>& n = axon_.nodes;
-    const double* ve = p.ve_mV.data();
-    double most = 0.0;
-    for (std::size_t j = 0; j < n.size(); ++j) {
-      double af;
-      if (j == 0)
-        af = n.size() > 1 ? ve[n[1]] - ve[n[0]] : 0.0;
-      else if (j + 1 == n.size())
-        af = ve[n[j - 1]] - ve[n[j]];
-      else
-        af = ve[n[j - 1]] - 2.0 * ve[n[j]] + ve[n[j + 1]];
-      most = std::max(most, std::fabs(af));
-    }
-    return most;
-  }
+  // A placement's largest activating function at its nodes (largest_af()).
+  double drive(const Placement& p) const { return largest_af(axon_, p.ve_mV.data()); }
 
   SimResult run(CableSimulator& sim, const Placement& p, long j) {
     ++simulations_;
@@ -965,13 +967,7 @@ void LinearStandIn::add(const std::vector<Spot>& spots, PotentialCache& cache) {
       unit[e] = 1.0;
       const std::vector<double> ve = potentials_mV(conductor_, unit, axon, at.x0_mm, at.y0_mm,
                                                    vertical, at.z0_mm, two_d, cache);
-      double most = 0.0;  // the largest activating function at a node, either sign
-      for (std::size_t j = 1; j + 1 < nodes; ++j)
-        most = std::max(most, std::fabs(ve[axon.nodes[j - 1]] - 2.0 * ve[axon.nodes[j]] +
-                                        ve[axon.nodes[j + 1]]));
-      if (nodes > 1)
-        most = std::max({most, std::fabs(ve[axon.nodes[1]] - ve[axon.nodes[0]]),
-                         std::fabs(ve[axon.nodes[nodes - 2]] - ve[axon.nodes[nodes - 1]])});
+      const double most = largest_af(axon, ve.data());
       if (!(most > 0.0) || !std::isfinite(most)) continue;  // no field: no response
       const double a0 = 1.0 / most;                         // 1 mV of activating function: linear
       std::vector<double> r = record(sim, ve.data(), a0);
