@@ -14,13 +14,23 @@
 
 namespace tp::fibre {
 
-double threshold_objective(const ThresholdReport& r, std::size_t target, double max_mA) {
-  if (!r.receptors[target].threshold_mA) return std::numeric_limits<double>::infinity();
+namespace {
+// The objective of thresholds t_mA (+infinity: none): the target's over the lowest other's,
+// a missing other counting as max_mA, a missing target as +infinity.
+double objective_of(const std::vector<double>& t_mA, std::size_t target, double max_mA) {
+  if (!std::isfinite(t_mA[target])) return std::numeric_limits<double>::infinity();
   double other = max_mA;
-  for (std::size_t k = 0; k < r.receptors.size(); ++k)
-    if (k != target && r.receptors[k].threshold_mA)
-      other = std::min(other, *r.receptors[k].threshold_mA);
-  return *r.receptors[target].threshold_mA / other;
+  for (std::size_t k = 0; k < t_mA.size(); ++k)
+    if (k != target) other = std::min(other, t_mA[k]);
+  return t_mA[target] / other;
+}
+}  // namespace
+
+double threshold_objective(const ThresholdReport& r, std::size_t target, double max_mA) {
+  std::vector<double> t;
+  for (const ReceptorThreshold& x : r.receptors)
+    t.push_back(x.threshold_mA.value_or(std::numeric_limits<double>::infinity()));
+  return objective_of(t, target, max_mA);
 }
 
 namespace {
@@ -205,12 +215,9 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
     if (w.empty()) return std::numeric_limits<double>::infinity();
     std::vector<double> t(m);
     for (std::size_t k = 0; k < m; ++k) t[k] = stand[k].threshold_mA(w);
-    // As threshold_objective(): none above max_mA.
-    if (!(t[target] <= settings.max_mA)) return std::numeric_limits<double>::infinity();
-    double other = settings.max_mA;
-    for (std::size_t k = 0; k < m; ++k)
-      if (k != target) other = std::min(other, t[k]);
-    const double f = t[target] / other;
+    // A stand-in's target above max_mA: none, as a whole search would find.
+    if (!(t[target] <= settings.max_mA)) t[target] = std::numeric_limits<double>::infinity();
+    const double f = objective_of(t, target, settings.max_mA);
     if (f < guide_f) {
       guide_f = f;
       guide_z = z;

@@ -92,6 +92,10 @@ double largest_af(const Axon& axon, const double* ve) {
   return most;
 }
 
+// How long the passive estimate's runs go on after the waveform (the peak depolarisation
+// comes at a phase's end).
+constexpr double kPassiveAfter_ms = 0.05;
+
 // The depolarisation at the end of a pulse at which an MRG node fires, about (the passive
 // estimate, Search::estimate): 4.3 + 5.3 / sqrt(the longest phase in ms) mV; 0 for a
 // waveform without a phase.
@@ -233,7 +237,7 @@ class Search {
     const double k_mV = passive_k_mV(w_);
     if (!(k_mV > 0.0)) return std::nullopt;
     SimOptions o = o_;
-    o.tstop_ms = std::min(o_.tstop_ms, w_.end_ms() + 0.05);
+    o.tstop_ms = std::min(o_.tstop_ms, w_.end_ms() + kPassiveAfter_ms);
     o.detect.clear();
     ++simulations_;
     sim.run(p.ve_mV.data(), a0, w_, o);
@@ -917,7 +921,7 @@ void LinearStandIn::add(const std::vector<Spot>& spots, PotentialCache& cache) {
   const std::size_t n = setup_.array.size();
   SimOptions o;
   o.dt_ms = settings_.dt_ms;
-  o.tstop_ms = std::min(f.tstop_ms, waveform_.end_ms() + 0.05);
+  o.tstop_ms = std::min(f.tstop_ms, waveform_.end_ms() + kPassiveAfter_ms);
   // The steps of a run, at most: dt's, and each short phase's window at its finer step
   // (CableSimulator::run's schedule).
   double steps = std::ceil(o.tstop_ms / o.dt_ms) + 2.0;
