@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <string>
 
 #include "core/error.hpp"
@@ -81,6 +83,11 @@ CableSimulator::CableSimulator(const FibreModel& model, Axon axon)
   final_node_mV_.assign(axon_.nodes.size(), 0.0);
   peak_node_mV_.assign(axon_.nodes.size(), 0.0);
   cross_ms_.assign(axon_.nodes.size(), -1.0);
+  paused_.vi = vi_;  // sized now: pausing copies without allocating
+  paused_.vp = vp_;
+  paused_.gate = gate_;
+  paused_.peak = peak_node_mV_;
+  paused_.cross = cross_ms_;
 }
 
 void CableSimulator::reset() {
@@ -447,25 +454,57 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
     peak_node_mV_[j] = v_init_;
     cross_ms_[j] = -1.0;
   }
-  // The step schedule: dt_ms, finer in the windows of short phases.
+  schedule(w, o);
+  return integrate(ve, amplitude, w, o, o.stop_when_settled, 0, 0.0, 0.0);
+}
+
+SimResult CableSimulator::resume(const double* ve, double amplitude, const Waveform& w,
+                                 const SimOptions& o) {
+  if (!paused_.valid || amplitude != paused_.amplitude)
+    failure("fibre: no run at this amplitude is paused");
+  paused_.valid = false;
+  vi_ = paused_.vi;  // the same sizes: no allocation
+  vp_ = paused_.vp;
+  gate_ = paused_.gate;
+  peak_node_mV_ = paused_.peak;
+  cross_ms_ = paused_.cross;
+  schedule(w, o);
+  return integrate(ve, amplitude, w, o, false, paused_.n, paused_.t1, paused_.s_old);
+}
+
+std::optional<double> CableSimulator::paused_amplitude() const {
+  if (!paused_.valid) return std::nullopt;
+  return paused_.amplitude;
+}
+
+// The step schedule: dt_ms, finer in the windows of short phases.
+void CableSimulator::schedule(const Waveform& w, const SimOptions& o) {
   windows_.clear();
-  {
-    double t = w.delay_ms;
-    for (const Waveform::Phase& ph : w.phases) {
-      if (ph.duration_ms < o.short_phase_ms && ph.level != 0.0 && ph.duration_ms > 0.0)
-        windows_.push_back({t, t + ph.duration_ms + 0.1,
-                            std::max(o.min_dt_ms, std::min(o.dt_ms, ph.duration_ms / 10.0))});
-      t += ph.duration_ms;
-    }
+  double t = w.delay_ms;
+  for (const Waveform::Phase& ph : w.phases) {
+    if (ph.duration_ms < o.short_phase_ms && ph.level != 0.0 && ph.duration_ms > 0.0)
+      windows_.push_back({t, t + ph.duration_ms + 0.1,
+                          std::max(o.min_dt_ms, std::min(o.dt_ms, ph.duration_ms / 10.0))});
+    t += ph.duration_ms;
   }
+}
+
+SimResult CableSimulator::integrate(const double* ve, double amplitude, const Waveform& w,
+                                    const SimOptions& o, bool settle, std::size_t n0, double t1,
+                                    double s_old) {
+  const std::size_t nn = axon_.nodes.size();
   const bool uniform = windows_.empty();
   const auto uniform_steps =
       static_cast<std::size_t>(std::ceil(o.tstop_ms / o.dt_ms - 1e-9));  // as NEURON counts
+  const double end_ms = w.end_ms();
   SimResult r;
-  double s_old = 0.0;
+  r.steps = n0;
   std::size_t detected = 0;
-  double t1 = 0.0;
-  for (std::size_t n = 0;; ++n) {
+  // Since the waveform ended: the nodes' largest distance from rest and largest rise above
+  // it, the most each has been and at the last step.
+  double far = 0.0, high = 0.0;
+  double last_far = std::numeric_limits<double>::infinity(), last_high = last_far;
+  for (std::size_t n = n0;; ++n) {
     double t0, h;
     if (uniform) {  // t from the step count: no rounding accumulates
       if (n >= uniform_steps) break;
@@ -493,6 +532,7 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
     step(h, s_old, s_new, ve);
     s_old = s_new;
     r.steps = n + 1;
+    double distance = 0.0, rise = -std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < nn; ++j) {
       const std::size_t k = axon_.nodes[j];
       const double vm = vi_[k] - vp_[k];
@@ -500,6 +540,8 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
         failure("fibre: the simulation diverged (membrane potential not finite at node " +
                 std::to_string(j) + ", amplitude " + std::to_string(amplitude) + " mA)");
       if (vm > peak_node_mV_[j]) peak_node_mV_[j] = vm;
+      distance = std::max(distance, std::fabs(vm - v_init_));
+      rise = std::max(rise, vm - v_init_);
       if (cross_ms_[j] < 0 && vm > o.detect_mV) {
         cross_ms_[j] = t1;
         if (r.first_time_ms < 0) {
@@ -516,8 +558,28 @@ SimResult CableSimulator::run(const double* ve, double amplitude, const Waveform
     detected = 0;
     for (std::size_t j : o.detect) detected += cross_ms_[j] >= 0 ? 1 : 0;
     if (o.stop_when_detected && !o.detect.empty() && detected == o.detect.size()) break;
+    if (t1 < end_ms + o.settle_after_ms) continue;
+    far = std::max(far, distance);
+    high = std::max(high, rise);
+    if (settle && r.first_time_ms < 0 && distance <= o.settle_fraction * far &&
+        distance < last_far && rise <= o.settle_fraction * high && rise < last_high) {
+      paused_.vi = vi_;
+      paused_.vp = vp_;
+      paused_.gate = gate_;
+      paused_.peak = peak_node_mV_;
+      paused_.cross = cross_ms_;
+      paused_.amplitude = amplitude;
+      paused_.t1 = t1;
+      paused_.s_old = s_old;
+      paused_.n = n + 1;
+      paused_.valid = true;
+      r.settled = true;
+      break;
+    }
+    last_far = distance;
+    last_high = rise;
   }
-  r.fired = !o.detect.empty() && detected == o.detect.size();
+  r.fired = !r.settled && !o.detect.empty() && detected == o.detect.size();
   for (std::size_t j = 0; j < nn; ++j)
     final_node_mV_[j] = vi_[axon_.nodes[j]] - vp_[axon_.nodes[j]];
   return r;

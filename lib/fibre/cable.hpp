@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "fibre/axon.hpp"
@@ -43,6 +44,15 @@ struct SimOptions {
   double detect_mV = -20.0;         // an action potential: v above this
   std::vector<std::size_t> detect;  // node numbers (into Axon::nodes) that must all see one
   bool stop_when_detected = true;   // end the run once every detect node has fired
+  // Pause a run that has not excited any node (none above detect_mV) once it has settled:
+  // from settle_after_ms after the waveform on, the nodes' largest distance from rest and
+  // their largest rise above it both shrinking, and at most settle_fraction of the most
+  // they have been since then.  Such a run nearly always stays below threshold, but not
+  // provably so: it is paused (SimResult::settled), and resume() finishes it.  The wait
+  // lets the fast relaxation just after a short pulse pass.
+  bool stop_when_settled = false;
+  double settle_after_ms = 0.1;
+  double settle_fraction = 0.5;
 };
 
 struct SimResult {
@@ -50,6 +60,7 @@ struct SimResult {
   std::size_t first_node = 0;   // the node that crossed detect_mV first (if any did)
   double first_time_ms = -1.0;  // when (-1: no node crossed)
   std::size_t steps = 0;
+  bool settled = false;  // paused by stop_when_settled: resume() finishes the run
 };
 
 class CableSimulator {
@@ -61,6 +72,14 @@ class CableSimulator {
   // The potential applied is amplitude * level(t) * ve_unit.
   SimResult run(const double* ve_unit_mV, double amplitude, const Waveform& waveform,
                 const SimOptions& options);
+  // The last run that settled (SimResult::settled), continued from where it paused to its
+  // end, with the same arguments it was run with (amplitude must be the same; options'
+  // stop_when_settled is ignored): the same numbers as a run that never paused.  Runs since
+  // then do not disturb it, until another one settles.
+  SimResult resume(const double* ve_unit_mV, double amplitude, const Waveform& waveform,
+                   const SimOptions& options);
+  // The amplitude of the paused run, if there is one.
+  std::optional<double> paused_amplitude() const;
 
   // Double cables: eliminate the passive compartments first (the default), or solve the
   // whole network directly each step (the same numbers to rounding; for tests).
@@ -78,6 +97,11 @@ class CableSimulator {
 
  private:
   void reset();
+  void schedule(const Waveform& w, const SimOptions& o);
+  // The time steps from step n on (t1: the end of step n - 1; s_old: its potential's scale),
+  // pausing once settled if `settle`.
+  SimResult integrate(const double* ve, double amplitude, const Waveform& w, const SimOptions& o,
+                      bool settle, std::size_t n, double t1, double s_old);
   double membrane(std::size_t k, double vm_mV, double& g_mS) const;
   void step(double dt, double ve_old_scale, double ve_new_scale, const double* ve_unit);
   // Double cable, condensed: the factors of one step length (a slot), and the step with them.
@@ -127,6 +151,13 @@ class CableSimulator {
     double from_ms, until_ms, dt_ms;
   };
   std::vector<Window> windows_;  // reused: no allocation once its capacity is reached
+  // A run paused by stop_when_settled: its state and where it stopped.
+  struct Paused {
+    std::vector<double> vi, vp, gate, peak, cross;
+    double amplitude = 0.0, t1 = 0.0, s_old = 0.0;
+    std::size_t n = 0;
+    bool valid = false;
+  } paused_;
   std::vector<double>* trace_ = nullptr;
   std::size_t trace_every_ = 1;
 };

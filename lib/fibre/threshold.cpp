@@ -114,10 +114,14 @@ class Search {
         axon_(axon),
         w_(w),
         o_(o),
+        settling_(o),
         lat_(s.tolerance),
         jmax_(lat_.at_or_above(s.max_mA)),
         jmin_(jmax_ - 50 * lat_.per_octave),
-        threads_(s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency())) {}
+        threads_(s.threads ? s.threads : std::max(1u, std::thread::hardware_concurrency())) {
+    o_.stop_when_settled = false;
+    settling_.stop_when_settled = s.settle;
+  }
 
   // The lexicographic minimum of (threshold lattice point, index) over placements
   // ps[base..], given `best` over the placements before them.
@@ -223,6 +227,37 @@ class Search {
     return {r.fired, r.first_time_ms >= 0.0};
   }
 
+  // The probes of the search for excitation.  A run that excites no node may pause once it
+  // has settled (SimOptions::stop_when_settled): the search goes on as if it had not
+  // excited the fibre, and before any decision rests on that, confirm() runs the last such
+  // run to its end.  Excitation grows with the amplitude, so if the highest point taken
+  // as not exciting does not excite at the end of its run, neither do those below it, and
+  // the answer is that of runs to their ends.  If it does, the search is repeated with
+  // every run to its end (search_one).
+  struct Excitation {
+    CableSimulator& sim;
+    const Placement& p;
+    bool settle;
+    long paused = std::numeric_limits<long>::min();  // the point whose run paused, if it is
+                                                     // the last that did not excite
+  };
+  Probe probe(Excitation& e, long j) {
+    ++simulations_;
+    const SimResult r =
+        e.sim.run(e.p.ve_mV.data(), lat_.amplitude(j), w_, e.settle ? settling_ : o_);
+    const bool excited = r.first_time_ms >= 0.0;
+    if (!excited) e.paused = r.settled ? j : std::numeric_limits<long>::min();
+    return {r.fired, excited};
+  }
+  // Whether the runs taken as not exciting at j and below are so to their ends.
+  bool confirm(Excitation& e, long j) {
+    if (e.paused != j) return true;  // j's run went to its end
+    if (e.sim.paused_amplitude() != lat_.amplitude(j))
+      failure("fibre: the paused run is not the one to confirm");
+    e.paused = std::numeric_limits<long>::min();
+    return e.sim.resume(e.p.ve_mV.data(), lat_.amplitude(j), w_, o_).first_time_ms < 0.0;
+  }
+
   // Where a search without a guess starts: the passive estimate.  Below threshold the
   // membrane responds nearly in proportion to the amplitude; a node fires when it is
   // depolarised by about K mV at the end of the pulse, K falling with the pulse's length
@@ -261,6 +296,18 @@ class Search {
   // from: the answer is the same whichever thread searched it, and in whatever order.
   bool search_one(CableSimulator& sim, const Placement& p, std::size_t i, const Best& best,
                   long guess, bool near, long& out) {
+    Excitation settling{sim, p, settling_.stop_when_settled};
+    if (const std::optional<bool> r = search_from(settling, i, best, guess, near, out)) return *r;
+    Excitation to_end{sim, p, false};  // a paused run excited after all (rare)
+    return *search_from(to_end, i, best, guess, near, out);
+  }
+
+  // search_one with the probes of e; none when a run taken as not exciting excited the
+  // fibre after all.
+  std::optional<bool> search_from(Excitation& e, std::size_t i, const Best& best, long guess,
+                                  bool near, long& out) {
+    CableSimulator& sim = e.sim;
+    const Placement& p = e.p;
     // The largest lattice point at which firing would still beat the best.
     const long limit = !best.found ? jmax_ : (i < best.index ? best.j : best.j - 1);
     if (limit < jmin_) return false;
@@ -273,18 +320,18 @@ class Search {
     long first_step = lat_.per_octave;
     if (near || best.found) {
       first_step = std::max(1L, lat_.per_octave / 32);
-    } else if (const std::optional<long> e = estimate(sim, p)) {
-      guess = *e;
+    } else if (const std::optional<long> est = estimate(sim, p)) {
+      guess = *est;
       first_step = std::max(1L, lat_.per_octave / 8);
     }
     const long g = best.found ? limit : std::min(std::max(guess, jmin_), limit);
-    Probe pg = probe(sim, p, g);
+    Probe pg = probe(e, g);
     if (pg.excited) {
       hi = g;
       hi_fired = pg.fired;
       for (long step = first_step;; step *= 2) {
         lo = std::max(hi - step, jmin_);
-        const Probe q = probe(sim, p, lo);
+        const Probe q = probe(e, lo);
         if (!q.excited) break;
         hi = lo;
         hi_fired = q.fired;
@@ -294,22 +341,28 @@ class Search {
         }
       }
     } else {
-      if (g == limit) return false;  // not even excited at the limit
+      if (g == limit) {  // not even excited at the limit
+        if (!confirm(e, g)) return std::nullopt;
+        return false;
+      }
       lo = g;
       for (long step = first_step;; step *= 2) {
         hi = std::min(lo + step, limit);
-        const Probe q = probe(sim, p, hi);
+        const Probe q = probe(e, hi);
         if (q.excited) {
           hi_fired = q.fired;
           break;
         }
-        if (hi == limit) return false;
+        if (hi == limit) {
+          if (!confirm(e, hi)) return std::nullopt;
+          return false;
+        }
         lo = hi;
       }
     }
     while (hi - lo > 1) {
       const long mid = lo + (hi - lo) / 2;
-      const Probe q = probe(sim, p, mid);
+      const Probe q = probe(e, mid);
       if (q.excited) {
         hi = mid;
         hi_fired = q.fired;
@@ -317,6 +370,7 @@ class Search {
         lo = mid;
       }
     }
+    if (!confirm(e, lo)) return std::nullopt;
     if (hi_fired) {
       out = hi;
       return true;
@@ -353,7 +407,8 @@ class Search {
   const FibreModel& model_;
   const Axon& axon_;
   const Waveform& w_;
-  const SimOptions& o_;
+  SimOptions o_;         // every run to its end
+  SimOptions settling_;  // o_, pausing runs once settled (unless the settings say not to)
   Lattice lat_;
   long jmax_, jmin_;
   unsigned threads_;

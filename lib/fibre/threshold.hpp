@@ -75,6 +75,9 @@ struct ThresholdSettings {
   // thresholds of nearby weights: the answer does not depend on it, only the work does).
   // Missing or not positive: the passive estimate (docs/fibres.md, "The threshold search").
   std::vector<double> start_mA;
+  // Runs below threshold pause once settled and only the last is finished (docs/fibres.md,
+  // "The threshold search"); false: every run to its end.  The same answers either way.
+  bool settle = true;
 };
 
 // Where and whether a receptor fired at its threshold.

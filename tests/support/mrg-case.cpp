@@ -8,7 +8,7 @@
 // of the tolerance, bracketed from the passive estimate by steps that double, one core), as
 // fiber-threshold runs it:
 // a threshold within the tolerance of the bisection's, with fewer runs below threshold
-// (the costly ones: they run to the end).
+// (the costly ones: they run to the end of the simulated time, or pause once settled).
 
 #include <chrono>
 #include <cmath>

@@ -403,6 +403,93 @@ TEST_CASE("A sub-threshold pulse leaves the fibre at rest", "[fibre][mrg]") {
   }
 }
 
+// A run below threshold may pause once it has settled (SimOptions::stop_when_settled);
+// resumed, it is the run to its end, to the bit, whatever ran in between.
+TEST_CASE("A run paused once settled and resumed is the run to its end", "[fibre][mrg]") {
+  auto model = make_fibre_model("mrg");
+  CableSimulator sim(*model, model->axon(10.0, 21));
+  const Axon& a = sim.axon();
+  std::vector<double> ve(a.compartments.size());
+  const double mid = a.centre_um[a.nodes[10]];
+  for (std::size_t k = 0; k < ve.size(); ++k)
+    ve[k] = -300.0 / (4 * kPi * std::hypot((a.centre_um[k] - mid) * 1e-4, 0.1));
+  const Waveform w = pulse_waveform(200, 0, 200, false);
+  SimOptions o;
+  o.detect = {3, 17};
+  const double th = bisect(sim, ve, w, o);
+  SimOptions settling = o;
+  settling.stop_when_settled = true;
+  for (double f : {0.5, 0.95}) {
+    CAPTURE(f);
+    const SimResult whole = sim.run(ve.data(), f * th, w, o);
+    const std::vector<double> final_mV = sim.final_node_mV(), peak_mV = sim.peak_node_mV();
+    REQUIRE_FALSE(whole.settled);
+    const SimResult paused = sim.run(ve.data(), f * th, w, settling);
+    CHECK(paused.settled);
+    CHECK_FALSE(paused.fired);
+    CHECK(paused.steps < whole.steps / 2);
+    REQUIRE(sim.paused_amplitude() == f * th);
+    // A run that excites the fibre never settles, and leaves the paused run alone.
+    const SimResult above = sim.run(ve.data(), 1.2 * th, w, settling);
+    CHECK(above.fired);
+    CHECK_FALSE(above.settled);
+    CHECK_THROWS(sim.resume(ve.data(), 1.2 * th, w, o));
+    const SimResult resumed = sim.resume(ve.data(), f * th, w, o);
+    CHECK(resumed.steps == whole.steps);
+    CHECK(resumed.fired == whole.fired);
+    CHECK(resumed.first_time_ms == whole.first_time_ms);
+    CHECK(sim.final_node_mV() == final_mV);
+    CHECK(sim.peak_node_mV() == peak_mV);
+    CHECK_FALSE(sim.paused_amplitude());
+    CHECK_THROWS(sim.resume(ve.data(), f * th, w, o));
+  }
+}
+
+// The search pauses settled runs below threshold and finishes only the last before a
+// decision rests on it; if that one excites after all, it searches again with every run to
+// its end.  Either way the threshold is that of runs to their ends.  An eager rule
+// (settling at once, at 95 % of the largest distance) pauses runs that go on to excite,
+// and so exercises the second search.
+TEST_CASE("Pausing settled runs changes the work, not the threshold", "[fibre][mrg]") {
+  auto model = make_fibre_model("mrg");
+  const Axon axon = model->axon(7.0, 31);
+  std::vector<double> ve(axon.compartments.size());
+  const double mid = axon.centre_um[axon.nodes[15]] + 300.0;
+  for (std::size_t k = 0; k < ve.size(); ++k) {  // two lines 1 mm apart, 1.4 mm deep
+    const double x = (axon.centre_um[k] - mid) * 1e-3;
+    ve[k] = 1000.0 * 0.3 / (2 * kPi) *
+            (std::log(std::hypot(x + 0.5, 1.4)) - 0.6 * std::log(std::hypot(x - 0.5, 1.4)));
+  }
+  SimOptions o;
+  o.detect = {5, 25};
+  SimOptions eager = o;
+  eager.settle_after_ms = 0.0;
+  eager.settle_fraction = 0.95;
+  ThresholdSettings to_end, settling;
+  to_end.settle = false;
+  to_end.threads = settling.threads = 1;
+  std::size_t misled = 0;
+  CableSimulator sim(*model, axon);
+  for (double width : {20.0, 200.0, 1000.0})
+    for (bool monophasic : {true, false})
+      for (double sign : {1.0, -1.0}) {
+        CAPTURE(width, monophasic, sign);
+        std::vector<double> field = ve;
+        for (double& v : field) v *= sign;
+        const Waveform wf = pulse_waveform(width, 0, width, monophasic);
+        const auto reference = fibre_threshold(*model, axon, field, wf, o, to_end);
+        REQUIRE(reference);
+        CHECK(fibre_threshold(*model, axon, field, wf, o, settling) == reference);
+        CHECK(fibre_threshold(*model, axon, field, wf, eager, settling) == reference);
+        SimOptions eager_run = eager;
+        eager_run.stop_when_settled = true;
+        if (sim.run(field.data(), *reference, wf, eager_run).settled &&
+            sim.resume(field.data(), *reference, wf, o).first_time_ms >= 0.0)
+          ++misled;
+      }
+  CHECK(misled > 0);
+}
+
 TEST_CASE("The amplitude lattice", "[fibre]") {
   const Lattice l(1e-3);
   CHECK(l.amplitude(l.per_octave) == 2.0);
