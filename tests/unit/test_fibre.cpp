@@ -25,6 +25,16 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// A point cathode of 1 mA, 1 mm from node `node` in a medium of 300 ohm cm: the potential
+// (mV) at each compartment.
+std::vector<double> point_cathode_mV(const Axon& a, std::size_t node) {
+  std::vector<double> ve(a.compartments.size());
+  const double mid = a.centre_um[a.nodes[node]];
+  for (std::size_t k = 0; k < ve.size(); ++k)
+    ve[k] = -300.0 / (4 * kPi * std::hypot((a.centre_um[k] - mid) * 1e-4, 0.1));
+  return ve;
+}
+
 // Bisection to a relative 1e-4 (thresh4.hoc's), from 1 mA by doubling or halving.
 double bisect(CableSimulator& sim, const std::vector<double>& ve, const Waveform& w,
               const SimOptions& o) {
@@ -382,10 +392,7 @@ TEST_CASE("A sub-threshold pulse leaves the fibre at rest", "[fibre][mrg]") {
   auto model = make_fibre_model("mrg");
   CableSimulator sim(*model, model->axon(10.0, 21));
   const Axon& a = sim.axon();
-  std::vector<double> ve(a.compartments.size());
-  const double mid = a.centre_um[a.nodes[10]];
-  for (std::size_t k = 0; k < ve.size(); ++k)
-    ve[k] = -300.0 / (4 * kPi * std::hypot((a.centre_um[k] - mid) * 1e-4, 0.1));
+  const std::vector<double> ve = point_cathode_mV(a, 10);
   const Waveform w = pulse_waveform(200, 0, 200, false);
   SimOptions o;
   o.detect = {3, 17};
@@ -409,10 +416,7 @@ TEST_CASE("A run paused once settled and resumed is the run to its end", "[fibre
   auto model = make_fibre_model("mrg");
   CableSimulator sim(*model, model->axon(10.0, 21));
   const Axon& a = sim.axon();
-  std::vector<double> ve(a.compartments.size());
-  const double mid = a.centre_um[a.nodes[10]];
-  for (std::size_t k = 0; k < ve.size(); ++k)
-    ve[k] = -300.0 / (4 * kPi * std::hypot((a.centre_um[k] - mid) * 1e-4, 0.1));
+  const std::vector<double> ve = point_cathode_mV(a, 10);
   const Waveform w = pulse_waveform(200, 0, 200, false);
   SimOptions o;
   o.detect = {3, 17};
