@@ -74,8 +74,9 @@ class CableSimulator {
                 const SimOptions& options);
   // The last run that settled (SimResult::settled), continued from where it paused to its
   // end, with the same arguments it was run with (amplitude must be the same; options'
-  // stop_when_settled is ignored): the same numbers as a run that never paused.  Runs since
-  // then do not disturb it, until another one settles.
+  // stop_when_settled is ignored; only the amplitude is checked): the same numbers as a run
+  // that never paused (a trace being recorded is not: it goes on from wherever it is).  Runs
+  // since then do not disturb it, until another one settles.
   SimResult resume(const double* ve_unit_mV, double amplitude, const Waveform& waveform,
                    const SimOptions& options);
   // The amplitude of the paused run, if there is one.

@@ -76,7 +76,8 @@ struct ThresholdSettings {
   // Missing or not positive: the passive estimate (docs/fibres.md, "The threshold search").
   std::vector<double> start_mA;
   // Runs below threshold pause once settled and only the last is finished (docs/fibres.md,
-  // "The threshold search"); false: every run to its end.  The same answers either way.
+  // "The threshold search"); false: every run to its end.  The same answers either way,
+  // as excitation grows with the amplitude (which the search assumes in any case).
   bool settle = true;
 };
 

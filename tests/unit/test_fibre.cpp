@@ -411,42 +411,48 @@ TEST_CASE("A sub-threshold pulse leaves the fibre at rest", "[fibre][mrg]") {
 }
 
 // A run below threshold may pause once it has settled (SimOptions::stop_when_settled);
-// resumed, it is the run to its end, to the bit, whatever ran in between.
+// resumed, it is the run to its end, to the bit, whatever ran in between: for a double
+// cable (MRG) and a single one (SENN), with uniform steps (200 us) and with the finer steps
+// of a short phase (20 us).
 TEST_CASE("A run paused once settled and resumed is the run to its end", "[fibre][mrg]") {
-  auto model = make_fibre_model("mrg");
-  CableSimulator sim(*model, model->axon(10.0, 21));
-  const Axon& a = sim.axon();
-  const std::vector<double> ve = point_cathode_mV(a, 10);
-  const Waveform w = pulse_waveform(200, 0, 200, false);
-  SimOptions o;
-  o.detect = {3, 17};
-  const double th = bisect(sim, ve, w, o);
-  SimOptions settling = o;
-  settling.stop_when_settled = true;
-  for (double f : {0.5, 0.95}) {
-    CAPTURE(f);
-    const SimResult whole = sim.run(ve.data(), f * th, w, o);
-    const std::vector<double> final_mV = sim.final_node_mV(), peak_mV = sim.peak_node_mV();
-    REQUIRE_FALSE(whole.settled);
-    const SimResult paused = sim.run(ve.data(), f * th, w, settling);
-    CHECK(paused.settled);
-    CHECK_FALSE(paused.fired);
-    CHECK(paused.steps < whole.steps / 2);
-    REQUIRE(sim.paused_amplitude() == f * th);
-    // A run that excites the fibre never settles, and leaves the paused run alone.
-    const SimResult above = sim.run(ve.data(), 1.2 * th, w, settling);
-    CHECK(above.fired);
-    CHECK_FALSE(above.settled);
-    CHECK_THROWS(sim.resume(ve.data(), 1.2 * th, w, o));
-    const SimResult resumed = sim.resume(ve.data(), f * th, w, o);
-    CHECK(resumed.steps == whole.steps);
-    CHECK(resumed.fired == whole.fired);
-    CHECK(resumed.first_time_ms == whole.first_time_ms);
-    CHECK(sim.final_node_mV() == final_mV);
-    CHECK(sim.peak_node_mV() == peak_mV);
-    CHECK_FALSE(sim.paused_amplitude());
-    CHECK_THROWS(sim.resume(ve.data(), f * th, w, o));
-  }
+  for (const char* name : {"mrg", "senn"})
+    for (double width : {200.0, 20.0}) {
+      CAPTURE(name, width);
+      auto model = make_fibre_model(name);
+      CableSimulator sim(*model, model->axon(10.0, 21));
+      const Axon& a = sim.axon();
+      const std::vector<double> ve = point_cathode_mV(a, 10);
+      const Waveform w = pulse_waveform(width, 0, width, width < 100.0);
+      SimOptions o;
+      o.detect = {3, 17};
+      const double th = bisect(sim, ve, w, o);
+      SimOptions settling = o;
+      settling.stop_when_settled = true;
+      for (double f : {0.5, 0.95}) {
+        CAPTURE(f);
+        const SimResult whole = sim.run(ve.data(), f * th, w, o);
+        const std::vector<double> final_mV = sim.final_node_mV(), peak_mV = sim.peak_node_mV();
+        REQUIRE_FALSE(whole.settled);
+        const SimResult paused = sim.run(ve.data(), f * th, w, settling);
+        CHECK(paused.settled);
+        CHECK_FALSE(paused.fired);
+        CHECK(paused.steps < whole.steps / 2);
+        REQUIRE(sim.paused_amplitude() == f * th);
+        // A run that excites the fibre never settles, and leaves the paused run alone.
+        const SimResult above = sim.run(ve.data(), 1.2 * th, w, settling);
+        CHECK(above.fired);
+        CHECK_FALSE(above.settled);
+        CHECK_THROWS(sim.resume(ve.data(), 1.2 * th, w, o));
+        const SimResult resumed = sim.resume(ve.data(), f * th, w, o);
+        CHECK(resumed.steps == whole.steps);
+        CHECK(resumed.fired == whole.fired);
+        CHECK(resumed.first_time_ms == whole.first_time_ms);
+        CHECK(sim.final_node_mV() == final_mV);
+        CHECK(sim.peak_node_mV() == peak_mV);
+        CHECK_FALSE(sim.paused_amplitude());
+        CHECK_THROWS(sim.resume(ve.data(), f * th, w, o));
+      }
+    }
 }
 
 // The search pauses settled runs below threshold and finishes only the last before a
