@@ -83,7 +83,12 @@ CableSimulator::CableSimulator(const FibreModel& model, Axon axon)
   final_node_mV_.assign(axon_.nodes.size(), 0.0);
   peak_node_mV_.assign(axon_.nodes.size(), 0.0);
   cross_ms_.assign(axon_.nodes.size(), -1.0);
-  paused_.vi = vi_;  // sized now: pausing copies without allocating
+  keep_state();  // sized now: pausing copies without allocating
+}
+
+// The run's state into paused_ (vectors of the same sizes: no allocation).
+void CableSimulator::keep_state() {
+  paused_.vi = vi_;
   paused_.vp = vp_;
   paused_.gate = gate_;
   paused_.peak = peak_node_mV_;
@@ -563,11 +568,7 @@ SimResult CableSimulator::integrate(const double* ve, double amplitude, const Wa
     high = std::max(high, rise);
     if (settle && r.first_time_ms < 0 && distance <= o.settle_fraction * far &&
         distance < last_far && rise <= o.settle_fraction * high && rise < last_high) {
-      paused_.vi = vi_;
-      paused_.vp = vp_;
-      paused_.gate = gate_;
-      paused_.peak = peak_node_mV_;
-      paused_.cross = cross_ms_;
+      keep_state();
       paused_.amplitude = amplitude;
       paused_.t1 = t1;
       paused_.s_old = s_old;

@@ -99,6 +99,7 @@ class CableSimulator {
  private:
   void reset();
   void schedule(const Waveform& w, const SimOptions& o);
+  void keep_state();
   // The time steps from step n on (t1: the end of step n - 1; s_old: its potential's scale),
   // pausing once settled if `settle`.
   SimResult integrate(const double* ve, double amplitude, const Waveform& w, const SimOptions& o,

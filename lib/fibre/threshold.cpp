@@ -209,10 +209,6 @@ class Search {
   // A placement's largest activating function at its nodes (largest_af()).
   double drive(const Placement& p) const { return largest_af(axon_, p.ve_mV.data()); }
 
-  SimResult run(CableSimulator& sim, const Placement& p, long j) {
-    ++simulations_;
-    return sim.run(p.ve_mV.data(), lat_.amplitude(j), w_, o_);
-  }
   const Lattice& lattice() const { return lat_; }
   long jmax() const { return jmax_; }
   long jmin() const { return jmin_; }
@@ -222,11 +218,6 @@ class Search {
   struct Probe {
     bool fired, excited;
   };
-  Probe probe(CableSimulator& sim, const Placement& p, long j) {
-    const SimResult r = run(sim, p, j);
-    return {r.fired, r.first_time_ms >= 0.0};
-  }
-
   // The probes of the search for excitation.  A run that excites no node may pause once it
   // has settled (SimOptions::stop_when_settled): the search goes on as if it had not
   // excited the fibre, and before any decision rests on that, confirm() runs the last such
@@ -234,19 +225,19 @@ class Search {
   // as not exciting does not excite at the end of its run, neither do those below it, and
   // the answer is that of runs to their ends.  If it does, the search is repeated with
   // every run to its end (search_one).
+  static constexpr long kNone = std::numeric_limits<long>::min();
   struct Excitation {
     CableSimulator& sim;
     const Placement& p;
     bool settle;
-    long paused = std::numeric_limits<long>::min();  // the point whose run paused, if it is
-                                                     // the last that did not excite
+    long paused = kNone;  // the point whose run paused, if it is the last that did not excite
   };
   Probe probe(Excitation& e, long j) {
     ++simulations_;
     const SimResult r =
         e.sim.run(e.p.ve_mV.data(), lat_.amplitude(j), w_, e.settle ? settling_ : o_);
     const bool excited = r.first_time_ms >= 0.0;
-    if (!excited) e.paused = r.settled ? j : std::numeric_limits<long>::min();
+    if (!excited) e.paused = r.settled ? j : kNone;
     return {r.fired, excited};
   }
   // Whether the runs taken as not exciting at j and below are so to their ends.
@@ -254,7 +245,7 @@ class Search {
     if (e.paused != j) return true;  // j's run went to its end
     if (e.sim.paused_amplitude() != lat_.amplitude(j))
       failure("fibre: the paused run is not the one to confirm");
-    e.paused = std::numeric_limits<long>::min();
+    e.paused = kNone;
     return e.sim.resume(e.p.ve_mV.data(), lat_.amplitude(j), w_, o_).first_time_ms < 0.0;
   }
 
@@ -375,15 +366,16 @@ class Search {
       out = hi;
       return true;
     }
-    return first_firing(sim, p, hi, limit, out);
+    Excitation to_end{sim, p, false};
+    return first_firing(to_end, hi, limit, out);
   }
 
   // Excited at e = hi without an action potential reaching the detection nodes: gallop up
   // to a point that fires, then bisect back.  Firing need not be monotone above e, so the
   // gallop runs to the top of the search range whatever `limit` is, and the point it finds
   // depends on e alone (not on the best so far, nor on the order of the placements); it
-  // counts only if it is at most `limit`.
-  bool first_firing(CableSimulator& sim, const Placement& p, long hi, long limit, long& out) {
+  // counts only if it is at most `limit`.  Its probes (`whole`) run to their ends.
+  bool first_firing(Excitation& whole, long hi, long limit, long& out) {
     long f_lo = hi, f_hi = hi;
     for (long step = 1;; step *= 2) {
       f_hi = hi + step;
@@ -391,13 +383,13 @@ class Search {
         if (f_lo == jmax_) return false;
         f_hi = jmax_;
       }
-      if (probe(sim, p, f_hi).fired) break;
+      if (probe(whole, f_hi).fired) break;
       if (f_hi == jmax_) return false;
       f_lo = f_hi;
     }
     while (f_hi - f_lo > 1) {
       const long mid = f_lo + (f_hi - f_lo) / 2;
-      (probe(sim, p, mid).fired ? f_hi : f_lo) = mid;
+      (probe(whole, mid).fired ? f_hi : f_lo) = mid;
     }
     if (f_hi > limit) return false;
     out = f_hi;
