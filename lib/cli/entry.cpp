@@ -1,9 +1,11 @@
 #include "cli/entry.hpp"
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <memory>
 #include <new>
 
 #if defined(__GLIBC__)
@@ -11,6 +13,7 @@
 #endif
 
 #include "core/error.hpp"
+#include "io/files.hpp"
 #include "version.hpp"
 
 namespace tp::cli {
@@ -23,7 +26,12 @@ std::string one_line(std::string s) {
   return s;
 }
 
+// --output: its path, and the file once the options are parsed.
+std::string g_output_path;
+std::unique_ptr<AtomicFile> g_output;
+
 int report(const std::string& program, const std::string& message, ExitCode code) {
+  g_output.reset();  // a document not complete is not written (its temporary removed)
   std::fflush(stdout);
   std::fprintf(stderr, "%s: %s\n", program.c_str(), one_line(message).c_str());
   return static_cast<int>(code);
@@ -45,7 +53,33 @@ void refuse_empty_values(const CLI::App& app) {
   for (const CLI::App* sub : app.get_subcommands()) refuse_empty_values(*sub);
 }
 
+// A signal that ends the program removes the temporaries of files not yet complete
+// (io/files.hpp), then ends it as the signal would have.
+void end_by_signal(int sig) {
+  remove_temporaries();
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void install_cleanup_handlers() {
+  for (int sig : {SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGPIPE}) {
+    struct sigaction old {};
+    if (sigaction(sig, nullptr, &old) != 0 || old.sa_handler == SIG_IGN) continue;
+    struct sigaction sa {};
+    sa.sa_handler = end_by_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(sig, &sa, nullptr);
+  }
+}
+
 }  // namespace
+
+void add_output_option(CLI::App& app) {
+  app.add_option("--output", g_output_path,
+                 "Write the document to FILE instead of stdout: whole when the program "
+                 "succeeds, and FILE left as it was when it fails or is interrupted")
+      ->type_name("FILE");
+}
 
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
 #if defined(__GLIBC__)
@@ -84,9 +118,14 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
   }
   try {
     refuse_empty_values(app);
+    install_cleanup_handlers();
+    if (!g_output_path.empty() && g_output_path != "-")
+      g_output = std::make_unique<AtomicFile>(g_output_path, "--output");
     body();
     if (std::fflush(stdout) != 0 || std::ferror(stdout))
       failure(std::string("write error on stdout: ") + std::strerror(errno));
+    if (g_output) g_output->commit();
+    g_output.reset();
     return 0;
   } catch (const Error& e) {
     return report(program, e.what(), e.code());
@@ -100,6 +139,10 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
 }
 
 void write_stdout(const std::string& text) {
+  if (g_output) {
+    g_output->write(text);
+    return;
+  }
   if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
     failure(std::string("write error on stdout: ") + std::strerror(errno));
 }

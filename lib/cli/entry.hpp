@@ -21,7 +21,13 @@ namespace tp::cli {
 // for main().  Declare the program as CLI::App app{"description", "name"}.
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
 
-// Writes a string to stdout and flushes; an I/O failure is a runtime failure.
+// Writes a string to stdout and flushes; an I/O failure is a runtime failure.  With
+// --output FILE (add_output_option), the text goes to FILE instead, which is written whole
+// when the program succeeds and left as it was when it fails (io/files.hpp).
 void write_stdout(const std::string& text);
+
+// Adds --output FILE to a program that writes one document.  The file is created (as a
+// temporary beside it) before the body runs, so that an unwritable place is refused first.
+void add_output_option(CLI::App& app);
 
 }  // namespace tp::cli
