@@ -74,6 +74,80 @@ void check_load(const device::ChannelLoad& load, const device::Capabilities& cap
             number_text(caps.max_mean_uA * 1e-3) + " mA mean (docs/safety.md)");
 }
 
+// A single stimulus's configuration (protocol 1 to 3), checked against the device's timing.
+device::PulseConfig single_config(const Stimulus& s, const device::Capabilities& caps) {
+  device::PulseConfig cfg;
+  cfg.width_us = whole_us(s.shape.width_us, "pulse width");
+  cfg.interphase_us = whole_us(s.shape.interphase_us, "interphase gap");
+  cfg.balance_width_us = whole_us(s.shape.balance_width_us, "balance width");
+  // The device counts whole microseconds: the period is rounded (150 Hz: 6667 us, 149.993 Hz).
+  const double period = std::round(s.shape.period_us());
+  if (!(period >= 1 && period <= device::hard::max_period_us))
+    bad_input("pulse period of " + number_text(period) + " us outside the protocol's 1 us to " +
+              std::to_string(device::hard::max_period_us / 1000000) + " s");
+  cfg.period_us = static_cast<std::uint32_t>(period);
+  // The rounded period must still hold the pulse and respect the device's rate.
+  const double length_us =
+      static_cast<double>(cfg.width_us + cfg.interphase_us + cfg.balance_width_us);
+  if (!(period > length_us))
+    bad_input("pulse of " + number_text(length_us) + " us does not fit the device's period of " +
+              number_text(period) + " us (" + number_text(s.shape.frequency_hz) +
+              " Hz rounded to whole microseconds)");
+  if (period < std::ceil(1e6 / caps.max_rate_hz))
+    bad_input("period of " + number_text(period) + " us is faster than the device's " +
+              std::to_string(caps.max_rate_hz) + " Hz");
+  // The device's timing rule (device::phase_fits): a gap, and the off time between
+  // pulses, each at least its shortest phase, in which it loads the next phase's codes.
+  if (cfg.interphase_us != 0 && cfg.interphase_us < caps.min_width_us)
+    bad_input("interphase gap of " + std::to_string(cfg.interphase_us) +
+              " us is shorter than the device's shortest phase of " +
+              std::to_string(caps.min_width_us) + " us (0 for no gap)");
+  if (period - length_us < caps.min_width_us)
+    bad_input("off time of " + number_text(period - length_us) + " us between pulses (period " +
+              number_text(period) + " us, pulse " + number_text(length_us) +
+              " us) is shorter than the device's shortest phase of " +
+              std::to_string(caps.min_width_us) + " us");
+  cfg.channels = static_cast<std::uint8_t>(s.currents_mA.size());
+  return cfg;
+}
+
+// A table: each pattern's timing (its own count) and codes, checked as the device will.
+void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
+  const device::Capabilities& caps = plan.caps;
+  const StimulusLimits& lim = plan.limits;
+  if (m.patterns.size() > caps.max_patterns)
+    bad_input("stimulus has " + std::to_string(m.patterns.size()) +
+              " patterns; the device holds " + std::to_string(caps.max_patterns));
+  const double least_gap = std::max(caps.min_gap_us, caps.min_width_us);
+  if (m.gap_us < least_gap)
+    bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
+              number_text(least_gap) + " us");
+  device::ChannelLoad load;
+  std::size_t entries = 0;
+  plan.pulses = 0;
+  plan.expected_s = 0;
+  for (const Stimulus& p : m.patterns) {
+    const double n_p = pulse_count(p, opt, lim, "--duration: shorter than one period of a pattern");
+    plan.timings.push_back(pattern_timing(p, static_cast<long>(n_p)));
+    const device::PatternTiming& t = plan.timings.back();
+    if (t.period_us < std::ceil(1e6 / caps.max_rate_hz) || !device::phase_fits(t, caps))
+      bad_input("pattern " + std::to_string(plan.timings.size() - 1) +
+                ": its period, gap or off time is outside the device's timing (" +
+                std::to_string(caps.max_rate_hz) + " Hz, shortest phase " +
+                std::to_string(caps.min_width_us) + " us)");
+    plan.table_codes.push_back(quantize_currents(p.currents_mA, caps, current_limit_mA(p, lim)));
+    for (std::int16_t c : plan.table_codes.back()) entries += c != 0;
+    device::add_dense(load, plan.table_codes.back(), t);
+    plan.pulses += n_p;
+    plan.expected_s =
+        std::max(plan.expected_s, (t.phase_us + (t.max_pulses + 0.0) * t.period_us) * 1e-6);
+  }
+  if (entries > caps.code_pool)
+    bad_input("the patterns have " + std::to_string(entries) + " non-zero codes; the device holds " +
+              std::to_string(caps.code_pool));
+  check_load(load, caps, "summed over the patterns: ");
+}
+
 }  // namespace
 
 double current_limit_mA(const Stimulus& s, const StimulusLimits& lim) {
@@ -151,6 +225,48 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
   return run_session(transport, m, opt, signal_flag);
 }
 
+SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
+                         const SessionOptions& opt) {
+  if (m.patterns.empty()) bad_input("stimulus: no patterns");
+  const Stimulus& s = m.patterns[0];
+  SessionPlan plan;
+  plan.caps = caps;
+  plan.table = m.table();
+  if (s.currents_mA.size() > device::kMaxChannels)
+    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
+              " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
+  const double max_s = opt.limits.max_duration_s;
+  if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
+    bad_input("--duration: " + number_text(opt.duration_s) + " s outside (0, " +
+              number_text(max_s) + "] s");
+  check_device(caps);
+  if (s.currents_mA.size() > caps.channels)
+    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
+              " channels; the device has " + std::to_string(caps.channels));
+  plan.limits = device_limits(opt.limits, caps);
+  const StimulusLimits& lim = plan.limits;
+  check_mix(m, lim);
+  plan.single = single_config(s, caps);
+  const double count = pulse_count(s, opt, lim, "--duration: shorter than one pulse period");
+  // The device always has a pulse budget: it stops by itself after the stimulus' pulses
+  // (live mode: --duration, or the duration limit), whatever becomes of the host.
+  plan.single.max_pulses = static_cast<std::uint32_t>(count);
+  // No code above the limit in force (the stimulus's, the host's, the device's).
+  plan.codes = quantize_currents(s.currents_mA, caps, current_limit_mA(s, lim));
+  if (plan.table) {
+    plan_table(plan, m, opt);
+  } else {
+    device::ChannelLoad load;
+    device::add_dense(load, plan.codes, pattern_timing(s, 0));
+    check_load(load, caps, "");
+    plan.pulses = count;
+  }
+  // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.
+  plan.expected_s =
+      plan.table ? plan.expected_s + 0.001 : count * plan.single.period_us * 1e-6;
+  return plan;
+}
+
 SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag) {
   if (m.patterns.empty()) bad_input("stimulus: no patterns");
@@ -179,91 +295,13 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
     return rep;
   }
   rep.caps = dev.identify();
-  check_device(rep.caps);
-  if (s.currents_mA.size() > rep.caps.channels)
-    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
-              " channels; the device has " + std::to_string(rep.caps.channels));
-  const StimulusLimits lim = device_limits(opt.limits, rep.caps);
-  check_mix(m, lim);
-  const double count = pulse_count(s, opt, lim, "--duration: shorter than one pulse period");
-  device::PulseConfig cfg;
-  cfg.width_us = whole_us(s.shape.width_us, "pulse width");
-  cfg.interphase_us = whole_us(s.shape.interphase_us, "interphase gap");
-  cfg.balance_width_us = whole_us(s.shape.balance_width_us, "balance width");
-  // The device counts whole microseconds: the period is rounded (150 Hz: 6667 us, 149.993 Hz).
-  const double period = std::round(s.shape.period_us());
-  if (!(period >= 1 && period <= device::hard::max_period_us))
-    bad_input("pulse period of " + number_text(period) + " us outside the protocol's 1 us to " +
-              std::to_string(device::hard::max_period_us / 1000000) + " s");
-  cfg.period_us = static_cast<std::uint32_t>(period);
-  // The rounded period must still hold the pulse and respect the device's rate.
-  const double length_us =
-      static_cast<double>(cfg.width_us + cfg.interphase_us + cfg.balance_width_us);
-  if (!(period > length_us))
-    bad_input("pulse of " + number_text(length_us) + " us does not fit the device's period of " +
-              number_text(period) + " us (" + number_text(s.shape.frequency_hz) +
-              " Hz rounded to whole microseconds)");
-  if (period < std::ceil(1e6 / rep.caps.max_rate_hz))
-    bad_input("period of " + number_text(period) + " us is faster than the device's " +
-              std::to_string(rep.caps.max_rate_hz) + " Hz");
-  // The device's timing rule (device::phase_fits): a gap, and the off time between
-  // pulses, each at least its shortest phase, in which it loads the next phase's codes.
-  if (cfg.interphase_us != 0 && cfg.interphase_us < rep.caps.min_width_us)
-    bad_input("interphase gap of " + std::to_string(cfg.interphase_us) +
-              " us is shorter than the device's shortest phase of " +
-              std::to_string(rep.caps.min_width_us) + " us (0 for no gap)");
-  if (period - length_us < rep.caps.min_width_us)
-    bad_input("off time of " + number_text(period - length_us) + " us between pulses (period " +
-              number_text(period) + " us, pulse " + number_text(length_us) +
-              " us) is shorter than the device's shortest phase of " +
-              std::to_string(rep.caps.min_width_us) + " us");
-  cfg.channels = static_cast<std::uint8_t>(s.currents_mA.size());
-  // The device always has a pulse budget: it stops by itself after the stimulus' pulses
-  // (live mode: --duration, or the duration limit), whatever becomes of the host.
-  cfg.max_pulses = static_cast<std::uint32_t>(count);
-  // No code above the limit in force (the stimulus's, the host's, the device's).
-  const std::vector<std::int16_t> codes =
-      quantize_currents(s.currents_mA, rep.caps, current_limit_mA(s, lim));
-  // A table: each pattern's timing (its own count) and codes, checked as the device will.
-  std::vector<device::PatternTiming> timings;
-  std::vector<std::vector<std::int16_t>> table_codes;
-  double table_s = 0;
-  if (table) {
-    if (m.patterns.size() > rep.caps.max_patterns)
-      bad_input("stimulus has " + std::to_string(m.patterns.size()) +
-                " patterns; the device holds " + std::to_string(rep.caps.max_patterns));
-    const double least_gap = std::max(rep.caps.min_gap_us, rep.caps.min_width_us);
-    if (m.gap_us < least_gap)
-      bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
-                number_text(least_gap) + " us");
-    device::ChannelLoad load;
-    std::size_t entries = 0;
-    for (const Stimulus& p : m.patterns) {
-      const double n_p =
-          pulse_count(p, opt, lim, "--duration: shorter than one period of a pattern");
-      timings.push_back(pattern_timing(p, static_cast<long>(n_p)));
-      const device::PatternTiming& t = timings.back();
-      if (t.period_us < std::ceil(1e6 / rep.caps.max_rate_hz) || !device::phase_fits(t, rep.caps))
-        bad_input("pattern " + std::to_string(timings.size() - 1) +
-                  ": its period, gap or off time is outside the device's timing (" +
-                  std::to_string(rep.caps.max_rate_hz) + " Hz, shortest phase " +
-                  std::to_string(rep.caps.min_width_us) + " us)");
-      table_codes.push_back(quantize_currents(p.currents_mA, rep.caps, current_limit_mA(p, lim)));
-      for (std::int16_t c : table_codes.back()) entries += c != 0;
-      device::add_dense(load, table_codes.back(), t);
-      table_s = std::max(table_s, (t.phase_us + (t.max_pulses + 0.0) * t.period_us) * 1e-6);
-    }
-    if (entries > rep.caps.code_pool)
-      bad_input("the patterns have " + std::to_string(entries) +
-                " non-zero codes; the device holds " + std::to_string(rep.caps.code_pool));
-    check_load(load, rep.caps, "summed over the patterns: ");
-  } else {
-    device::ChannelLoad load;
-    device::add_dense(load, codes, pattern_timing(s, 0));
-    check_load(load, rep.caps, "");
-  }
-  // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.
-  const double expected_s = table ? table_s + 0.001 : count * period * 1e-6;
+  const SessionPlan plan = plan_session(rep.caps, m, opt);
+  const StimulusLimits& lim = plan.limits;
+  const device::PulseConfig& cfg = plan.single;
+  const std::vector<std::int16_t>& codes = plan.codes;
+  const std::vector<device::PatternTiming>& timings = plan.timings;
+  const std::vector<std::vector<std::int16_t>>& table_codes = plan.table_codes;
+  const double expected_s = plan.expected_s;
 
   std::FILE* latency = nullptr;
   if (opt.live && !opt.latency_log.empty()) {

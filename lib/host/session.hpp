@@ -40,6 +40,25 @@ struct SessionReport {
   device::Capabilities caps;
 };
 
+// What a session sends to a device of these capabilities, once every check is made: the
+// stimulus, its duration, the device's capabilities and the stimulus against them (the
+// host's limits narrowed to the device's, the codes as the DAC makes them, the loads, the
+// timing).  Nothing is sent: bad input names the first limit broken.  A program checks a
+// whole procedure with it before its first output (calibrate: every trial at its ceiling).
+struct SessionPlan {
+  device::Capabilities caps;
+  StimulusLimits limits;              // the host's, narrowed to the device's
+  bool table = false;                 // protocol 4's table, else one configuration
+  device::PulseConfig single;         // a single stimulus's configuration
+  std::vector<std::int16_t> codes;    // pattern 0's codes
+  std::vector<device::PatternTiming> timings;          // a table's, one per pattern
+  std::vector<std::vector<std::int16_t>> table_codes;  // a table's, one per pattern
+  double pulses = 0;                  // scheduled, over every pattern
+  double expected_s = 0;              // when the device should be done
+};
+SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
+                         const SessionOptions& opt);
+
 // Refuses (bad input, naming both values) a device the host cannot drive safely: a
 // watchdog longer than kMaxDeviceWatchdogMs or shorter than kMinDeviceWatchdogMs, more
 // channels than the protocol carries.
