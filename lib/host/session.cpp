@@ -2,13 +2,17 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include <time.h>
 
 #include "core/error.hpp"
 #include "host/line_reader.hpp"
+#include "host/live.hpp"
 #include "host/signals.hpp"
+#include "io/files.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 
@@ -56,22 +60,6 @@ double pulse_count(const Stimulus& p, const SessionOptions& opt, const StimulusL
   if (!(n <= max_s * lim.max_frequency_hz + 1))
     bad_input("stimulus: " + number_text(n) + " pulses exceed the duration limit");
   return n;
-}
-
-// The device's own check of the codes it is sent (device::ChannelLoad, in integers): each
-// electrode's RMS and mean current, summed over the patterns, as the DAC makes them.  The
-// host's check in mA (check_stimulus, check_mix) can pass a current the codes' rounding
-// puts just over a bound; this one refuses it before anything is sent.
-void check_load(const device::ChannelLoad& load, const device::Capabilities& caps,
-                const std::string& where) {
-  const std::size_t i = load.first_over(caps);
-  if (i == device::kMaxChannels) return;
-  bad_input(where + "electrode " + std::to_string(i) + ": RMS " +
-            number_text(load.rms_mA(i, caps.dac_step_nA)) + " mA, mean " +
-            number_text(load.mean_mA(i, caps.dac_step_nA)) +
-            " mA, as the DAC makes them: above the device's bounds of " +
-            number_text(caps.max_rms_uA * 1e-3) + " mA RMS and " +
-            number_text(caps.max_mean_uA * 1e-3) + " mA mean (docs/safety.md)");
 }
 
 // A single stimulus's configuration (protocol 1 to 3), checked against the device's timing.
@@ -150,6 +138,18 @@ void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
 
 }  // namespace
 
+void check_load(const device::ChannelLoad& load, const device::Capabilities& caps,
+                const std::string& where) {
+  const std::size_t i = load.first_over(caps);
+  if (i == device::kMaxChannels) return;
+  bad_input(where + "electrode " + std::to_string(i) + ": RMS " +
+            number_text(load.rms_mA(i, caps.dac_step_nA)) + " mA, mean " +
+            number_text(load.mean_mA(i, caps.dac_step_nA)) +
+            " mA, as the DAC makes them: above the device's bounds of " +
+            number_text(caps.max_rms_uA * 1e-3) + " mA RMS and " +
+            number_text(caps.max_mean_uA * 1e-3) + " mA mean (docs/safety.md)");
+}
+
 double current_limit_mA(const Stimulus& s, const StimulusLimits& lim) {
   return std::min(s.max_current_mA, lim.max_current_mA);
 }
@@ -157,34 +157,14 @@ double current_limit_mA(const Stimulus& s, const StimulusLimits& lim) {
 std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t n_line,
                                            const Stimulus& s, const StimulusLimits& lim,
                                            const device::Capabilities& caps) {
-  Stimulus shape_of = s;
-  const std::string where = "input line " + std::to_string(n_line);
-  Json j;
-  try {
-    j = parse_json_strict(line, where);
-  } catch (const nlohmann::json::exception&) {
-    bad_input(where + ": malformed JSON");
-  }
-  if (!j.is_object() || !j.contains("currents_mA") || !j["currents_mA"].is_array())
-    bad_input(where + ": expected {\"currents_mA\": [...]}");
-  const Json& list = j["currents_mA"];
-  if (list.size() != shape_of.currents_mA.size())
-    bad_input(where + ": " + std::to_string(list.size()) + " currents for " +
-              std::to_string(shape_of.currents_mA.size()) + " channels");
-  std::vector<double> c;
-  for (std::size_t i = 0; i < list.size(); ++i)
-    c.push_back(json_finite(list[i], where + " currents_mA[" + std::to_string(i) + "]"));
-  shape_of.currents_mA = c;
-  try {
-    check_stimulus(shape_of, lim);
-    auto codes = quantize_currents(c, caps, current_limit_mA(s, lim));
-    device::ChannelLoad load;
-    device::add_dense(load, codes, pattern_timing(s, 0));
-    check_load(load, caps, "");
-    return codes;
-  } catch (const Error& e) {
-    bad_input(where + ": " + e.what());
-  }
+  Mix m;
+  m.patterns.push_back(s);
+  LiveState state(m, lim, caps);
+  const LiveFrame f = parse_live_line(line, "input line " + std::to_string(n_line));
+  if (f.kind != LiveFrame::Kind::currents)
+    bad_input("input line " + std::to_string(n_line) + ": expected {\"currents_mA\": [...]}");
+  state.add(f);
+  return *state.take().codes;
 }
 
 namespace {
@@ -267,192 +247,283 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
   return plan;
 }
 
-SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
-                          const volatile std::sig_atomic_t* signal_flag) {
-  if (m.patterns.empty()) bad_input("stimulus: no patterns");
-  const Stimulus& s = m.patterns[0];
-  const bool table = m.table();
-  StimulatorClient dev(transport);
-  SessionReport rep;
-  rep.port = transport.name();
-  auto interrupted = [&] { return signal_flag && *signal_flag != 0; };
-  auto end_by_flag = [&] {
-    rep.end = end_by_signal(*signal_flag);
-    rep.exit_code = 128 + *signal_flag;
-  };
+namespace {
 
-  // 1. Every check before anything but identify is sent: the stimulus, its duration, the
-  //    device's capabilities, and the stimulus against them.
+// One run of a session, in named steps: prepare (every check; identify only), open the
+// output (stop another host's, configure, upload, start), keep it alive (live updates,
+// keep-alives, the device's end), finish (stop, the device's counts, delivered against
+// scheduled).  Every step that leads to output first asks whether to stop.
+class SessionRun {
+ public:
+  SessionRun(Transport& t, const Mix& m, const SessionOptions& opt,
+             const volatile std::sig_atomic_t* flag)
+      : m_(m), opt_(opt), flag_(flag), dev_(t) {
+    rep_.port = t.name();
+  }
+
+  SessionReport run() {
+    if (!prepare()) return rep_;
+    try {
+      if (!open_output()) return rep_;
+      keep_alive();
+      dev_.stop();
+    } catch (...) {
+      stop_quietly();
+      throw;
+    }
+    finish();
+    return rep_;
+  }
+
+ private:
+  bool stop_asked() const {
+    return (flag_ && *flag_ != 0) || (opt_.stop && opt_.stop->load());
+  }
+  void end_by_stop() {
+    if (flag_ && *flag_ != 0) {
+      rep_.end = end_by_signal(*flag_);
+      rep_.exit_code = 128 + *flag_;
+    } else {
+      rep_.end = opt_.stop_reason;
+    }
+  }
+  void stop_quietly() noexcept {
+    if (!configured_) return;
+    try {
+      dev_.stop();
+    } catch (...) {
+      // The device is unreachable; its watchdog stops the output.
+    }
+  }
+  double elapsed_s() const { return static_cast<double>(monotonic_ns() - t0_) * 1e-9; }
+
+  bool prepare();
+  bool open_output();
+  void upload(int step);
+  void keep_alive();
+  bool take_frames(int wait_ms);
+  bool send_update(const LiveState::Update& u);
+  bool device_ended(const device::Status& st);
+  void finish();
+
+  const Mix& m_;
+  const SessionOptions& opt_;
+  const volatile std::sig_atomic_t* flag_;
+  StimulatorClient dev_;
+  SessionReport rep_;
+  SessionPlan plan_;
+  std::optional<LiveState> live_;
+  std::unique_ptr<LineSource> lines_;
+  std::optional<LineFile> latency_;
+  std::int64_t t0_ = 0;
+  bool configured_ = false;
+  bool input_open_ = true;
+};
+
+// 1. Every check before anything but identify is sent: the stimulus, its duration, the
+//    device's capabilities, and the stimulus against them (plan_session).
+bool SessionRun::prepare() {
+  if (m_.patterns.empty()) bad_input("stimulus: no patterns");
+  const Stimulus& s = m_.patterns[0];
   if (s.currents_mA.size() > device::kMaxChannels)
     bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
               " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
-  const double max_s = opt.limits.max_duration_s;
-  if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
-    bad_input("--duration: " + number_text(opt.duration_s) + " s outside (0, " +
+  const double max_s = opt_.limits.max_duration_s;
+  if (opt_.duration_s >= 0 && !(opt_.duration_s > 0 && opt_.duration_s <= max_s))
+    bad_input("--duration: " + number_text(opt_.duration_s) + " s outside (0, " +
               number_text(max_s) + "] s");
-  if (interrupted()) {
-    end_by_flag();
-    return rep;
+  if (stop_asked()) {
+    end_by_stop();
+    return false;
   }
-  rep.caps = dev.identify();
-  const SessionPlan plan = plan_session(rep.caps, m, opt);
-  const StimulusLimits& lim = plan.limits;
-  const device::PulseConfig& cfg = plan.single;
-  const std::vector<std::int16_t>& codes = plan.codes;
-  const std::vector<device::PatternTiming>& timings = plan.timings;
-  const std::vector<std::vector<std::int16_t>>& table_codes = plan.table_codes;
-  const double expected_s = plan.expected_s;
-
-  std::FILE* latency = nullptr;
-  if (opt.live && !opt.latency_log.empty()) {
-    latency = std::fopen(opt.latency_log.c_str(), "w");
-    if (!latency) bad_input("--latency-log: cannot open '" + opt.latency_log + "'");
+  rep_.caps = dev_.identify();
+  plan_ = plan_session(rep_.caps, m_, opt_);
+  rep_.scheduled = plan_.pulses;
+  if (opt_.live) {
+    live_.emplace(m_, plan_.limits, rep_.caps);
+    if (!opt_.frames) lines_ = std::make_unique<LineSource>(opt_.input_fd);
+    if (!opt_.latency_log.empty()) latency_.emplace(opt_.latency_log, "--latency-log");
   }
-  struct CloseLog {
-    std::FILE*& f;
-    ~CloseLog() {
-      if (f) std::fclose(f);
-    }
-  } close_log{latency};
+  return true;
+}
 
-  // 2. A device still running is another host's output (the port is ours alone): stop it.
-  //    Then configure a session of our own, set the weights, start.  The stop flag is
-  //    checked before every step that leads to output.
-  std::int64_t t0 = monotonic_ns();  // from the start, once started (a table's upload aside)
-  bool configured = false;
-  try {
-    if (interrupted()) {
-      end_by_flag();
-      return rep;
-    }
-    if (dev.status().state == device::State::running) {
-      dev.stop();
-      rep.preempted = true;
-    }
-    // A table: configure, each pattern's timing and codes, its starting amplitudes (when
-    // the document gives them: after the codes, which reset them), start.
-    const int uploads = 2 * static_cast<int>(m.patterns.size());
-    const bool start_scales = table && !m.start_amplitudes_mA.empty();
-    const int steps = table ? 2 + uploads + (start_scales ? 1 : 0) : 3;
-    for (int step = 0; step < steps; ++step) {
-      if (interrupted()) break;
-      if (step == 0 && table) {
-        dev.configure_table(static_cast<std::uint16_t>(m.patterns.size()),
-                            static_cast<std::uint8_t>(s.currents_mA.size()),
-                            static_cast<std::uint16_t>(std::lround(m.gap_us)));
-        configured = true;
-      } else if (step == 0) {
-        dev.configure(cfg);
-        configured = true;
-      } else if (table && step <= uploads) {
-        const auto i = static_cast<std::uint16_t>((step - 1) / 2);
-        if ((step - 1) % 2 == 0) {
-          dev.set_pattern(i, timings[i]);
-        } else {
-          dev.set_codes(i, table_codes[i]);
-          rep.peak_mA = std::max(rep.peak_mA, peak_of(table_codes[i], rep.caps));
-        }
-      } else if (start_scales && step == uploads + 1) {
-        dev.set_amplitudes(
-            parse_amplitudes({{"amplitudes", m.start_amplitudes_mA}}, m, "start_amplitudes_mA"));
-      } else if (step == 1) {
-        dev.set_weights(codes);
-        rep.peak_mA = peak_of(codes, rep.caps);
-      } else {
-        dev.start();
-        rep.started = true;
-        t0 = monotonic_ns();
-      }
-    }
-    if (!rep.started) {
-      end_by_flag();
-      dev.stop();  // disarm the session we opened
-      return rep;
-    }
-
-    // 3. Keep the session alive until the run ends.
-    LineReader input(opt.input_fd);
-    std::int64_t last_keepalive = monotonic_ns();
-    const std::int64_t period_ns = std::int64_t{kKeepAliveMs} * 1000000;
-    std::string line;
-    while (true) {
-      if (interrupted()) {
-        end_by_flag();
-        break;
-      }
-      const std::int64_t now = monotonic_ns();
-      const double elapsed = static_cast<double>(now - t0) * 1e-9;
-      if (elapsed > expected_s + 1.0) failure("device did not complete the stimulus in time");
-      const std::int64_t wait_ns = std::max<std::int64_t>(0, last_keepalive + period_ns - now);
-      if (opt.live) {
-        // One line per turn, so a flood of input never delays the keep-alive below.
-        if (input.next(line)) {
-          if (line.find_first_not_of(" \t\r") != std::string::npos) {
-            const std::string where = "input line " + std::to_string(input.lines());
-            if (line.find("\"amplitudes\"") != std::string::npos || table) {
-              Json j;
-              try {
-                j = parse_json_strict(line, where);
-              } catch (const nlohmann::json::exception&) {
-                bad_input(where + ": malformed JSON");
-              }
-              if (table && !(j.is_object() && j.contains("amplitudes")))
-                bad_input(where + ": a mix takes {\"amplitudes\": [...]}, one per pattern");
-              dev.set_amplitudes(parse_amplitudes(j, m, where));
-            } else {
-              const auto frame = parse_live_frame(line, input.lines(), s, lim, rep.caps);
-              dev.set_weights(frame);
-              rep.peak_mA = std::max(rep.peak_mA, peak_of(frame, rep.caps));
-            }
-            ++rep.weight_frames;
-            if (latency)
-              std::fprintf(latency, "%u %lld\n", rep.weight_frames,
-                           static_cast<long long>(dev.last_write_ns()));
-          }
-        } else if (input.at_end()) {
-          rep.end = "end of input";
-          break;
-        } else {
-          input.fill(static_cast<int>((wait_ns + 999999) / 1000000));
-        }
-      } else {
-        timespec ts{0, static_cast<long>(wait_ns)};
-        nanosleep(&ts, nullptr);
-      }
-      const std::int64_t after = monotonic_ns();
-      const bool keepalive_due = after - last_keepalive >= period_ns;
-      const bool should_be_done = static_cast<double>(after - t0) * 1e-9 >= expected_s;
-      if (keepalive_due || should_be_done) {
-        const device::Status st = dev.keepalive();
-        last_keepalive = monotonic_ns();
-        if (st.state == device::State::idle) {
-          if (st.fault == device::Fault::completed) {
-            rep.end = "stimulus complete";
-            break;
-          }
-          failure(std::string("device stopped the output: ") + device::to_string(st.fault));
-        }
-      }
-    }
-    dev.stop();
-  } catch (...) {
-    if (configured) {
-      try {
-        dev.stop();
-      } catch (...) {
-        // The device is unreachable; its watchdog stops the output.
-      }
-    }
-    throw;
+// 2. A device still running is another host's output (the port is ours alone): stop it.
+//    Then configure a session of our own, upload, start.  False: stopped before the start
+//    (the session we opened is disarmed).
+bool SessionRun::open_output() {
+  t0_ = monotonic_ns();
+  if (stop_asked()) {
+    end_by_stop();
+    return false;
   }
-  const device::Status st = dev.status();
-  rep.pulses = st.pulses;
-  rep.seconds = static_cast<double>(monotonic_ns() - t0) * 1e-9;
-  rep.retransmissions = dev.retransmissions();
-  rep.rx_errors = st.rx_errors;
-  rep.line_errors = st.line_errors;
-  rep.overruns = st.overruns;
-  return rep;
+  if (dev_.status().state == device::State::running) {
+    dev_.stop();
+    rep_.preempted = true;
+  }
+  // A table: configure, each pattern's timing and codes, its starting amplitudes (when the
+  // document gives them: after the codes, which reset them), start.  A single stimulus:
+  // configure, its weights, start.
+  const int uploads = plan_.table ? 2 * static_cast<int>(m_.patterns.size()) : 1;
+  const bool start_scales = plan_.table && !m_.start_amplitudes_mA.empty();
+  const int steps = 1 + uploads + (start_scales ? 1 : 0);
+  for (int step = 0; step < steps; ++step) {
+    if (stop_asked()) {
+      end_by_stop();
+      dev_.stop();  // disarm the session we opened
+      return false;
+    }
+    upload(step);
+  }
+  if (stop_asked()) {
+    end_by_stop();
+    dev_.stop();
+    return false;
+  }
+  dev_.start();
+  rep_.started = true;
+  t0_ = monotonic_ns();
+  return true;
+}
+
+void SessionRun::upload(int step) {
+  const Stimulus& s = m_.patterns[0];
+  const int uploads = plan_.table ? 2 * static_cast<int>(m_.patterns.size()) : 1;
+  if (step == 0) {
+    if (plan_.table)
+      dev_.configure_table(static_cast<std::uint16_t>(m_.patterns.size()),
+                           static_cast<std::uint8_t>(s.currents_mA.size()),
+                           static_cast<std::uint16_t>(std::lround(m_.gap_us)));
+    else
+      dev_.configure(plan_.single);
+    configured_ = true;
+  } else if (!plan_.table) {
+    dev_.set_weights(plan_.codes);
+    rep_.peak_mA = peak_of(plan_.codes, rep_.caps);
+  } else if (step <= uploads) {
+    const auto i = static_cast<std::uint16_t>((step - 1) / 2);
+    if ((step - 1) % 2 == 0) {
+      dev_.set_pattern(i, plan_.timings[i]);
+    } else {
+      dev_.set_codes(i, plan_.table_codes[i]);
+      rep_.peak_mA = std::max(rep_.peak_mA, peak_of(plan_.table_codes[i], rep_.caps));
+    }
+  } else {
+    dev_.set_amplitudes(
+        parse_amplitudes({{"amplitudes", m_.start_amplitudes_mA}}, m_, "start_amplitudes_mA"));
+  }
+}
+
+// 3. Keeps the session alive until the run ends: the stimulus completes, --duration passes,
+//    the live input ends, a stop is asked, or the device stops the output.
+void SessionRun::keep_alive() {
+  std::int64_t last_keepalive = monotonic_ns(), last_progress = last_keepalive;
+  const std::int64_t period_ns = std::int64_t{kKeepAliveMs} * 1000000;
+  while (true) {
+    if (stop_asked()) {
+      end_by_stop();
+      return;
+    }
+    const std::int64_t now = monotonic_ns();
+    if (elapsed_s() > plan_.expected_s + 1.0) {
+      const device::Status st = dev_.status();
+      failure("device did not complete the stimulus in time: " + std::to_string(st.pulses) +
+              " of " + number_text(plan_.pulses) + " pulses delivered " +
+              number_text(std::round(elapsed_s() * 100) / 100) + " s after the start");
+    }
+    const std::int64_t wait_ns = std::max<std::int64_t>(0, last_keepalive + period_ns - now);
+    const int wait_ms = static_cast<int>((wait_ns + 999999) / 1000000);
+    if (live_ && input_open_) {
+      if (!take_frames(wait_ms)) return;  // the device ended the session: rep_.end says how
+      if (!input_open_) {
+        rep_.end = "end of input";
+        return;
+      }
+    } else {
+      timespec ts{0, static_cast<long>(wait_ns)};
+      nanosleep(&ts, nullptr);
+    }
+    const std::int64_t after = monotonic_ns();
+    const bool keepalive_due = after - last_keepalive >= period_ns;
+    const bool should_be_done = elapsed_s() >= plan_.expected_s;
+    if (keepalive_due || should_be_done) {
+      const device::Status st = dev_.keepalive();
+      last_keepalive = monotonic_ns();
+      rep_.pulses = st.pulses;
+      if (device_ended(st)) return;
+    }
+    if (opt_.progress && after - last_progress >= 250000000) {
+      last_progress = after;
+      opt_.progress(SessionProgress{elapsed_s(), plan_.expected_s, rep_.pulses, plan_.pulses,
+                                    rep_.weight_frames});
+    }
+  }
+}
+
+// The live input's frames, waiting up to wait_ms; their net effect sent at once.  False:
+// the device had ended the session meanwhile (completed: rep_.end says so).
+bool SessionRun::take_frames(int wait_ms) {
+  FrameSource& source = opt_.frames ? *opt_.frames : *lines_;
+  input_open_ = source.pump(*live_, wait_ms);
+  const LiveState::Update u = live_->take();
+  if (u.empty()) return true;
+  rep_.weight_frames += u.frames;
+  if (!send_update(u)) return false;
+  if (latency_)
+    latency_->line(std::to_string(rep_.weight_frames) + " " + std::to_string(dev_.last_write_ns()));
+  return true;
+}
+
+bool SessionRun::send_update(const LiveState::Update& u) {
+  // Refused as not of the session: the device ended it meanwhile (or another host took it).
+  auto ended = [&] {
+    const device::Status st = dev_.status();
+    if (st.state == device::State::running)
+      failure("the device is running another session's output: ours was taken over");
+    rep_.pulses = st.pulses;
+    return !device_ended(st);
+  };
+  if (u.codes) {
+    if (!dev_.set_weights_live(*u.codes)) return ended();
+    rep_.peak_mA = std::max(rep_.peak_mA, peak_of(*u.codes, rep_.caps));
+  }
+  if (u.scales && !dev_.set_amplitudes_live(*u.scales)) return ended();
+  return true;
+}
+
+// The device's state after a keep-alive or a refused update: true when it has ended the
+// session; a completed stimulus ends the run, any other end is a failure naming it.
+bool SessionRun::device_ended(const device::Status& st) {
+  if (st.state != device::State::idle) return false;
+  if (st.fault == device::Fault::completed) {
+    rep_.end = "stimulus complete";
+    return true;
+  }
+  failure(std::string("device stopped the output: ") + device::to_string(st.fault) + " (" +
+          std::to_string(st.pulses) + " of " + number_text(plan_.pulses) + " pulses delivered)");
+}
+
+// 4. The device's counts; a completed stimulus must have delivered what was scheduled.
+void SessionRun::finish() {
+  const device::Status st = dev_.status();
+  rep_.pulses = st.pulses;
+  rep_.seconds = elapsed_s();
+  rep_.retransmissions = dev_.retransmissions();
+  rep_.rx_errors = st.rx_errors;
+  rep_.line_errors = st.line_errors;
+  rep_.overruns = st.overruns;
+  if (latency_) latency_->close();
+  if (rep_.end == "stimulus complete" && static_cast<double>(st.pulses) != plan_.pulses)
+    failure("the device delivered " + std::to_string(st.pulses) + " of the " +
+            number_text(plan_.pulses) +
+            " pulses scheduled and reported the stimulus complete: the stimulus was not "
+            "delivered as asked (a device that cannot keep up with its rate: docs/safety.md)");
+}
+
+}  // namespace
+
+SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
+                          const volatile std::sig_atomic_t* signal_flag) {
+  return SessionRun(transport, m, opt, signal_flag).run();
 }
 
 }  // namespace tp::host

@@ -5,7 +5,9 @@
 // the output however the run ends: the stimulus completes, --duration passes, the live
 // input ends, a signal arrives, or anything fails.
 
+#include <atomic>
 #include <csignal>
+#include <functional>
 #include <string>
 
 #include "host/stimulator.hpp"
@@ -14,13 +16,30 @@
 
 namespace tp::host {
 
+class FrameSource;  // host/live.hpp
+
+// While the output runs, about every 0.25 s (stimctl's progress line).
+struct SessionProgress {
+  double seconds = 0;         // since the start
+  double expected_s = 0;      // when the device should be done (live: its pulse budget's end)
+  std::uint32_t pulses = 0;   // delivered so far, per the device
+  double scheduled = 0;       // pulses scheduled
+  std::uint32_t frames = 0;   // live frames taken
+};
+
 struct SessionOptions {
   double duration_s = -1.0;  // stop after this long (< 0: the stimulus' own duration; live
                              // mode: until the input ends, at most limits.max_duration_s)
-  bool live = false;         // after starting, read weight frames (JSON lines) from input_fd
+  bool live = false;         // after starting, take live frames (host/live.hpp): from
+  FrameSource* frames = nullptr;  // here, or, when null, JSON lines on input_fd
   int input_fd = 0;
-  std::string latency_log;  // live mode: "n t_ns" per weight frame written (benchmarks)
+  std::string latency_log;  // live mode: "n t_ns" per update sent (benchmarks)
   StimulusLimits limits;    // the host's limits
+  // The caller's own stop (Python's close()), asked wherever the signal flag is: the output
+  // stops, and the report's end is stop_reason (exit code 0; the caller decides).
+  const std::atomic<bool>* stop = nullptr;
+  std::string stop_reason = "stopped by the caller";
+  std::function<void(const SessionProgress&)> progress;
 };
 
 struct SessionReport {
@@ -30,7 +49,9 @@ struct SessionReport {
   bool started = false;      // the output was started
   bool preempted = false;    // the device was running another session: stopped first
   std::uint32_t pulses = 0;  // delivered, per the device
-  std::uint32_t weight_frames = 0;
+  double scheduled = 0;      // pulses the stimulus scheduled (cut by --duration; live: the
+                             // budget): on completion, the device must have delivered them
+  std::uint32_t weight_frames = 0;  // live frames taken (folded ones included)
   double peak_mA = 0.0;  // largest |current| sent to the device (as the DAC makes it)
   double seconds = 0.0;
   int retransmissions = 0;
@@ -63,6 +84,12 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
 // watchdog longer than kMaxDeviceWatchdogMs or shorter than kMinDeviceWatchdogMs, more
 // channels than the protocol carries.
 void check_device(const device::Capabilities& caps);
+
+// The device's own check of the codes it is sent (device::ChannelLoad, in integers): each
+// electrode's RMS and mean current summed over the patterns, as the DAC makes them; bad
+// input naming the electrode after `where`.
+void check_load(const device::ChannelLoad& load, const device::Capabilities& caps,
+                const std::string& where);
 
 // The current limit in force for a stimulus: its own max_current_mA or the limits'
 // (already narrowed to the device's), whichever is lower.  No code sent exceeds it.

@@ -132,16 +132,38 @@ void StimulatorClient::set_codes(std::uint16_t index, const std::vector<std::int
   b.insert(b.end(), sparse.begin(), sparse.end());
   request(device::Msg::set_codes, device::with_session(session_, b));
 }
-void StimulatorClient::set_amplitudes(const std::vector<std::uint16_t>& scales) {
+std::vector<std::uint8_t> StimulatorClient::amplitudes_payload(
+    const std::vector<std::uint16_t>& scales, std::size_t first) {
   // At most 96 a frame (the payload's 200 bytes): a long table in several frames.
-  for (std::size_t first = 0; first < scales.size(); first += 96) {
-    const std::size_t n = std::min<std::size_t>(96, scales.size() - first);
-    std::vector<std::uint8_t> b;
-    device::put_u16(b, static_cast<std::uint16_t>(first));
-    b.push_back(static_cast<std::uint8_t>(n));
-    for (std::size_t k = 0; k < n; ++k) device::put_u16(b, scales[first + k]);
-    request(device::Msg::set_amplitudes, device::with_session(session_, b));
-  }
+  const std::size_t n = std::min<std::size_t>(96, scales.size() - first);
+  std::vector<std::uint8_t> b;
+  device::put_u16(b, static_cast<std::uint16_t>(first));
+  b.push_back(static_cast<std::uint8_t>(n));
+  for (std::size_t k = 0; k < n; ++k) device::put_u16(b, scales[first + k]);
+  return b;
+}
+void StimulatorClient::set_amplitudes(const std::vector<std::uint16_t>& scales) {
+  for (std::size_t first = 0; first < scales.size(); first += 96)
+    request(device::Msg::set_amplitudes,
+            device::with_session(session_, amplitudes_payload(scales, first)));
+}
+bool StimulatorClient::session_request(device::Msg type, const std::vector<std::uint8_t>& payload) {
+  const Reply r = exchange(type, payload);
+  if (r.result == device::Result::wrong_session) return false;
+  if (r.result != device::Result::ok)
+    failure(std::string("device refused ") + msg_name(type) + ": " + device::to_string(r.result));
+  return true;
+}
+bool StimulatorClient::set_weights_live(const std::vector<std::int16_t>& codes) {
+  return session_request(device::Msg::set_weights,
+                         device::with_session(session_, device::encode_weights(codes)));
+}
+bool StimulatorClient::set_amplitudes_live(const std::vector<std::uint16_t>& scales) {
+  for (std::size_t first = 0; first < scales.size(); first += 96)
+    if (!session_request(device::Msg::set_amplitudes,
+                         device::with_session(session_, amplitudes_payload(scales, first))))
+      return false;
+  return true;
 }
 void StimulatorClient::start() {
   request(device::Msg::start, device::with_session(session_, {}));

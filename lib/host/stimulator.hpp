@@ -41,6 +41,11 @@ class StimulatorClient {
   void set_pattern(std::uint16_t index, const device::PatternTiming& t);
   void set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense);
   void set_amplitudes(const std::vector<std::uint16_t>& scales);
+  // The same while the output runs: false (nothing changed) when the device has already
+  // ended this session (its stimulus completed, its watchdog, a stop); any other refusal
+  // is a failure naming it.
+  bool set_weights_live(const std::vector<std::int16_t>& codes);
+  bool set_amplitudes_live(const std::vector<std::uint16_t>& scales);
   void start();
   // Always honoured by the device; ends the session.
   void stop();
@@ -65,6 +70,10 @@ class StimulatorClient {
   Reply exchange(device::Msg type, const std::vector<std::uint8_t>& payload);
   // exchange(), and a refusal is a tp::Error (failure) naming it.
   std::vector<std::uint8_t> request(device::Msg type, const std::vector<std::uint8_t>& payload);
+  // request(), but false when the device refuses it as not of the current session.
+  bool session_request(device::Msg type, const std::vector<std::uint8_t>& payload);
+  static std::vector<std::uint8_t> amplitudes_payload(const std::vector<std::uint16_t>& scales,
+                                                      std::size_t first);
 
   Transport& t_;
   device::FrameDecoder decoder_;

@@ -192,27 +192,39 @@ Json mix_to_json(const Mix& m) {
   return j;
 }
 
-std::vector<std::uint16_t> parse_amplitudes(const Json& j, const Mix& m, const std::string& where) {
-  if (!j.is_object() || !j.contains("amplitudes") || !j["amplitudes"].is_array())
-    bad_input(where + ": expected {\"amplitudes\": [...]}");
-  const Json& a = j["amplitudes"];
+double pattern_amplitude_mA(const Stimulus& s) {
+  if (s.amplitude_mA > 0) return s.amplitude_mA;
+  double top = 0;
+  for (double c : s.currents_mA) top = std::max(top, std::fabs(c));
+  return top;
+}
+
+std::vector<std::uint16_t> amplitude_scales(const std::vector<double>& a, const Mix& m,
+                                            const std::string& where) {
   if (a.size() != m.patterns.size())
     bad_input(where + ": " + std::to_string(a.size()) + " amplitudes for " +
-              std::to_string(m.patterns.size()) + " patterns");
+              std::to_string(m.patterns.size()) + (m.patterns.size() == 1 ? " pattern" : " patterns"));
   std::vector<std::uint16_t> scales;
   for (std::size_t p = 0; p < a.size(); ++p) {
-    const double v = json_finite(a[p], where + " amplitudes[" + std::to_string(p) + "]");
-    const Stimulus& s = m.patterns[p];
-    double top = s.amplitude_mA;
-    if (!(top > 0))
-      for (double c : s.currents_mA) top = std::max(top, std::fabs(c));
+    const double v = a[p];
+    const double top = pattern_amplitude_mA(m.patterns[p]);
     if (!(v >= 0 && v <= top * (1 + 1e-12)))
       bad_input(where + ": amplitude " + number_text(v) + " mA for pattern " + std::to_string(p) +
-                " outside [0, " + number_text(top) + "] mA (its configured amplitude)");
-    const double scale = std::floor(std::min(1.0, v / top) * device::kFullScale);
+                " outside [0, " + number_text(top) + "] mA (the current of its weight-1 electrode)");
+    const double scale = top > 0 ? std::floor(std::min(1.0, v / top) * device::kFullScale) : 0.0;
     scales.push_back(static_cast<std::uint16_t>(scale));
   }
   return scales;
+}
+
+std::vector<std::uint16_t> parse_amplitudes(const Json& j, const Mix& m, const std::string& where) {
+  if (!j.is_object() || j.size() != 1 || !j.contains("amplitudes") || !j["amplitudes"].is_array())
+    bad_input(where + ": expected {\"amplitudes\": [...]} and no other key");
+  const Json& list = j["amplitudes"];
+  std::vector<double> a;
+  for (std::size_t p = 0; p < list.size(); ++p)
+    a.push_back(json_finite(list[p], where + " amplitudes[" + std::to_string(p) + "]"));
+  return amplitude_scales(a, m, where);
 }
 
 }  // namespace tp

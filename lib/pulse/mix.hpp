@@ -53,8 +53,17 @@ void check_mix(const Mix& m, const StimulusLimits& limits);
 Mix mix_from_json(const Json& j);
 Json mix_to_json(const Mix& m);
 
-// A live amplitude frame {"amplitudes": [a1, ...]}, mA, each 0 to its pattern's amplitude:
-// the device's scales (device::kFullScale = the pattern as configured), rounded down.
+// A pattern's amplitude: the current of its weight-1 electrode (amplitude_mA), or its
+// largest current when it has none.
+double pattern_amplitude_mA(const Stimulus& s);
+
+// Amplitudes in mA, one per pattern, each 0 to its pattern's amplitude: the device's
+// scales (device::kFullScale = the pattern as configured), rounded down.  Bad input naming
+// `where`.
+std::vector<std::uint16_t> amplitude_scales(const std::vector<double>& amplitudes_mA,
+                                            const Mix& m, const std::string& where);
+
+// An amplitude frame {"amplitudes": [a1, ...]} (no other key): amplitude_scales.
 std::vector<std::uint16_t> parse_amplitudes(const Json& frame, const Mix& m,
                                             const std::string& where);
 

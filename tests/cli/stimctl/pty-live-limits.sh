@@ -36,8 +36,10 @@ secs=$(awk -v a="$t0" -v b="$t1" 'BEGIN { print b - a }')
 limit=20
 [[ ${TP_DEVICE:-} == firmware ]] && limit=90
 awk -v s="$secs" -v l="$limit" 'BEGIN { exit !(s < l) }' || fail "flood took $secs s (limit $limit s)"
-# 3. The peak is what was delivered (frames up to 1 mA), not the document's 0.5 mA.
+# 3. Frames that arrive together are folded (host/live.hpp): the peak is what was sent (at
+#    most the frames' 1 mA, at least what was recorded), never the document's 0.5 mA.
 peak=$(sed -n 's/.*peak \([0-9.]*\) mA.*/\1/p' flood.err)
-awk -v p="$peak" 'BEGIN { exit !(p > 0.998 && p < 1.002) }' || fail "summary peak $peak mA, delivered 1 mA: $(cat flood.err)"
 recorded=$(jq -s 'map(.currents_mA[3]) | max' flood.rec.jsonl)
+awk -v p="$peak" -v r="$recorded" 'BEGIN { exit !(p < 1.002 && p >= r - 1e-9 && p > 0.5) }' \
+  || fail "summary peak $peak mA, recorded $recorded mA: $(cat flood.err)"
 echo "ok: flood of 3000 frames + 300000 blank lines in $secs s, recorded peak $recorded mA; $(cat flood.err)"
