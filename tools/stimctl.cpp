@@ -11,6 +11,8 @@
 #include <optional>
 #include <string>
 
+#include <unistd.h>
+
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "fibre/report.hpp"
@@ -73,6 +75,10 @@ int main(int argc, char** argv) {
       tp::bad_input("--live: give the stimulus with --stimulus FILE (stdin carries the frames)");
     if (port != "emu" && !record.empty())
       tp::bad_input("--record: only with --port emu (stim-emu has its own)");
+    if (port != "emu" && app.count("--emu-channels") > 0)
+      tp::bad_input("--emu-channels: only with --port emu (a device reports its own channels)");
+    if (!latency_log.empty() && !live)
+      tp::bad_input("--latency-log: only with --live (it logs live frames)");
     // A stimulus (make-pulse's) or a mix of patterns (mix-stimuli's).
     const tp::Mix mix = tp::mix_from_json(tp::read_json(stimulus_path, "stimulus"));
     tp::check_mix(mix, tp::StimulusLimits{});
@@ -95,12 +101,16 @@ int main(int argc, char** argv) {
         tp::bad_input("--duration: " + duration + " s outside (0, " +
                       tp::number_text(opt.limits.max_duration_s) + "] s");
     }
-
-    if (!latency_log.empty()) {  // found unwritable before anything is sent
-      std::FILE* f = std::fopen(latency_log.c_str(), "w");
-      if (!f) tp::bad_input("--latency-log: cannot open '" + latency_log + "'");
-      std::fclose(f);
-    }
+    // On a terminal, a progress line while the output runs (stderr, overwritten).
+    const bool tty = isatty(STDERR_FILENO) == 1;
+    bool progress_shown = false;
+    if (tty)
+      opt.progress = [&](const tp::host::SessionProgress& p) {
+        std::fprintf(stderr, "\rstimctl: %.1f of %.1f s, %u of %s pulses%s\033[K", p.seconds,
+                     p.expected_s, p.pulses, tp::number_text(p.scheduled).c_str(),
+                     live ? (", " + std::to_string(p.frames) + " live frames").c_str() : "");
+        progress_shown = true;
+      };
     // Before the port is opened: from here on every terminating signal is a flag the
     // session honours (nothing starts after it; a running output is stopped first).
     const volatile std::sig_atomic_t* signal_flag = tp::host::install_stop_handlers();
@@ -110,8 +120,16 @@ int main(int argc, char** argv) {
     const auto transport = tp::host::open_transport(port, baud, emu, backend);
     tp::host::arm_emergency_stop(transport->native_handle());
     if (against) std::fprintf(stderr, "stimctl: %s\n", against->c_str());
+    struct ClearProgress {  // however the run ends, the next message starts a clean line
+      const bool& shown;
+      ~ClearProgress() {
+        if (shown) std::fprintf(stderr, "\r\033[K");
+      }
+    } clear_progress{progress_shown};
     const tp::host::SessionReport r = tp::host::run_session(*transport, mix, opt, signal_flag);
     tp::host::arm_emergency_stop(-1);
+    if (progress_shown) std::fprintf(stderr, "\r\033[K");
+    progress_shown = false;
     if (r.preempted)
       std::fprintf(stderr,
                    "stimctl: %s was running another session's output (its host is gone): "
@@ -133,13 +151,13 @@ int main(int argc, char** argv) {
                                  ? "at " + tp::number_text(s.shape.frequency_hz) + " Hz"
                                  : "of " + std::to_string(mix.patterns.size()) + " patterns";
     std::fprintf(stderr,
-                 "stimctl: %s: %u pulses on %zu channels %s, peak %s mA, %s s%s, %d "
+                 "stimctl: %s: %u of %s pulses on %zu channels %s, peak %s mA, %s s%s, %d "
                  "retransmissions%s; %s; "
                  "output stopped\n",
-                 r.port.c_str(), r.pulses, s.currents_mA.size(), rate.c_str(),
-                 tp::number_text(r.peak_mA).c_str(),
+                 r.port.c_str(), r.pulses, tp::number_text(r.scheduled).c_str(),
+                 s.currents_mA.size(), rate.c_str(), tp::number_text(r.peak_mA).c_str(),
                  tp::number_text(std::round(r.seconds * 100) / 100).c_str(),
-                 live ? (", " + std::to_string(r.weight_frames) + " weight frames").c_str() : "",
+                 live ? (", " + std::to_string(r.weight_frames) + " live frames").c_str() : "",
                  r.retransmissions, line.c_str(), r.end.c_str());
     if (r.exit_code != 0)
       throw tp::Error(static_cast<tp::ExitCode>(r.exit_code), "stopped: " + r.end);

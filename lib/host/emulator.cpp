@@ -32,20 +32,14 @@ std::uint64_t monotonic_us() {
 }
 
 PulseRecorder::PulseRecorder(const std::string& path) {
-  if (path.empty()) return;
-  out_ = std::fopen(path.c_str(), "w");
-  if (!out_) bad_input("--record: cannot open '" + path + "': " + std::strerror(errno));
-}
-
-PulseRecorder::~PulseRecorder() {
-  if (out_) std::fclose(out_);
+  if (!path.empty()) out_.emplace(path, "--record");
 }
 
 void PulseRecorder::record(const device::DeliveredPulse& p) {
   ++pulses_;
   const double step_mA = p.caps.dac_step_nA * 1e-6;
   for (std::int16_t c : p.codes) peak_mA_ = std::max(peak_mA_, std::fabs(c * step_mA));
-  if (!out_) return;
+  if (!out_ || failed_) return;
   // The device's own record (lib/device/pulse_record.hpp), as the firmware's monitor
   // writes it: the balancing phase in whole DAC codes.
   device::PulseRecord r;
@@ -60,11 +54,13 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
   r.interphase_us = p.timing.interphase_us;
   r.balance_width_us = p.timing.balance_width_us;
   char line[device::kMaxRecordLine];
-  std::fwrite(line, 1, device::format_record(r, line), out_);
-}
-
-void PulseRecorder::flush() {
-  if (out_) std::fflush(out_);
+  const std::size_t n = device::format_record(r, line);
+  try {
+    out_->write(line, n);
+  } catch (const Error&) {
+    failed_ = true;
+    throw;
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -78,9 +74,12 @@ class LoopbackTransport final : public Transport {
  public:
   explicit LoopbackTransport(const EmulatorOptions& o) : core_(o.caps), recorder_(o.record_path) {}
   ~LoopbackTransport() override {
-    advance();
+    try {
+      advance();
+    } catch (const Error&) {
+      // The record failed (already reported): the output stops all the same.
+    }
     core_.link_lost();
-    recorder_.flush();
   }
   std::string name() const override { return "emu (in-process emulator)"; }
 
@@ -208,16 +207,9 @@ void await_device(int fd, const std::string& path) {
 
 int run_pty_emulator(const PtyEmulatorOptions& opt) {
   PulseRecorder recorder(opt.record_path);
-  std::FILE* apply_log = nullptr;
-  if (!opt.apply_log_path.empty()) {
-    apply_log = std::fopen(opt.apply_log_path.c_str(), "w");
-    if (!apply_log) bad_input("--apply-log: cannot open '" + opt.apply_log_path + "'");
-  }
-  std::FILE* event_log = nullptr;
-  if (!opt.event_log_path.empty()) {
-    event_log = std::fopen(opt.event_log_path.c_str(), "w");
-    if (!event_log) bad_input("--event-log: cannot open '" + opt.event_log_path + "'");
-  }
+  std::optional<LineFile> apply_log, event_log;
+  if (!opt.apply_log_path.empty()) apply_log.emplace(opt.apply_log_path, "--apply-log");
+  if (!opt.event_log_path.empty()) event_log.emplace(opt.event_log_path, "--event-log");
   bool running = false;  // as last logged
   const int master = posix_openpt(O_RDWR | O_NOCTTY);
   if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0)
@@ -280,101 +272,113 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
     }
   };
   int status = 0;
-  while (!g_stop) {
-    const std::uint64_t now = monotonic_us();
-    const double up_s = static_cast<double>(now - t0) * 1e-6;
-    if (opt.faults.disconnect_after_s >= 0 && up_s >= opt.faults.disconnect_after_s) {
-      std::fprintf(stderr, "stim-emu: disconnecting (fault injection)\n");
-      break;
-    }
-    const bool stalled = opt.faults.stall_after_s >= 0 && up_s >= opt.faults.stall_after_s &&
-                         up_s < opt.faults.stall_after_s + opt.faults.stall_s;
-    core.advance(now, sink);
-    send_due(now);
-    // Sleep until the next pulse, watchdog deadline or reply, at most 5 ms.
-    std::uint64_t next = forward ? UINT64_MAX : core.next_event_us();
-    if (!replies.empty()) next = std::min(next, replies.front().first);
-    int timeout_ms = 5;
-    if (next != UINT64_MAX)
-      timeout_ms =
-          next <= now ? 0 : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
-    // Forwarding never blocks: the host's bytes wait in to_device while the device's line
-    // is full, and the host is not read while that holds 64 KiB (the device's replies are
-    // read all the while: a device that cannot write its replies stops reading too).
-    const bool read_host = !stalled && (!forward || to_device.size() < kMaxToDevice);
-    const short device_events =
-        static_cast<short>(stalled ? 0 : (POLLIN | (to_device.empty() ? 0 : POLLOUT)));
-    pollfd pfds[2] = {{master, static_cast<short>(read_host ? POLLIN : 0), 0},
-                      {device_fd, device_events, 0}};
-    const int pr = poll(pfds, forward ? 2 : 1, timeout_ms);
-    if (pr < 0 && errno != EINTR) break;
-    pollfd& pfd = pfds[0];
-    if (forward && pr > 0 && (pfds[1].revents & (POLLIN | POLLHUP | POLLERR))) {
-      // The device's replies: through the same faults and delay as the built-in device's.
-      const ssize_t n = read(device_fd, in.data(), in.size());
-      if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
-        std::fprintf(stderr, "stim-emu: the device closed its line\n");
+  try {
+    while (!g_stop) {
+      const std::uint64_t now = monotonic_us();
+      const double up_s = static_cast<double>(now - t0) * 1e-6;
+      if (opt.faults.disconnect_after_s >= 0 && up_s >= opt.faults.disconnect_after_s) {
+        std::fprintf(stderr, "stim-emu: disconnecting (fault injection)\n");
         break;
       }
-      if (n > 0) {
-        std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
-        inject(bytes, opt.faults, rng);
-        if (!bytes.empty()) replies.emplace_back(monotonic_us() + reply_delay_us, bytes);
-        send_due(monotonic_us());
-      }
-    }
-    if (forward && pr > 0 && (pfd.revents & POLLIN)) {
-      const ssize_t n = read(master, in.data(), in.size());
-      if (n > 0) {
-        std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
-        inject(bytes, opt.faults, rng);
-        to_device.insert(to_device.end(), bytes.begin(), bytes.end());
-      }
-    }
-    if (forward && !to_device.empty() && !stalled) {
-      const ssize_t w = ::write(device_fd, to_device.data(), to_device.size());
-      if (w > 0) {
-        to_device.erase(to_device.begin(), to_device.begin() + w);
-      } else if (w < 0 && errno != EAGAIN && errno != EINTR) {
-        std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
-        break;
-      }
-    }
-    if (!forward && pr > 0 && (pfd.revents & POLLIN)) {
-      const ssize_t n = read(master, in.data(), in.size());
-      if (n > 0) {
-        std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
-        inject(bytes, opt.faults, rng);
-        out.clear();
-        const std::uint64_t t_rx = monotonic_us();
-        core.advance(t_rx, sink);
-        core.receive(bytes.data(), bytes.size(), t_rx, out);
-        if (event_log && (core.status().state == device::State::running) != running) {
-          running = !running;
-          timespec wall{};
-          clock_gettime(CLOCK_REALTIME, &wall);
-          std::fprintf(event_log, "%s %lld %lld\n", running ? "start" : "stop",
-                       static_cast<long long>(t_rx) * 1000,
-                       static_cast<long long>(wall.tv_sec) * 1000000000LL + wall.tv_nsec);
-          std::fflush(event_log);
+      const bool stalled = opt.faults.stall_after_s >= 0 && up_s >= opt.faults.stall_after_s &&
+                           up_s < opt.faults.stall_after_s + opt.faults.stall_s;
+      core.advance(now, sink);
+      send_due(now);
+      // Sleep until the next pulse, watchdog deadline or reply, at most 5 ms.
+      std::uint64_t next = forward ? UINT64_MAX : core.next_event_us();
+      if (!replies.empty()) next = std::min(next, replies.front().first);
+      int timeout_ms = 5;
+      if (next != UINT64_MAX)
+        timeout_ms = next <= now
+                         ? 0
+                         : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
+      // Forwarding never blocks: the host's bytes wait in to_device while the device's line
+      // is full, and the host is not read while that holds 64 KiB (the device's replies are
+      // read all the while: a device that cannot write its replies stops reading too).
+      const bool read_host = !stalled && (!forward || to_device.size() < kMaxToDevice);
+      const short device_events =
+          static_cast<short>(stalled ? 0 : (POLLIN | (to_device.empty() ? 0 : POLLOUT)));
+      pollfd pfds[2] = {{master, static_cast<short>(read_host ? POLLIN : 0), 0},
+                        {device_fd, device_events, 0}};
+      const int pr = poll(pfds, forward ? 2 : 1, timeout_ms);
+      if (pr < 0 && errno != EINTR) break;
+      pollfd& pfd = pfds[0];
+      if (forward && pr > 0 && (pfds[1].revents & (POLLIN | POLLHUP | POLLERR))) {
+        // The device's replies: through the same faults and delay as the built-in device's.
+        const ssize_t n = read(device_fd, in.data(), in.size());
+        if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
+          std::fprintf(stderr, "stim-emu: the device closed its line\n");
+          break;
         }
-        if (apply_log) {
-          const auto t = static_cast<long long>(monotonic_ns());
-          for (; applied < core.status().weight_updates; ++applied)
-            std::fprintf(apply_log, "%u %lld\n", applied + 1, t);
+        if (n > 0) {
+          std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
+          inject(bytes, opt.faults, rng);
+          if (!bytes.empty()) replies.emplace_back(monotonic_us() + reply_delay_us, bytes);
+          send_due(monotonic_us());
         }
-        inject(out, opt.faults, rng);
-        if (!out.empty()) replies.emplace_back(t_rx + reply_delay_us, out);
-        send_due(monotonic_us());
+      }
+      if (forward && pr > 0 && (pfd.revents & POLLIN)) {
+        const ssize_t n = read(master, in.data(), in.size());
+        if (n > 0) {
+          std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
+          inject(bytes, opt.faults, rng);
+          to_device.insert(to_device.end(), bytes.begin(), bytes.end());
+        }
+      }
+      if (forward && !to_device.empty() && !stalled) {
+        const ssize_t w = ::write(device_fd, to_device.data(), to_device.size());
+        if (w > 0) {
+          to_device.erase(to_device.begin(), to_device.begin() + w);
+        } else if (w < 0 && errno != EAGAIN && errno != EINTR) {
+          std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
+          break;
+        }
+      }
+      if (!forward && pr > 0 && (pfd.revents & POLLIN)) {
+        const ssize_t n = read(master, in.data(), in.size());
+        if (n > 0) {
+          std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
+          inject(bytes, opt.faults, rng);
+          out.clear();
+          const std::uint64_t t_rx = monotonic_us();
+          core.advance(t_rx, sink);
+          core.receive(bytes.data(), bytes.size(), t_rx, out);
+          if (event_log && (core.status().state == device::State::running) != running) {
+            running = !running;
+            timespec wall{};
+            clock_gettime(CLOCK_REALTIME, &wall);
+            event_log->line(
+                std::string(running ? "start " : "stop ") +
+                std::to_string(static_cast<long long>(t_rx) * 1000) + " " +
+                std::to_string(static_cast<long long>(wall.tv_sec) * 1000000000LL + wall.tv_nsec));
+          }
+          if (apply_log) {
+            const auto t = static_cast<long long>(monotonic_ns());
+            for (; applied < core.status().weight_updates; ++applied)
+              apply_log->line(std::to_string(applied + 1) + " " + std::to_string(t));
+          }
+          inject(out, opt.faults, rng);
+          if (!out.empty()) replies.emplace_back(t_rx + reply_delay_us, out);
+          send_due(monotonic_us());
+        }
       }
     }
-    recorder.flush();
+  } catch (const Error&) {
+    // A record or log that cannot be written (a full disk): the output stops first, then
+    // the emulator exits saying why.
+    core.link_lost();
+    if (device_fd >= 0) close(device_fd);
+    close(slave);
+    close(master);
+    throw;
   }
-  core.advance(monotonic_us(), sink);
+  try {
+    core.advance(monotonic_us(), sink);
+  } catch (const Error&) {
+    // The record's last pulses could not be written: said below.
+  }
   core.link_lost();  // output stops before the emulator goes
-  recorder.flush();
-  if (apply_log) std::fclose(apply_log);
-  if (event_log) std::fclose(event_log);
+  if (recorder.failed()) failure("--record: cannot write '" + opt.record_path + "'");
   if (device_fd >= 0) close(device_fd);
   close(slave);
   close(master);

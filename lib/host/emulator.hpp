@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <string>
 
+#include <optional>
+
 #include "device/device_core.hpp"
+#include "io/files.hpp"
 
 namespace tp::host {
 
@@ -16,17 +19,21 @@ namespace tp::host {
 // t_s from the start command; currents are the main phase as the DAC makes them
 // (code x step), positive = cathodic; net_charge_nC is the main phase's charge plus the
 // balancing phase's, in whole DAC codes.
+// Each line is written whole as the pulse is delivered (io/files.hpp: LineFile), so a
+// killed emulator or host leaves whole lines; a write that fails (a full disk) is a
+// runtime failure naming the file, thrown once: the record then stays as it is, and the
+// caller stops the output.
 class PulseRecorder {
  public:
   explicit PulseRecorder(const std::string& path);  // empty path: record nothing
-  ~PulseRecorder();
   void record(const device::DeliveredPulse& p);
-  void flush();
   std::uint64_t pulses() const { return pulses_; }
   double peak_mA() const { return peak_mA_; }
+  bool failed() const { return failed_; }
 
  private:
-  std::FILE* out_ = nullptr;
+  std::optional<LineFile> out_;
+  bool failed_ = false;
   std::uint64_t pulses_ = 0;
   double peak_mA_ = 0.0;
 };

@@ -30,8 +30,7 @@ LiveFrame parse_live_line(const std::string& line, const std::string& where) {
   const Json& list = j[key];
   if (!list.is_array()) bad_input(where + ": " + key + " must be a list of numbers");
   for (std::size_t i = 0; i < list.size(); ++i)
-    f.values_mA.push_back(
-        json_finite(list[i], where + " " + key + "[" + std::to_string(i) + "]"));
+    f.values_mA.push_back(json_finite(list[i], where + " " + key + "[" + std::to_string(i) + "]"));
   return f;
 }
 
@@ -44,8 +43,7 @@ void LiveState::add(const LiveFrame& f) {
     ++pending_.frames;
     return;
   }
-  if (mix_.table())
-    bad_input(f.where + ": a mix takes {\"amplitudes\": [...]}, one per pattern");
+  if (mix_.table()) bad_input(f.where + ": a mix takes {\"amplitudes\": [...]}, one per pattern");
   Stimulus s = mix_.patterns[0];
   if (f.values_mA.size() != s.currents_mA.size())
     bad_input(f.where + ": " + std::to_string(f.values_mA.size()) + " currents for " +

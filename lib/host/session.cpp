@@ -104,8 +104,8 @@ void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
   const device::Capabilities& caps = plan.caps;
   const StimulusLimits& lim = plan.limits;
   if (m.patterns.size() > caps.max_patterns)
-    bad_input("stimulus has " + std::to_string(m.patterns.size()) +
-              " patterns; the device holds " + std::to_string(caps.max_patterns));
+    bad_input("stimulus has " + std::to_string(m.patterns.size()) + " patterns; the device holds " +
+              std::to_string(caps.max_patterns));
   const double least_gap = std::max(caps.min_gap_us, caps.min_width_us);
   if (m.gap_us < least_gap)
     bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
@@ -131,8 +131,8 @@ void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
         std::max(plan.expected_s, (t.phase_us + (t.max_pulses + 0.0) * t.period_us) * 1e-6);
   }
   if (entries > caps.code_pool)
-    bad_input("the patterns have " + std::to_string(entries) + " non-zero codes; the device holds " +
-              std::to_string(caps.code_pool));
+    bad_input("the patterns have " + std::to_string(entries) +
+              " non-zero codes; the device holds " + std::to_string(caps.code_pool));
   check_load(load, caps, "summed over the patterns: ");
 }
 
@@ -242,8 +242,7 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
     plan.pulses = count;
   }
   // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.
-  plan.expected_s =
-      plan.table ? plan.expected_s + 0.001 : count * plan.single.period_us * 1e-6;
+  plan.expected_s = plan.table ? plan.expected_s + 0.001 : count * plan.single.period_us * 1e-6;
   return plan;
 }
 
@@ -276,9 +275,7 @@ class SessionRun {
   }
 
  private:
-  bool stop_asked() const {
-    return (flag_ && *flag_ != 0) || (opt_.stop && opt_.stop->load());
-  }
+  bool stop_asked() const { return (flag_ && *flag_ != 0) || (opt_.stop && opt_.stop->load()); }
   void end_by_stop() {
     if (flag_ && *flag_ != 0) {
       rep_.end = end_by_signal(*flag_);
@@ -318,6 +315,7 @@ class SessionRun {
   std::int64_t t0_ = 0;
   bool configured_ = false;
   bool input_open_ = true;
+  std::uint32_t updates_ = 0;  // live updates sent (each the fold of the frames before it)
 };
 
 // 1. Every check before anything but identify is sent: the stimulus, its duration, the
@@ -468,8 +466,9 @@ bool SessionRun::take_frames(int wait_ms) {
   if (u.empty()) return true;
   rep_.weight_frames += u.frames;
   if (!send_update(u)) return false;
+  ++updates_;
   if (latency_)
-    latency_->line(std::to_string(rep_.weight_frames) + " " + std::to_string(dev_.last_write_ns()));
+    latency_->line(std::to_string(updates_) + " " + std::to_string(dev_.last_write_ns()));
   return true;
 }
 

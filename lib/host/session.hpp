@@ -33,7 +33,7 @@ struct SessionOptions {
   bool live = false;         // after starting, take live frames (host/live.hpp): from
   FrameSource* frames = nullptr;  // here, or, when null, JSON lines on input_fd
   int input_fd = 0;
-  std::string latency_log;  // live mode: "n t_ns" per update sent (benchmarks)
+  std::string latency_log;  // live mode: "n t_ns" per update sent (n from 1; benchmarks)
   StimulusLimits limits;    // the host's limits
   // The caller's own stop (Python's close()), asked wherever the signal flag is: the output
   // stops, and the report's end is stop_reason (exit code 0; the caller decides).

@@ -34,7 +34,9 @@ void withdraw(int slot) {
   std::free(g_temporaries[slot].exchange(nullptr));
 }
 
-std::string reason() { return std::strerror(errno); }
+std::string reason() {
+  return std::strerror(errno);
+}
 
 // Writes all of [data, data + n) to fd, retrying after a signal; false with errno set on
 // an error (a write that makes no progress is ENOSPC).
@@ -102,7 +104,9 @@ AtomicFile::AtomicFile(const std::string& path, const std::string& what)
   path_ = target;
 }
 
-AtomicFile::~AtomicFile() { discard(); }
+AtomicFile::~AtomicFile() {
+  discard();
+}
 
 void AtomicFile::discard() noexcept {
   if (fd_ >= 0) ::close(fd_);
@@ -168,6 +172,11 @@ void LineFile::line(const std::string& text) {
   whole += '\n';
   if (!write_all(fd_, whole.data(), whole.size()))
     failure(what_ + ": cannot write '" + path_ + "': " + reason());
+}
+
+void LineFile::write(const char* data, std::size_t n) {
+  if (fd_ < 0) failure(what_ + ": '" + path_ + "' is already closed");
+  if (!write_all(fd_, data, n)) failure(what_ + ": cannot write '" + path_ + "': " + reason());
 }
 
 void LineFile::close() {

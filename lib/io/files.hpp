@@ -11,6 +11,7 @@
 // A place that is not a regular file (a terminal, a pipe, /dev/null, /dev/full) is written
 // in place, every write checked; it is never replaced.
 
+#include <cstddef>
 #include <string>
 
 namespace tp {
@@ -54,6 +55,8 @@ class LineFile {
   // One line (the newline is added), written whole by one write(2); a failed or short
   // write is a runtime failure naming the file and the reason.
   void line(const std::string& text);
+  // Bytes that already end in a newline, written whole by one write(2), as line() does.
+  void write(const char* data, std::size_t n);
   // Closes, checked; the destructor closes unchecked when close() was not called.
   void close();
   const std::string& path() const { return path_; }

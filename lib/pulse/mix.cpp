@@ -203,14 +203,16 @@ std::vector<std::uint16_t> amplitude_scales(const std::vector<double>& a, const 
                                             const std::string& where) {
   if (a.size() != m.patterns.size())
     bad_input(where + ": " + std::to_string(a.size()) + " amplitudes for " +
-              std::to_string(m.patterns.size()) + (m.patterns.size() == 1 ? " pattern" : " patterns"));
+              std::to_string(m.patterns.size()) +
+              (m.patterns.size() == 1 ? " pattern" : " patterns"));
   std::vector<std::uint16_t> scales;
   for (std::size_t p = 0; p < a.size(); ++p) {
     const double v = a[p];
     const double top = pattern_amplitude_mA(m.patterns[p]);
     if (!(v >= 0 && v <= top * (1 + 1e-12)))
       bad_input(where + ": amplitude " + number_text(v) + " mA for pattern " + std::to_string(p) +
-                " outside [0, " + number_text(top) + "] mA (the current of its weight-1 electrode)");
+                " outside [0, " + number_text(top) +
+                "] mA (the current of its weight-1 electrode)");
     const double scale = top > 0 ? std::floor(std::min(1.0, v / top) * device::kFullScale) : 0.0;
     scales.push_back(static_cast<std::uint16_t>(scale));
   }

@@ -34,6 +34,7 @@
 #include "cli/fibre_options.hpp"
 #include "core/error.hpp"
 #include "fibre/report.hpp"
+#include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/transport.hpp"
 #include "io/document.hpp"
@@ -630,7 +631,9 @@ PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, d
 // the exception goes on.
 
 struct SessionRun {
-  volatile std::sig_atomic_t flag = 0;
+  volatile std::sig_atomic_t flag = 0;  // a Python signal's exception: SIGINT
+  std::atomic<bool> closed{false};      // close() from another thread
+  std::shared_ptr<tp::host::FrameQueue> frames;  // a live session's input
   std::mutex m;
   std::condition_variable cv;
   bool done = false;
@@ -716,56 +719,26 @@ class Stimulator {
     set_duration(opt, duration_s);
     tp::check_mix(s.mix, tp::StimulusLimits{});
     claim("start_live");
-    int fds[2] = {-1, -1};
     try {
       std::lock_guard<std::mutex> lock(m_);
-      if (::pipe2(fds, O_CLOEXEC) != 0) tp::failure("pipe: cannot create the live frames' pipe");
-      // The writer never blocks for good: a frame waits for room while the session runs.
-      ::fcntl(fds[1], F_SETFL, ::fcntl(fds[1], F_GETFL) | O_NONBLOCK);
-      opt.input_fd = fds[0];
       open_locked();
-      live_stimulus_ = s.mix;
-      live_ = start(s.mix, opt);
+      // The frames' own check, at each call, by the session's rules (host/live.hpp) and
+      // the host's limits; the session checks them again against the device's.
+      live_check_.emplace(s.mix, tp::StimulusLimits{}, tp::device::Capabilities{});
+      live_ = start(s.mix, opt, std::make_shared<tp::host::FrameQueue>());
       current_ = live_.get();
-      live_read_fd_ = fds[0];
-      live_write_fd_ = fds[1];
     } catch (...) {
-      for (int fd : fds)
-        if (fd >= 0 && fd != live_read_fd_ && fd != live_write_fd_) ::close(fd);
       release();
       throw;
     }
   }
 
-  void set_currents(const std::vector<double>& currents_mA) {
-    require_live("set_currents");
-    if (!live_stimulus_.single() || live_stimulus_.table())
-      tp::bad_input("set_currents: a mix takes amplitude frames (set_amplitudes)");
-    tp::Stimulus s = live_stimulus_.patterns[0];
-    if (currents_mA.size() != s.currents_mA.size())
-      tp::bad_input("currents_mA: expected " + std::to_string(s.currents_mA.size()) +
-                    " values, got " + std::to_string(currents_mA.size()));
-    for (std::size_t i = 0; i < currents_mA.size(); ++i)
-      if (!std::isfinite(currents_mA[i]))
-        tp::bad_input("currents_mA item " + std::to_string(i + 1) + ": not a finite number");
-    // Checked here against the host's limits, as the session will (and against the
-    // device's: a frame beyond those ends the session, and the next call says why).
-    s.currents_mA = currents_mA;
-    tp::check_stimulus(s, tp::StimulusLimits{});
-    tp::Json j = tp::Json::object();
-    j["currents_mA"] = currents_mA;
-    send(j.dump());
+  bool set_currents(const std::vector<double>& currents_mA) {
+    return push_frame(tp::host::LiveFrame::Kind::currents, currents_mA, "set_currents");
   }
 
-  void set_amplitudes(const std::vector<double>& amplitudes_mA) {
-    require_live("set_amplitudes");
-    tp::Json j = tp::Json::object();
-    for (std::size_t i = 0; i < amplitudes_mA.size(); ++i)
-      if (!std::isfinite(amplitudes_mA[i]))
-        tp::bad_input("amplitudes item " + std::to_string(i + 1) + ": not a finite number");
-    j["amplitudes"] = amplitudes_mA;
-    tp::parse_amplitudes(j, live_stimulus_, "amplitudes");  // the session's own check
-    send(j.dump());
+  bool set_amplitudes(const std::vector<double>& amplitudes_mA) {
+    return push_frame(tp::host::LiveFrame::Kind::amplitudes, amplitudes_mA, "set_amplitudes");
   }
 
   // Ends a live session (the end of its input): the output stops; returns its report, or
@@ -783,16 +756,15 @@ class Stimulator {
   void close() {
     {
       std::unique_lock<std::mutex> lock(m_);
-      if (current_) current_->flag = SIGTERM;
+      if (current_) current_->closed = true;
     }
-    close_write();
     if (live_) {
       std::unique_ptr<SessionRun> run = std::move(live_);
+      run->frames->close();
       {
         py::gil_scoped_release release;
         if (run->thread.joinable()) run->thread.join();
       }
-      close_read();
       release();
     }
     {  // a delivery on another thread: wait until it has stopped and let go of the port
@@ -837,9 +809,14 @@ class Stimulator {
     idle_.notify_all();
   }
 
-  std::unique_ptr<SessionRun> start(const tp::Mix& m, const tp::host::SessionOptions& opt) {
+  std::unique_ptr<SessionRun> start(const tp::Mix& m, tp::host::SessionOptions opt,
+                                    std::shared_ptr<tp::host::FrameQueue> frames = nullptr) {
     auto run = std::make_unique<SessionRun>();
     SessionRun* r = run.get();
+    r->frames = std::move(frames);
+    opt.frames = r->frames.get();
+    opt.stop = &r->closed;
+    opt.stop_reason = "closed (Stimulator.close())";
     tp::host::Transport* t = transport_.get();
     run->thread = std::thread([r, t, m, opt] {
       try {
@@ -891,28 +868,17 @@ class Stimulator {
     return report_dict(r.report);
   }
 
-  void close_write() {
-    if (live_write_fd_ >= 0) ::close(live_write_fd_);
-    live_write_fd_ = -1;
-  }
-  void close_read() {
-    if (live_read_fd_ >= 0) ::close(live_read_fd_);
-    live_read_fd_ = -1;
-  }
-
   // Ends the live session's input and waits for it (a signal's exception stops it first),
   // then lets go of its pipe and the port: the run, for its report.
   std::unique_ptr<SessionRun> take_live() {
-    close_write();
     std::unique_ptr<SessionRun> run = std::move(live_);
+    run->frames->close();
     try {
       wait(*run);
     } catch (...) {
-      close_read();
       release();
       throw;
     }
-    close_read();
     release();
     return run;
   }
@@ -929,32 +895,34 @@ class Stimulator {
     if (live_->done) end_live(what);
   }
 
-  // Writes a frame line to the session's input; waits (the GIL released) while the pipe is
-  // full and the session runs.
-  void send(const std::string& line) {
-    const std::string text = line + "\n";
-    const char* p = text.data();
-    std::size_t left = text.size();
-    while (left > 0) {
-      if (live_->done) end_live("live frames");
-      const ssize_t k = ::write(live_write_fd_, p, left);
-      if (k > 0) {
-        p += k;
-        left -= static_cast<std::size_t>(k);
-        continue;
-      }
-      if (k < 0 && errno == EINTR) continue;
-      if (k < 0 && errno != EAGAIN && errno != EWOULDBLOCK) {
-        if (live_->done) end_live("live frames");
-        tp::failure("live frames: the session stopped reading");
-      }
-      {
-        py::gil_scoped_release release;
-        pollfd pfd{live_write_fd_, POLLOUT, 0};
-        ::poll(&pfd, 1, 20);
-      }
-      check_signals(*live_);
+  // A frame: checked now (bad input at the call, nothing sent), then handed to the
+  // session, which sends the last of the frames that arrived since its previous turn.
+  // False (nothing sent) when the session has completed its duration meanwhile: a frame
+  // racing the end is not an error, as in stimctl; any other end raises what ended it.
+  bool push_frame(tp::host::LiveFrame::Kind kind, const std::vector<double>& values,
+                  const char* what) {
+    if (!live_) tp::bad_input(std::string(what) + ": no live session (start_live first)");
+    {
+      std::lock_guard<std::mutex> lock(live_->m);
+      if (live_->done && completed(*live_)) return false;
     }
+    require_live(what);
+    tp::host::LiveFrame f;
+    f.kind = kind;
+    f.values_mA = values;
+    f.where = what;
+    for (std::size_t i = 0; i < values.size(); ++i)
+      if (!std::isfinite(values[i]))
+        tp::bad_input(std::string(what) + " item " + std::to_string(i + 1) +
+                      ": not a finite number");
+    live_check_->add(f);
+    live_check_->take();
+    live_->frames->push(std::move(f));
+    return true;
+  }
+
+  static bool completed(const SessionRun& r) {
+    return !r.error && r.report.end == "stimulus complete";
   }
 
   std::string port_;
@@ -967,8 +935,7 @@ class Stimulator {
   SessionRun* current_ = nullptr;
   std::unique_ptr<tp::host::Transport> transport_;
   std::unique_ptr<SessionRun> live_;
-  tp::Mix live_stimulus_;
-  int live_read_fd_ = -1, live_write_fd_ = -1;
+  std::optional<tp::host::LiveState> live_check_;
 };
 
 }  // namespace

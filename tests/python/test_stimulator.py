@@ -198,7 +198,47 @@ def test_close_from_another_thread_stops_a_delivery(emu, sai_doc):
     time.sleep(0.2)
     stops = events_of(events, "stop")
     assert stops and (stops[-1] / 1e9 - t_close) * 1e3 <= 100
-    assert result.get("report", {}).get("end", "") or "error" in result
+    # What ended it is the caller's close(), not a signal (issue 38).
+    assert "error" not in result, result
+    assert result["report"]["end"] == "closed (Stimulator.close())"
+    assert result["report"]["exit_code"] == 0
+
+
+def test_an_amplitude_after_currents_scales_the_currents_in_force(tmp_path, sai_doc):
+    """An amplitude is the current of a weight-1 electrode of the pattern in force: after
+    set_currents([1, -1, 0...]) its weights are [1, -1, 0...], so 0.05 mA gives 0.05 mA
+    (issue 38: it gave 0.5 mA, scaling the new codes by 0.05 / the stimulus's 0.1 mA)."""
+    rec = tmp_path / "rec.jsonl"
+    stim = tp.make_pulse(sai_doc, 0.1, 200, duration_s=10)
+    with tp.Stimulator("emu", record=str(rec)) as s:
+        s.start_live(stim)
+        s.set_currents([1, -1, 0, 0, 0, 0, 0, 0])
+        time.sleep(0.2)
+        s.set_amplitudes([0.05])
+        time.sleep(0.2)
+        s.stop()
+    pulses = records(rec)
+    assert max(p["currents_mA"][0] for p in pulses) > 0.99  # the currents frame, delivered
+    last = pulses[-1]["currents_mA"]
+    assert abs(last[0] - 0.05) < 0.001 and abs(last[1] + 0.05) < 0.001, last
+
+
+def test_frames_up_to_the_end_of_a_live_duration_complete_it(tmp_path, sai_doc):
+    """Frames sent while a live session's duration runs out: the stimulus completes, and
+    stop() reports it complete (issue 38: the device's refusal of a frame after its end was
+    reported as a failure)."""
+    stim = tp.make_pulse(sai_doc, 1.0, 200, duration_s=10)
+    with tp.Stimulator("emu") as s:
+        s.start_live(stim, duration_s=0.3)
+        t0 = time.monotonic()
+        taken = 0
+        while time.monotonic() - t0 < 5 and s.set_amplitudes([0.5]):
+            taken += 1
+            time.sleep(0.002)
+        assert taken > 10
+        report = s.stop()
+    assert report["end"] == "stimulus complete"
+    assert report["pulses"] == 60
 
 
 def test_frames_never_hang_when_the_session_ends(tmp_path, sai_doc):
@@ -207,11 +247,11 @@ def test_frames_never_hang_when_the_session_ends(tmp_path, sai_doc):
     with tp.Stimulator("emu") as s:
         s.start_live(stim, duration_s=0.3)
         t0 = time.monotonic()
-        with pytest.raises((tp.Failure, tp.BadInput)):
-            while time.monotonic() - t0 < 20:
-                s.set_currents(frame)  # until the session's end says so
+        while time.monotonic() - t0 < 20 and s.set_currents(frame):
+            pass  # until the session's end says so: False once it has completed
         assert time.monotonic() - t0 < 10
         assert not s.running
+        assert s.stop()["end"] == "stimulus complete"
 
 
 def test_stimulator_refusals(tmp_path, sai_doc):
@@ -222,7 +262,7 @@ def test_stimulator_refusals(tmp_path, sai_doc):
         s.start_live(stim)
         with pytest.raises(tp.BadInput, match="a live session is running"):
             s.deliver(stim)
-        with pytest.raises(tp.BadInput, match="expected 8 values"):
+        with pytest.raises(tp.BadInput, match="set_currents: 2 currents for 8 channels"):
             s.set_currents([0.1, -0.1])
         with pytest.raises(tp.BadInput, match="not a finite number"):
             s.set_currents([float("nan")] * 8)

@@ -42,7 +42,9 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-void put(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+void put(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
 
 std::string message_of(const std::function<void()>& f, ExitCode expected) {
   try {
@@ -106,9 +108,9 @@ TEST_CASE("an atomic file keeps an existing file's mode, and follows a link", "[
 
 TEST_CASE("a full device or an unwritable place is an error naming the file", "[io][files]") {
   // /dev/full: written in place (never replaced), and the write fails.
-  const std::string full = message_of(
-      [] { write_file_atomically("/dev/full", std::string(100000, 'x'), "--output"); },
-      ExitCode::failure);
+  const std::string full =
+      message_of([] { write_file_atomically("/dev/full", std::string(100000, 'x'), "--output"); },
+                 ExitCode::failure);
   CHECK(full == "--output: cannot write '/dev/full': No space left on device");
   CHECK(message_of(
             [] {
@@ -122,13 +124,12 @@ TEST_CASE("a full device or an unwritable place is an error naming the file", "[
         "--output: cannot write '/nonexistent-dir/x.json': No such file or directory");
   CHECK(message_of([] { AtomicFile f("/tmp", "--output"); }, ExitCode::bad_input) ==
         "--output: '/tmp' is a directory");
-  CHECK(message_of([] { LineFile f("/nonexistent-dir/x.jsonl", "--record"); },
-                   ExitCode::bad_input) ==
-        "--record: cannot open '/nonexistent-dir/x.jsonl': No such file or directory");
+  CHECK(
+      message_of([] { LineFile f("/nonexistent-dir/x.jsonl", "--record"); }, ExitCode::bad_input) ==
+      "--record: cannot open '/nonexistent-dir/x.jsonl': No such file or directory");
 }
 
-TEST_CASE("a line file writes whole lines, so a killed writer leaves no cut line",
-          "[io][files]") {
+TEST_CASE("a line file writes whole lines, so a killed writer leaves no cut line", "[io][files]") {
   TempDir t;
   const fs::path p = t.dir / "r.jsonl";
   // A child writes lines of 301 bytes (never a divisor of a buffer's 4096) until killed.

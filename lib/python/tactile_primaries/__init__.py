@@ -122,16 +122,20 @@ class Stimulator:
 
     def set_currents(self, currents_mA):
         """A live frame: every channel's current (mA, + cathodic), checked as the stimulus
-        was; applied at the next pulse."""
+        was; applied at the next pulse.  Its amplitude (for set_amplitudes) is its largest
+        current.  True when taken; False when the live session had already completed its
+        duration (nothing sent; stop() returns its report)."""
         import numpy as _np
 
-        self._s.set_currents([float(c) for c in _np.asarray(currents_mA, dtype=float).ravel()])
+        return self._s.set_currents([float(c) for c in _np.asarray(currents_mA, dtype=float).ravel()])
 
     def set_amplitudes(self, amplitudes_mA):
-        """A live frame: each pattern's amplitude (mA, 0 to its own)."""
+        """A live frame: each pattern's amplitude (mA, 0 to its own): the current of a
+        weight-1 electrode of the pattern in force (after set_currents, that frame's).
+        True when taken; False when the live session had already completed its duration."""
         import numpy as _np
 
-        self._s.set_amplitudes([float(a) for a in _np.asarray(amplitudes_mA, dtype=float).ravel()])
+        return self._s.set_amplitudes([float(a) for a in _np.asarray(amplitudes_mA, dtype=float).ravel()])
 
     def stop(self):
         """Ends a live session (the output stops) and returns its report."""

@@ -38,7 +38,7 @@ version=$("${user_env[@]}" af-field --version) || fail "af-field --version"
 "${user_env[@]}" bash -o pipefail -c \
   'optimize-weights --mode SAI | make-pulse --amplitude 1.0 --frequency 200 | stimctl --port emu --duration 1' \
   > pipeline.out 2> pipeline.err || fail "the pipeline: $(cat pipeline.err)"
-grep -E '^stimctl: .*200 pulses on 8 channels at 200 Hz, peak 1\.0[0-9]* mA.*stimulus complete; output stopped' \
+grep -E '^stimctl: .*200 of 200 pulses on 8 channels at 200 Hz, peak 1\.0[0-9]* mA.*stimulus complete; output stopped' \
   pipeline.err > /dev/null || fail "the pipeline's summary: $(cat pipeline.err)"
 echo "ok: $(grep '^stimctl:' pipeline.err)"
 # A sweep with the installed script and programs.

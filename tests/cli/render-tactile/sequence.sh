@@ -25,7 +25,7 @@ echo "ok: 64 patterns, one pulse every $period s: $(tail -1 seq.err)"
 render-tactile --bank "$BANK" --profile profile.json --frames bar.json --fps 30 "${frames[@]}" 2> play.err \
   | stimctl --port emu --emu-channels 64 --live --stimulus bar.json --record rec.jsonl 2> live.err \
   || fail "live: $(cat play.err live.err)"
-grep -q "60 weight frames" live.err || fail "frames: $(cat live.err)"
+grep -q "60 live frames" live.err || fail "frames: $(cat live.err)"
 # Column c lights from frame ceil(7.5 c), at ceil(7.5 c) / 30 s after the first frame.
 jq -se --slurpfile d bar.json --argjson T "$period" '
   ($d[0].patterns | map(.pixels[0] % 8)) as $col
@@ -57,5 +57,5 @@ render-tactile --bank "$BANK" --profile digits.json --sequence "${frames[@]:0:3}
 render-tactile --bank "$BANK" --profile digits.json --frames bar9.json --fps 30 "${frames[@]:0:3}" 2> play9.err \
   | stimctl --port emu --emu-channels 64 --live --stimulus bar9.json 2> live9.err \
   || fail "live with a measured profile: $(cat play9.err live9.err)"
-grep -q "3 weight frames" live9.err || fail "frames: $(cat live9.err)"
+grep -q "3 live frames" live9.err || fail "frames: $(cat live9.err)"
 echo "ok: full intensity with a measured comfort: $(cat live9.err)"

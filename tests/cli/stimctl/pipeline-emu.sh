@@ -4,7 +4,7 @@ optimize-weights --mode SAI 2> /dev/null | make-pulse --amplitude 1.0 --frequenc
   | stimctl --port emu --duration 1 --record rec.jsonl 2> err.txt || fail "pipeline: $(cat err.txt)"
 n=$(lines rec.jsonl)
 [[ $n -eq 200 ]] || fail "expected 200 pulses (200 Hz x 1 s), got $n"
-grep -q "200 pulses on 8 channels" err.txt || fail "summary: $(cat err.txt)"
+grep -q "200 of 200 pulses on 8 channels" err.txt || fail "summary: $(cat err.txt)"
 jq -se 'map(.currents_mA | add | fabs) | max <= 1e-9' rec.jsonl > /dev/null || fail "currents do not sum to zero"
 echo "ok: $(cat err.txt)"
 # A rate whose period is not a whole number of microseconds: rounded to 6667 us.

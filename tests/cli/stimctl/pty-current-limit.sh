@@ -36,7 +36,7 @@ start_emu --record b.jsonl
   | stimctl --port "$PORT" --live --stimulus a.json 2> b.err || fail "b: $(cat b.err)"
 sleep 0.2
 stop_emu
-grep -q "4 weight frames" b.err || fail "b: $(cat b.err)"
+grep -q "4 live frames" b.err || fail "b: $(cat b.err)"
 check_peak b.jsonl 0.5
 awk -v p="$(reported_peak b.err)" 'BEGIN { exit !(p > 0.499 && p <= 0.5) }' || fail "b: reported $(tail -1 b.err)"
 # A live frame above the limit: refused (exit 2), nothing of it delivered.

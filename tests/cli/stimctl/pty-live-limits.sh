@@ -26,7 +26,7 @@ t0=$(date +%s.%N)
 stimctl --port "$PORT" --live --stimulus stim.json < flood.jsonl 2> flood.err || fail "flood: $(cat flood.err)"
 t1=$(date +%s.%N)
 stop_emu
-grep -q "3000 weight frames" flood.err || fail "flood: $(cat flood.err)"
+grep -q "3000 live frames" flood.err || fail "flood: $(cat flood.err)"
 grep -q "end of input" flood.err || fail "flood ended otherwise: $(cat flood.err)"
 secs=$(awk -v a="$t0" -v b="$t1" 'BEGIN { print b - a }')
 # 20 s: the host reads the flood in linear time (stim-emu answers in microseconds).  The

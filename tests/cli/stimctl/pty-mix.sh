@@ -29,7 +29,7 @@ start_emu --record live.jsonl
   | stimctl --port "$PORT" --live --stimulus mix.json 2> live.err || fail "live: $(cat live.err)"
 sleep 0.2
 stop_emu
-grep -q "2 weight frames" live.err || fail "live: $(cat live.err)"
+grep -q "2 live frames" live.err || fail "live: $(cat live.err)"
 # RA's currents in the order delivered, not at fixed times (the device's clock starts when
 # stimctl has started it, later than the frames' producer, by however long that took): a
 # run of 0.8 mA, then of 0.4 mA, then of 0, each of at least 3 pulses, nothing else.

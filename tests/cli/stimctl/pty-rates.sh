@@ -53,7 +53,7 @@ stimctl --port "$PORT" < edge.json 2> edge.err || fail "edge: $(cat edge.err)"
 sleep 0.2
 stop_emu
 [[ $(lines rec.jsonl) -eq $n ]] || fail "edge: $(lines rec.jsonl) pulses delivered, expected $n"
-grep -q ": $n pulses on 8 channels" edge.err || fail "edge: reported $(cat edge.err)"
+grep -q ": $n of $n pulses on 8 channels" edge.err || fail "edge: reported $(cat edge.err)"
 jq -se 'map(.t_s) | . as $t | [range(1; length) | $t[.] - $t[. - 1]] | all(fabs - 0.001 | fabs < 1e-9)' rec.jsonl > /dev/null \
   || fail "edge: slots not 1 ms apart"
 if [[ ${TP_DEVICE:-} == firmware ]]; then
