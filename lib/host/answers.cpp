@@ -12,7 +12,9 @@ namespace {
 
 constexpr int kEsc = 27;
 
-bool is_stop_key(int k) { return k == 'q' || k == 'Q' || k == kEsc; }
+bool is_stop_key(int k) {
+  return k == 'q' || k == 'Q' || k == kEsc;
+}
 
 std::string trimmed(const std::string& line) {
   const auto b = line.find_first_not_of(" \t\r");

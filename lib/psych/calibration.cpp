@@ -119,8 +119,7 @@ void Calibration::respond(bool yes) {
 
 std::string Calibration::where(const Unit& u) const {
   return std::string(kPrimaries[static_cast<std::size_t>(u.primary)]) + " at pixel (" +
-         std::to_string(u.pad % bank_.columns) + ", " + std::to_string(u.pad / bank_.columns) +
-         ")";
+         std::to_string(u.pad % bank_.columns) + ", " + std::to_string(u.pad / bank_.columns) + ")";
 }
 
 // What ended the staircase without a level, in the question's words.
@@ -141,9 +140,9 @@ std::string Calibration::end_text() const {
              " mA, the least level calibrate gives";
     case StaircaseEnd::trials:
       return "no " + std::string(comfort_ ? "comfort limit" : "threshold") + " within " +
-             std::to_string(o.max_trials) + " trials (--max-trials): " +
-             std::to_string(stair_.reversals()) + " of " + std::to_string(o.reversals) +
-             " reversals";
+             std::to_string(o.max_trials) +
+             " trials (--max-trials): " + std::to_string(stair_.reversals()) + " of " +
+             std::to_string(o.reversals) + " reversals";
     case StaircaseEnd::reversals:
     case StaircaseEnd::running:
       break;
@@ -184,7 +183,8 @@ void Calibration::finish_comfort() {
       notes_.push_back(where(u) + ": " + end_text() + "; comfort set to the ceiling");
       break;
     default:  // no level the person accepted can be trusted: nothing rendered from it
-      notes_.push_back(where(u) + ": " + end_text() + "; no comfort limit, left out of the profile");
+      notes_.push_back(where(u) + ": " + end_text() +
+                       "; no comfort limit, left out of the profile");
       finish_unit();
       return;
   }
@@ -262,8 +262,8 @@ void Calibration::check_trials(const std::function<void(const Mix&)>& check) con
     }
     const double most = std::max(kMinLevel_mA, std::floor(lo * 1000 + 1e-9) / 1000);
     bad_input("--ceiling " + number_text(ceiling) + " mA: the device cannot deliver " +
-              where(units_[u]) + " at it (" + why + "); lower --ceiling to " +
-              number_text(most) + " mA or less; nothing was sent");
+              where(units_[u]) + " at it (" + why + "); lower --ceiling to " + number_text(most) +
+              " mA or less; nothing was sent");
   }
 }
 
@@ -287,7 +287,9 @@ std::string Calibration::length_text() const {
   const CalibrationLength n = length();
   std::string names;
   for (std::size_t k = 0; k < primaries_.size(); ++k)
-    names += (k == 0 ? "" : k + 1 == primaries_.size() ? " and " : ", ") +
+    names += (k == 0                       ? ""
+              : k + 1 == primaries_.size() ? " and "
+                                           : ", ") +
              std::string(kPrimaries[static_cast<std::size_t>(primaries_[k])]);
   const std::size_t pixels = o_.pads.size();
   return names + " at " + std::to_string(pixels) + (pixels == 1 ? " pixel: " : " pixels: ") +
@@ -314,11 +316,9 @@ std::string Calibration::summary() const {
   for (const int k : primaries_) {
     const auto& r = p.primary[static_cast<std::size_t>(k)];
     s += std::string("; ") + kPrimaries[static_cast<std::size_t>(k)];
-    s += r ? " threshold " + mA(r->threshold_mA) + ", comfort " + mA(r->comfort_mA)
-           : " not found";
+    s += r ? " threshold " + mA(r->threshold_mA) + ", comfort " + mA(r->comfort_mA) : " not found";
   }
-  if (o_.pads.size() > 1)
-    s += " (the medians of " + std::to_string(o_.pads.size()) + " pixels)";
+  if (o_.pads.size() > 1) s += " (the medians of " + std::to_string(o_.pads.size()) + " pixels)";
   return s;
 }
 

@@ -109,8 +109,8 @@ class Calibration {
   void finish_threshold();
   void finish_comfort();
   void finish_unit();
-  std::string where(const Unit& u) const;  // "SAI at pixel (3, 2)"
-  std::string end_text() const;            // what ended stair_, unfound
+  std::string where(const Unit& u) const;                       // "SAI at pixel (3, 2)"
+  std::string end_text() const;                                 // what ended stair_, unfound
   Mix trial_stimulus(std::size_t unit, double level_mA) const;  // checked
   const PixelBank& bank_;
   CalibrationOptions o_;

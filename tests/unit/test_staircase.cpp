@@ -252,11 +252,12 @@ TEST_CASE("calibration says what ended each staircase that found nothing", "[psy
   CalibrationOptions slow_run = o;
   slow_run.staircase.max_trials = 25;
   k = 0;
-  const Calibration slow =
-      calibrate(b, slow_run, [&](int, bool c, double l) { return c ? (k++ / 4) % 2 == 0 : felt(l); });
+  const Calibration slow = calibrate(
+      b, slow_run, [&](int, bool c, double l) { return c ? (k++ / 4) % 2 == 0 : felt(l); });
   REQUIRE(slow.notes().size() == 1);
   CHECK_FALSE(slow.profile().primary[1].has_value());
-  CHECK_THAT(slow.notes().back(), Contains("no comfort limit within 25 trials (--max-trials): 6 of 8 reversals"));
+  CHECK_THAT(slow.notes().back(),
+             Contains("no comfort limit within 25 trials (--max-trials): 6 of 8 reversals"));
 }
 
 TEST_CASE("calibration: the session's length, its stages and its summary, from the procedure",
@@ -289,16 +290,16 @@ TEST_CASE("calibration: the session's length, its stages and its summary, from t
   const Profile p = c.profile();
   const std::string s = c.summary();
   CHECK_THAT(s, Catch::Matchers::StartsWith(std::to_string(c.trials().size()) + " trials; PC "));
-  CHECK_THAT(s, Catch::Matchers::Contains(
-                    "; RA threshold " + number_text(std::round(p.primary[0]->threshold_mA * 1e4) / 1e4) +
-                    " mA, comfort "));
+  CHECK_THAT(
+      s, Catch::Matchers::Contains("; RA threshold " +
+                                   number_text(std::round(p.primary[0]->threshold_mA * 1e4) / 1e4) +
+                                   " mA, comfort "));
   CHECK_THAT(s, Catch::Matchers::EndsWith("(the medians of 2 pixels)"));
   // A primary not found is said so.
   CalibrationOptions one = o;
   one.pads = {1};
-  const Calibration none = calibrate(b, one, [](int primary, bool q, double l) {
-    return primary == 0 && l > (q ? 0.6 : 0.2);
-  });
+  const Calibration none = calibrate(
+      b, one, [](int primary, bool q, double l) { return primary == 0 && l > (q ? 0.6 : 0.2); });
   CHECK_THAT(none.summary(), Catch::Matchers::Contains("; PC not found; RA threshold "));
 }
 
@@ -334,9 +335,10 @@ TEST_CASE("calibration: every trial at the ceiling checked against a device befo
   CHECK_NOTHROW(fits.check_trials(device));
   CHECK(levels == std::vector<double>(6, 0.5));
   // A limit no level keeps: said so, with no ceiling to suggest.
-  CHECK_THROWS_WITH(c.check_trials([](const Mix&) { bad_input("stimulus has 2 channels; the device has 1"); }),
-                    "RA at pixel (0, 0): the device cannot deliver its trials at any level: "
-                    "stimulus has 2 channels; the device has 1; nothing was sent");
+  CHECK_THROWS_WITH(
+      c.check_trials([](const Mix&) { bad_input("stimulus has 2 channels; the device has 1"); }),
+      "RA at pixel (0, 0): the device cannot deliver its trials at any level: "
+      "stimulus has 2 channels; the device has 1; nothing was sent");
   // Not bad input (the device lost): passed on as it is.
   CHECK_THROWS_WITH(c.check_trials([](const Mix&) { failure("device lost"); }), "device lost");
 }
