@@ -2,103 +2,85 @@
 // and comfort limit (docs/calibration.md), delivering every trial through a stimulator and
 // asking in the terminal.  Prints the profile render-tactile takes.
 //
-//   calibrate --bank bank.json --port emu --log trials.csv > profile.json
+//   calibrate --bank bank.json --port emu --log trials.csv --output profile.json
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
-#include "host/line_reader.hpp"
+#include "host/answers.hpp"
 #include "host/session.hpp"
 #include "host/signals.hpp"
+#include "host/stimulator.hpp"
 #include "host/terminal.hpp"
+#include "io/files.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 #include "psych/calibration.hpp"
 
 namespace {
 
-constexpr int kEsc = 27;
-
-std::string pixel_text(long pad, int columns) {
-  return "(" + std::to_string(pad % columns) + ", " + std::to_string(pad / columns) + ")";
-}
-
-// Where the answers come from: the terminal's keys, or lines on stdin (--responses -).
-class Answers {
- public:
-  explicit Answers(bool from_stdin) {
-    if (from_stdin)
-      lines_ = std::make_unique<tp::host::LineReader>(0, 4096);
-    else
-      tty_ = std::make_unique<tp::host::Terminal>();
-  }
-  void say(const std::string& text) {
-    if (tty_)
-      tty_->say(text);
-    else
-      std::fprintf(stderr, "%s", text.c_str());
-  }
-  // During a trial: whether q or Esc was pressed (the terminal only).
-  bool stop_key(int timeout_ms) {
-    if (!tty_) {
-      timespec ts{0, static_cast<long>(timeout_ms) * 1000000};
-      nanosleep(&ts, nullptr);
-      return false;
-    }
-    const int k = tty_->key(timeout_ms);
-    if (k == tp::host::Terminal::kGone) gone_ = true;
-    return gone_ || k == 'q' || k == 'Q' || k == kEsc;
-  }
-  bool gone() const { return gone_; }
-  // The answer: 'y', 'n' or 'q' (q, Q or Esc); empty when a signal interrupted the wait.
-  std::optional<char> answer(const volatile std::sig_atomic_t* flag) {
-    while (!*flag) {
-      if (tty_) {
-        const int k = tty_->key(100);
-        if (k == tp::host::Terminal::kGone)
-          throw tp::Error(tp::ExitCode::failure, "the terminal is gone; nothing running");
-        if (k == 'y' || k == 'Y') return 'y';
-        if (k == 'n' || k == 'N') return 'n';
-        if (k == 'q' || k == 'Q' || k == kEsc) return 'q';
-        continue;
-      }
-      std::string line;
-      if (lines_->next(line)) {
-        const auto b = line.find_first_not_of(" \t\r");
-        const auto e = line.find_last_not_of(" \t\r");
-        const std::string word = b == std::string::npos ? "" : line.substr(b, e - b + 1);
-        if (word == "y" || word == "yes") return 'y';
-        if (word == "n" || word == "no") return 'n';
-        if (word == "q" || word == "quit") return 'q';
-        tp::bad_input("--responses: line " + std::to_string(lines_->lines()) + ": '" + word +
-                      "' is not y, n or q");
-      }
-      if (lines_->at_end())
-        throw tp::Error(tp::ExitCode::failure,
-                        "--responses: the answers ended before the "
-                        "calibration did");
-      lines_->fill(100);
-    }
-    return std::nullopt;
-  }
-
- private:
-  std::unique_ptr<tp::host::Terminal> tty_;
-  std::unique_ptr<tp::host::LineReader> lines_;
-  bool gone_ = false;
-};
-
 [[noreturn]] void stopped_by_signal(int sig) {
   throw tp::Error(static_cast<tp::ExitCode>(128 + sig),
                   "stopped by " + tp::host::signal_name(sig) + "; output stopped");
+}
+
+// The pixels measured: --per-pixel, --pixel C,R, or the array's centre.
+std::vector<long> pixels(const tp::PixelBank& bank, bool per_pixel, const std::string& pixel) {
+  std::vector<long> pads;
+  if (per_pixel && !pixel.empty()) tp::bad_input("--pixel and --per-pixel: give one");
+  if (per_pixel) {
+    for (long pad = 0; pad < static_cast<long>(bank.pads()); ++pad) pads.push_back(pad);
+  } else if (!pixel.empty()) {
+    const std::vector<double> cr = tp::parse_list(pixel, "--pixel");
+    if (cr.size() != 2 || cr[0] != std::floor(cr[0]) || cr[1] != std::floor(cr[1]) || cr[0] < 0 ||
+        cr[0] >= bank.columns || cr[1] < 0 || cr[1] >= bank.rows)
+      tp::bad_input("--pixel: '" + pixel + "' is not a column,row of the " +
+                    std::to_string(bank.columns) + " x " + std::to_string(bank.rows) + " array");
+    pads.push_back(static_cast<long>(cr[1]) * bank.columns + static_cast<long>(cr[0]));
+  } else {
+    pads.push_back(static_cast<long>(bank.rows / 2) * bank.columns + bank.columns / 2);
+  }
+  return pads;
+}
+
+// One trial: its stimulus delivered while the keys are watched for a stop, then the
+// question; the answer goes to the calibration and the log.
+void run_trial(tp::Calibration& cal, tp::host::Transport& transport, tp::host::Answers& answers,
+               tp::LineFile& log, const volatile std::sig_atomic_t* flag, int columns) {
+  if (*flag) stopped_by_signal(*flag);
+  const std::string stage = cal.stage_text();
+  if (!stage.empty()) answers.say("calibrate: " + stage + "\n");
+  const int n = static_cast<int>(cal.trials().size()) + 1;
+  answers.say("trial " + std::to_string(n) + ": " +
+              tp::kPrimaries[static_cast<std::size_t>(cal.primary())] + " at (" +
+              std::to_string(cal.pad() % columns) + ", " + std::to_string(cal.pad() / columns) +
+              "), " + tp::number_text(std::round(cal.level_mA() * 1e4) / 1e4) + " mA ... ");
+  bool by_key = false;
+  const tp::host::SessionReport r = tp::host::run_watched(
+      transport, cal.stimulus(), tp::host::SessionOptions{}, flag,
+      [&](int ms) { return answers.stop_key(ms); }, by_key);
+  if (*flag) stopped_by_signal(*flag);
+  if (by_key && answers.gone())
+    tp::failure("the terminal is gone during trial " + std::to_string(n) + "; output stopped");
+  if (by_key) {
+    answers.say("stopped\n");
+    tp::failure("stopped by the user (" + answers.stop_key_name() + ") during trial " +
+                std::to_string(n) + "; output stopped");
+  }
+  if (r.exit_code != 0) stopped_by_signal(r.exit_code - 128);
+  answers.say(cal.comfort() ? "too strong? [y/n] " : "felt it? [y/n] ");
+  const auto a = answers.answer(flag);
+  if (!a) stopped_by_signal(*flag);
+  answers.say(a->given + "\n");
+  if (a->kind == tp::host::Answer::stop)
+    tp::failure("stopped by the user (" + a->given + ") after trial " + std::to_string(n) +
+                "; nothing running");
+  cal.respond(a->kind == tp::host::Answer::yes);
+  log.line(tp::calibration_log_row(cal.trials().back(), columns, r.pulses, r.peak_mA));
 }
 
 }  // namespace
@@ -110,9 +92,12 @@ int main(int argc, char** argv) {
       "then a transformed up-down staircase (Levitt 1971: 2-down-1-up, the 70.7 % point, "
       "for the threshold; 1-down-1-up from the threshold for the comfort limit).  Each "
       "trial is delivered through the stimulator, then the terminal asks y or n; q, Esc or "
-      "Ctrl-C stops the output at once and exits.  No trial exceeds --ceiling.  Prints the "
-      "profile (tactile-primaries/profile/1) on stdout; writes every trial to --log.  "
-      "docs/calibration.md.",
+      "Ctrl-C stops the output at once and exits.  No trial exceeds --ceiling, and every "
+      "trial at the ceiling is checked against the device before the first is sent.  Says "
+      "the session's length up front, each staircase as it starts, and what was found at "
+      "the end.  Prints the profile (tactile-primaries/profile/1) on stdout, or to --output "
+      "FILE (whole, or left as it was when calibrate is stopped); writes every trial to "
+      "--log.  docs/calibration.md.",
       "calibrate"};
   std::string bank_path, port = "emu", record, log_path, pixel, primaries, rates, responses,
                          ceiling = "1", start = "0.05", step = "1.25", max_step = "1.5",
@@ -151,6 +136,7 @@ int main(int argc, char** argv) {
   app.add_option("--trial-duration", trial, "Each trial's stimulus, s, 0.05 to 10 [0.5]")
       ->type_name("S");
   app.add_option("--width", width, "Main phase, us, whole, 10 to 1000 [200]")->type_name("US");
+  tp::cli::add_output_option(app);
   app.add_option("--responses", responses,
                  "- : the answers as lines on stdin (y, n or q) instead of the terminal's keys")
       ->type_name("-");
@@ -176,95 +162,35 @@ int main(int argc, char** argv) {
     o.width_us = o.balance_width_us = tp::parse_finite(width, "--width");
     if (!rates.empty()) tp::parse_rates(rates, o.rate_hz);
     if (!primaries.empty()) o.primaries = tp::parse_primaries(primaries, "--primaries");
-    if (per_pixel && !pixel.empty()) tp::bad_input("--pixel and --per-pixel: give one");
-    if (per_pixel) {
-      for (long pad = 0; pad < static_cast<long>(bank.pads()); ++pad) o.pads.push_back(pad);
-    } else if (!pixel.empty()) {
-      const std::vector<double> cr = tp::parse_list(pixel, "--pixel");
-      if (cr.size() != 2 || cr[0] != std::floor(cr[0]) || cr[1] != std::floor(cr[1]) || cr[0] < 0 ||
-          cr[0] >= bank.columns || cr[1] < 0 || cr[1] >= bank.rows)
-        tp::bad_input("--pixel: '" + pixel + "' is not a column,row of the " +
-                      std::to_string(bank.columns) + " x " + std::to_string(bank.rows) + " array");
-      o.pads.push_back(static_cast<long>(cr[1]) * bank.columns + static_cast<long>(cr[0]));
-    } else {
-      o.pads.push_back(static_cast<long>(bank.rows / 2) * bank.columns + bank.columns / 2);
-    }
+    o.pads = pixels(bank, per_pixel, pixel);
     tp::Calibration cal(bank, o);  // checks every option
-    std::FILE* log = std::fopen(log_path.c_str(), "w");
-    if (!log) tp::bad_input("--log: cannot open '" + log_path + "': " + std::strerror(errno));
-    struct CloseLog {
-      std::FILE* f;
-      ~CloseLog() { std::fclose(f); }
-    } close_log{log};
-    std::fprintf(log,
-                 "trial,primary,pad,column,row,question,level_mA,phase,response,reversal,"
-                 "pulses,peak_mA\n");
-    std::fflush(log);
+    tp::LineFile log(log_path, "--log");
+    log.line(tp::calibration_log_header());
 
     const volatile std::sig_atomic_t* flag = tp::host::install_stop_handlers();
-    Answers answers(!responses.empty());
+    tp::host::Answers answers(!responses.empty());
     tp::host::EmulatorOptions emu;
     emu.caps.channels =
         static_cast<std::uint8_t>(emu_channels > 0 ? emu_channels : static_cast<int>(bank.pads()));
     emu.record_path = record;
     const auto transport = tp::host::open_transport(port, baud, emu);
     tp::host::arm_emergency_stop(transport->native_handle());
-    tp::host::SessionOptions session;
-    while (!cal.done()) {
-      if (*flag) stopped_by_signal(*flag);
-      const tp::Mix m = cal.stimulus();
-      const int n = static_cast<int>(cal.trials().size()) + 1;
-      const std::string what =
-          std::string(tp::kPrimaries[static_cast<std::size_t>(cal.primary())]) + " at " +
-          pixel_text(cal.pad(), bank.columns) + ", " +
-          tp::number_text(std::round(cal.level_mA() * 1e4) / 1e4) + " mA";
-      answers.say("trial " + std::to_string(n) + ": " + what + " ... ");
-      bool by_key = false;
-      const tp::host::SessionReport r = tp::host::run_watched(
-          *transport, m, session, flag, [&](int ms) { return answers.stop_key(ms); }, by_key);
-      if (*flag) stopped_by_signal(*flag);
-      if (by_key && answers.gone())
-        throw tp::Error(tp::ExitCode::failure, "the terminal is gone during trial " +
-                                                   std::to_string(n) + "; output stopped");
-      if (by_key) {
-        answers.say("stopped\n");
-        throw tp::Error(tp::ExitCode::failure, "stopped by the user (q) during trial " +
-                                                   std::to_string(n) + "; output stopped");
-      }
-      if (r.exit_code != 0) stopped_by_signal(r.exit_code - 128);
-      answers.say(cal.comfort() ? "too strong? [y/n] " : "felt it? [y/n] ");
-      const std::optional<char> a = answers.answer(flag);
-      if (!a) stopped_by_signal(*flag);
-      if (*a == 'q') {
-        answers.say("q\n");
-        throw tp::Error(tp::ExitCode::failure, "stopped by the user (q) after trial " +
-                                                   std::to_string(n) + "; nothing running");
-      }
-      answers.say(std::string(1, *a) + "\n");
-      const double level = cal.level_mA();
-      const bool comfort = cal.comfort();
-      const long pad = cal.pad();
-      const int primary = cal.primary();
-      cal.respond(*a == 'y');
-      const tp::CalibrationTrial& t = cal.trials().back();
-      std::fprintf(log, "%d,%s,%ld,%ld,%ld,%s,%s,%s,%s,%d,%u,%s\n", n,
-                   tp::kPrimaries[static_cast<std::size_t>(primary)], pad, pad % bank.columns,
-                   pad / bank.columns, comfort ? "too strong" : "felt",
-                   tp::number_text(level).c_str(), t.ascending ? "ascending" : "staircase",
-                   *a == 'y' ? "yes" : "no", t.reversal ? 1 : 0, r.pulses,
-                   tp::number_text(r.peak_mA).c_str());
-      std::fflush(log);
-    }
+    // Every trial at the ceiling against the device's capabilities, as each trial's session
+    // will check it (run_watched's count is the stimulus's own), before the first is sent.
+    const tp::device::Capabilities caps = tp::host::StimulatorClient(*transport).identify();
+    cal.check_trials(
+        [&](const tp::Mix& m) { tp::host::plan_session(caps, m, tp::host::SessionOptions{}); });
+    answers.say("calibrate: " + cal.length_text() + "\n");
+    while (!cal.done()) run_trial(cal, *transport, answers, log, flag, bank.columns);
     tp::host::arm_emergency_stop(-1);
+    log.close();
     for (const std::string& note : cal.notes())
       std::fprintf(stderr, "calibrate: %s\n", note.c_str());
     const tp::Profile p = cal.profile();
     bool any = false;
     for (const auto& r : p.primary) any = any || r.has_value();
-    if (!any)
-      throw tp::Error(tp::ExitCode::failure,
-                      "nothing was felt up to the ceiling: no profile (the log has every trial)");
-    std::fprintf(stderr, "calibrate: %zu trials\n", cal.trials().size());
+    if (!any) tp::failure("no primary found (said above): no profile; the log has every trial");
+    std::fprintf(stderr, "calibrate: %s\n", cal.summary().c_str());
     tp::cli::write_stdout(tp::dump_json(tp::profile_to_json(p)));
   });
 }

@@ -170,8 +170,15 @@ void LineFile::line(const std::string& text) {
   whole.reserve(text.size() + 1);
   whole += text;
   whole += '\n';
-  if (!write_all(fd_, whole.data(), whole.size()))
-    failure(what_ + ": cannot write '" + path_ + "': " + reason());
+  // Where the line starts (a regular file's end; -1 for a pipe or a device): a write that
+  // fails part-way (a size limit, a disk filling up) is cut back to it, so that the file
+  // never ends in a cut line.
+  const off_t start = ::lseek(fd_, 0, SEEK_CUR);
+  if (!write_all(fd_, whole.data(), whole.size())) {
+    const std::string why = reason();
+    if (start >= 0 && ::ftruncate(fd_, start) == 0) (void)::lseek(fd_, start, SEEK_SET);
+    failure(what_ + ": cannot write '" + path_ + "': " + why);
+  }
 }
 
 void LineFile::write(const char* data, std::size_t n) {

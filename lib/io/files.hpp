@@ -53,7 +53,8 @@ class LineFile {
   LineFile& operator=(const LineFile&) = delete;
 
   // One line (the newline is added), written whole by one write(2); a failed or short
-  // write is a runtime failure naming the file and the reason.
+  // write is a runtime failure naming the file and the reason, and a regular file is cut
+  // back to the line's start (no cut line left).
   void line(const std::string& text);
   // Bytes that already end in a newline, written whole by one write(2), as line() does.
   void write(const char* data, std::size_t n);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "core/error.hpp"
 #include "io/number.hpp"
@@ -37,14 +38,12 @@ void check_calibration_options(const CalibrationOptions& o, const PixelBank& ban
 Calibration::Calibration(const PixelBank& bank, const CalibrationOptions& o)
     : bank_(bank), o_(o), stair_(o.staircase) {
   check_calibration_options(o, bank);
-  std::vector<int> primaries = o.primaries;
-  if (primaries.empty()) primaries = {0, 1, 2};
+  primaries_ = o.primaries;
+  if (primaries_.empty()) primaries_ = {0, 1, 2};
   for (const long pad : o.pads)
-    for (const int p : primaries) {
+    for (const int p : primaries_) {
       const BankEntry& e = bank.entry[static_cast<std::size_t>(pad)][static_cast<std::size_t>(p)];
-      const int c = static_cast<int>(pad % bank.columns), r = static_cast<int>(pad / bank.columns);
-      const std::string where = std::string(kPrimaries[static_cast<std::size_t>(p)]) +
-                                " at pixel (" + std::to_string(c) + ", " + std::to_string(r) + ")";
+      const std::string where = this->where({pad, p, false, PrimaryRange{}});
       if (!e.present) {
         if (!o.primaries.empty()) bad_input(where + ": the bank has no patterns of that mode");
         continue;
@@ -112,42 +111,86 @@ void Calibration::respond(bool yes) {
   trials_.push_back(t);
   ++unit_trials_;
   if (!stair_.done()) return;
+  if (comfort_)
+    finish_comfort();
+  else
+    finish_threshold();
+}
+
+std::string Calibration::where(const Unit& u) const {
+  return std::string(kPrimaries[static_cast<std::size_t>(u.primary)]) + " at pixel (" +
+         std::to_string(u.pad % bank_.columns) + ", " + std::to_string(u.pad / bank_.columns) + ")";
+}
+
+// What ended the staircase without a level, in the question's words.
+std::string Calibration::end_text() const {
+  const StaircaseOptions& o = o_.staircase;
+  const std::string ceiling = number_text(o.ceiling_mA) + " mA";
+  switch (stair_.end()) {
+    case StaircaseEnd::ceiling:
+      return std::string(comfort_ ? "never too strong" : "not felt") + " up to the ceiling, " +
+             ceiling;
+    case StaircaseEnd::no_at_ceiling:
+      return std::string(comfort_ ? "not too strong" : "not felt") + " " +
+             std::to_string(kNoAtCeiling) + " times in a row at the ceiling, " + ceiling +
+             ", after a " + (comfort_ ? "\"too strong\"" : "\"felt\"") + " below it";
+    case StaircaseEnd::yes_at_floor:
+      return std::string(comfort_ ? "too strong" : "felt") + " " + std::to_string(kYesAtFloor) +
+             " times in a row at the floor, " + number_text(kMinLevel_mA) +
+             " mA, the least level calibrate gives";
+    case StaircaseEnd::trials:
+      return "no " + std::string(comfort_ ? "comfort limit" : "threshold") + " within " +
+             std::to_string(o.max_trials) +
+             " trials (--max-trials): " + std::to_string(stair_.reversals()) + " of " +
+             std::to_string(o.reversals) + " reversals";
+    case StaircaseEnd::reversals:
+    case StaircaseEnd::running:
+      break;
+  }
+  return "found";
+}
+
+void Calibration::finish_threshold() {
   Unit& u = units_[unit_];
-  const int c = static_cast<int>(u.pad % bank_.columns),
-            r = static_cast<int>(u.pad / bank_.columns);
-  const std::string where = std::string(kPrimaries[static_cast<std::size_t>(u.primary)]) +
-                            " at pixel (" + std::to_string(c) + ", " + std::to_string(r) + ")";
-  if (!comfort_) {
-    if (!stair_.found()) {
-      notes_.push_back(where + ": no threshold found up to the ceiling, " +
-                       number_text(o_.staircase.ceiling_mA) + " mA; left out of the profile");
-      finish_unit();
-      return;
-    }
-    u.range.threshold_mA = stair_.estimate_mA();
-    u.range.threshold_spread_mA = stair_.spread_mA();
-    u.range.trials = unit_trials_;
-    // The comfort limit, from the threshold up: "too strong?", 1-down-1-up.
-    StaircaseOptions c_opt = o_.staircase;
-    c_opt.down = 1;
-    c_opt.start_mA = std::clamp(u.range.threshold_mA, kMinLevel_mA, c_opt.ceiling_mA);
-    comfort_ = true;
-    unit_trials_ = 0;
-    stair_ = Staircase(c_opt);
+  if (!stair_.found()) {
+    notes_.push_back(where(u) + ": " + end_text() + "; no threshold, left out of the profile");
+    finish_unit();
     return;
   }
-  u.found = true;
+  u.range.threshold_mA = stair_.estimate_mA();
+  u.range.threshold_spread_mA = stair_.spread_mA();
+  u.range.trials = unit_trials_;
+  // The comfort limit, from the threshold up: "too strong?", 1-down-1-up.
+  StaircaseOptions c_opt = o_.staircase;
+  c_opt.down = 1;
+  c_opt.start_mA = std::clamp(u.range.threshold_mA, kMinLevel_mA, c_opt.ceiling_mA);
+  comfort_ = true;
+  unit_trials_ = 0;
+  stair_ = Staircase(c_opt);
+}
+
+void Calibration::finish_comfort() {
+  Unit& u = units_[unit_];
   u.range.trials += unit_trials_;
-  if (stair_.found()) {
-    u.range.comfort_mA = stair_.estimate_mA();
-    u.range.comfort_spread_mA = stair_.spread_mA();
-  } else {
-    u.range.comfort_mA = o_.staircase.ceiling_mA;
-    notes_.push_back(where + ": never too strong up to the ceiling; comfort set to it, " +
-                     number_text(o_.staircase.ceiling_mA) + " mA");
+  switch (stair_.end()) {
+    case StaircaseEnd::reversals:
+      u.range.comfort_mA = stair_.estimate_mA();
+      u.range.comfort_spread_mA = stair_.spread_mA();
+      break;
+    case StaircaseEnd::ceiling:  // never too strong up to it: the ceiling bounds it
+    case StaircaseEnd::no_at_ceiling:
+      u.range.comfort_mA = o_.staircase.ceiling_mA;
+      notes_.push_back(where(u) + ": " + end_text() + "; comfort set to the ceiling");
+      break;
+    default:  // no level the person accepted can be trusted: nothing rendered from it
+      notes_.push_back(where(u) + ": " + end_text() +
+                       "; no comfort limit, left out of the profile");
+      finish_unit();
+      return;
   }
+  u.found = true;
   if (u.range.comfort_mA < u.range.threshold_mA) {
-    notes_.push_back(where + ": comfort " + number_text(u.range.comfort_mA) +
+    notes_.push_back(where(u) + ": comfort " + number_text(u.range.comfort_mA) +
                      " mA came out below the threshold; set to the threshold");
     u.range.comfort_mA = u.range.threshold_mA;
   }
@@ -191,6 +234,106 @@ Profile Calibration::profile() const {
   if (!per_pixel) p.carried["pixel"] = o_.pads[0];
   p.carried["ceiling_mA"] = o_.staircase.ceiling_mA;
   return p;
+}
+
+void Calibration::check_trials(const std::function<void(const Mix&)>& check) const {
+  const double ceiling = o_.staircase.ceiling_mA;
+  for (std::size_t u = 0; u < units_.size(); ++u) {
+    auto passes = [&](double level, std::string* why) {
+      try {
+        check(trial_stimulus(u, level));
+        return true;
+      } catch (const Error& e) {
+        if (e.code() != ExitCode::bad_input) throw;
+        if (why) *why = e.what();
+        return false;
+      }
+    };
+    std::string why;
+    if (passes(ceiling, &why)) continue;
+    if (!passes(kMinLevel_mA, nullptr))
+      bad_input(where(units_[u]) + ": the device cannot deliver its trials at any level: " + why +
+                "; nothing was sent");
+    // Every limit grows with the level: the highest that passes, by bisection, in whole uA.
+    double lo = kMinLevel_mA, hi = ceiling;
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (passes(mid, nullptr) ? lo : hi) = mid;
+    }
+    const double most = std::max(kMinLevel_mA, std::floor(lo * 1000 + 1e-9) / 1000);
+    bad_input("--ceiling " + number_text(ceiling) + " mA: the device cannot deliver " +
+              where(units_[u]) + " at it (" + why + "); lower --ceiling to " + number_text(most) +
+              " mA or less; nothing was sent");
+  }
+}
+
+CalibrationLength Calibration::length() const {
+  const StaircaseOptions& o = o_.staircase;
+  const double threshold = std::sqrt(o.start_mA * o.ceiling_mA);
+  StaircaseOptions c_opt = o;
+  c_opt.down = 1;
+  c_opt.start_mA = threshold;
+  const int per_unit =
+      typical_trials(o, threshold) + typical_trials(c_opt, std::sqrt(threshold * o.ceiling_mA));
+  CalibrationLength n;
+  const int units = static_cast<int>(units_.size());
+  n.staircases = 2 * units;
+  n.typical = units * per_unit;
+  n.most = n.staircases * o.max_trials;
+  return n;
+}
+
+std::string Calibration::length_text() const {
+  const CalibrationLength n = length();
+  std::string names;
+  for (std::size_t k = 0; k < primaries_.size(); ++k)
+    names += (k == 0                       ? ""
+              : k + 1 == primaries_.size() ? " and "
+                                           : ", ") +
+             std::string(kPrimaries[static_cast<std::size_t>(primaries_[k])]);
+  const std::size_t pixels = o_.pads.size();
+  return names + " at " + std::to_string(pixels) + (pixels == 1 ? " pixel: " : " pixels: ") +
+         std::to_string(n.staircases) + " staircases, about " + std::to_string(n.typical) +
+         " trials of " + number_text(o_.trial_s) + " s, at most " + std::to_string(n.most);
+}
+
+std::string Calibration::stage_text() const {
+  if (done() || unit_trials_ != 0) return "";
+  const Unit& u = units_[unit_];
+  const auto p = std::find(primaries_.begin(), primaries_.end(), u.primary) - primaries_.begin();
+  const auto q = std::find(o_.pads.begin(), o_.pads.end(), u.pad) - o_.pads.begin();
+  return std::string(kPrimaries[static_cast<std::size_t>(u.primary)]) + ", primary " +
+         std::to_string(p + 1) + " of " + std::to_string(primaries_.size()) + ", at pixel (" +
+         std::to_string(u.pad % bank_.columns) + ", " + std::to_string(u.pad / bank_.columns) +
+         "), " + std::to_string(q + 1) + " of " + std::to_string(o_.pads.size()) +
+         (comfort_ ? ": the comfort limit, too strong?" : ": the threshold, felt it?");
+}
+
+std::string Calibration::summary() const {
+  const Profile p = profile();
+  auto mA = [](double v) { return number_text(std::round(v * 1e4) / 1e4) + " mA"; };
+  std::string s = std::to_string(trials_.size()) + " trials";
+  for (const int k : primaries_) {
+    const auto& r = p.primary[static_cast<std::size_t>(k)];
+    s += std::string("; ") + kPrimaries[static_cast<std::size_t>(k)];
+    s += r ? " threshold " + mA(r->threshold_mA) + ", comfort " + mA(r->comfort_mA) : " not found";
+  }
+  if (o_.pads.size() > 1) s += " (the medians of " + std::to_string(o_.pads.size()) + " pixels)";
+  return s;
+}
+
+std::string calibration_log_header() {
+  return "trial,primary,pad,column,row,question,level_mA,phase,response,reversal,pulses,peak_mA";
+}
+
+std::string calibration_log_row(const CalibrationTrial& t, int columns, std::uint32_t pulses,
+                                double peak_mA) {
+  return std::to_string(t.n) + "," + kPrimaries[static_cast<std::size_t>(t.primary)] + "," +
+         std::to_string(t.pad) + "," + std::to_string(t.pad % columns) + "," +
+         std::to_string(t.pad / columns) + "," + (t.comfort ? "too strong" : "felt") + "," +
+         number_text(t.level_mA) + "," + (t.ascending ? "ascending" : "staircase") + "," +
+         (t.yes ? "yes" : "no") + "," + (t.reversal ? "1" : "0") + "," + std::to_string(pulses) +
+         "," + number_text(peak_mA);
 }
 
 }  // namespace tp

@@ -6,14 +6,18 @@
 // For each pixel, for each primary in turn: the detection threshold ("did you feel it?",
 // `threshold`'s rule, 2-down-1-up by default: the 70.7 % point), then, from that
 // threshold, the comfort limit ("is it too strong?", 1-down-1-up: the level called too
-// strong half the time).  A threshold not found below the ceiling leaves the primary out
-// (said in `notes`); a comfort limit not found (never too strong up to the ceiling) is
-// the ceiling; one found below its threshold is the threshold.  No trial is ever above
-// the ceiling, none steps up by more than max_step_up.
+// strong half the time).  A threshold not found leaves the primary out, and `notes` says
+// what ended its staircase (StaircaseEnd).  A comfort limit never reached (never too
+// strong up to the ceiling) is the ceiling; one whose staircase ended otherwise unfound
+// (too strong at the floor, out of trials) leaves the primary out; one found below its
+// threshold is the threshold.  No trial is ever above the ceiling, none steps up by more
+// than max_step_up.
 //
 // The class only decides: a program delivers each trial's stimulus and asks the question.
 
 #include <array>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,6 +48,20 @@ struct CalibrationTrial {
   bool ascending = true, yes = false, reversal = false;
 };
 
+// The trial log (calibrate --log, CSV): its header, and one trial's row with the pulses
+// the device delivered and their peak current.
+std::string calibration_log_header();
+std::string calibration_log_row(const CalibrationTrial& t, int columns, std::uint32_t pulses,
+                                double peak_mA);
+
+// How long a session is, from the procedure itself: `typical` trials against observers
+// whose threshold lies halfway (in log level) from the start to the ceiling and whose
+// comfort limit halfway from there to the ceiling (psych/staircase.hpp, typical_trials);
+// `most` is every staircase at its max_trials.
+struct CalibrationLength {
+  int staircases = 0, typical = 0, most = 0;
+};
+
 class Calibration {
  public:
   Calibration(const PixelBank& bank, const CalibrationOptions& o);  // checks o
@@ -63,6 +81,23 @@ class Calibration {
   Profile profile() const;
   const std::vector<std::string>& notes() const { return notes_; }
 
+  // Every trial the session could deliver, checked by `check` before the first is sent:
+  // each unit's stimulus at the ceiling (every limit grows with the level).  `check`
+  // throws bad input for a stimulus the device cannot deliver (host::plan_session against
+  // its capabilities).  A unit refused there is bad input naming the ceiling, the unit,
+  // the reason, and the highest ceiling that `check` passes, or that no level does.
+  void check_trials(const std::function<void(const Mix&)>& check) const;
+
+  // What the person is told: the session's length up front ("3 primaries at 1 pixel: 6
+  // staircases, about 105 trials of 0.5 s, at most 480"); when the next trial starts a
+  // staircase, which (the primary, k of n; the pixel, k of n; the question), else empty;
+  // after done(), one line of what was found (each primary's threshold and comfort limit,
+  // or not found).
+  CalibrationLength length() const;
+  std::string length_text() const;
+  std::string stage_text() const;
+  std::string summary() const;
+
  private:
   struct Unit {
     long pad;
@@ -71,10 +106,15 @@ class Calibration {
     PrimaryRange range;
   };
   void start_threshold();
+  void finish_threshold();
+  void finish_comfort();
   void finish_unit();
+  std::string where(const Unit& u) const;                       // "SAI at pixel (3, 2)"
+  std::string end_text() const;                                 // what ended stair_, unfound
   Mix trial_stimulus(std::size_t unit, double level_mA) const;  // checked
   const PixelBank& bank_;
   CalibrationOptions o_;
+  std::vector<int> primaries_;  // in order
   std::vector<Unit> units_;
   std::size_t unit_ = 0;
   bool comfort_ = false;

@@ -46,7 +46,7 @@ void Staircase::respond(bool yes) {
   trials_.push_back(t);
   if (ascending_ && !yes) {
     if (level_ >= o_.ceiling_mA) {  // nothing felt up to the ceiling
-      done_ = true;
+      finish(StaircaseEnd::ceiling);
       return;
     }
     level_ = std::min(level_ * o_.ascend_factor, o_.ceiling_mA);
@@ -55,7 +55,12 @@ void Staircase::respond(bool yes) {
     ascending_ = false;
     no_at_ceiling_ = !yes && level_ >= o_.ceiling_mA ? no_at_ceiling_ + 1 : 0;
     if (no_at_ceiling_ >= kNoAtCeiling) {
-      done_ = true;  // not found
+      finish(StaircaseEnd::no_at_ceiling);
+      return;
+    }
+    yes_at_floor_ = yes && level_ <= kMinLevel_mA ? yes_at_floor_ + 1 : 0;
+    if (yes_at_floor_ >= kYesAtFloor) {
+      finish(StaircaseEnd::yes_at_floor);
       return;
     }
     int move = 0;
@@ -71,8 +76,7 @@ void Staircase::respond(bool yes) {
         reversal_levels_.push_back(level_);
         if (reversal_levels_.size() == 2) step_ = std::sqrt(o_.step_factor);
         if (static_cast<int>(reversal_levels_.size()) >= o_.reversals) {
-          found_ = true;
-          finish();
+          finish(StaircaseEnd::reversals);
           return;
         }
       }
@@ -81,12 +85,19 @@ void Staircase::respond(bool yes) {
                         : std::max(level_ / step_, kMinLevel_mA);
     }
   }
-  if (static_cast<int>(trials_.size()) >= o_.max_trials) finish();
+  if (static_cast<int>(trials_.size()) >= o_.max_trials) finish(StaircaseEnd::trials);
 }
 
-void Staircase::finish() {
+int typical_trials(const StaircaseOptions& o, double level_mA) {
+  Staircase s(o);
+  while (!s.done()) s.respond(s.level_mA() > level_mA);
+  return static_cast<int>(s.trials().size());
+}
+
+void Staircase::finish(StaircaseEnd end) {
   done_ = true;
-  if (!found_) return;
+  end_ = end;
+  if (end != StaircaseEnd::reversals) return;
   // The reversals at the smaller step: all but the first two.
   double log_sum = 0, sum = 0, sum_sq = 0;
   const std::size_t n = reversal_levels_.size() - 2;

@@ -18,7 +18,8 @@
 // A run that is answered "no" at the ceiling ends there, not found: in the ascending series
 // at once, in the staircase after kNoAtCeiling such answers in a row (one "yes" there, then
 // nothing: a false alarm, or a comfort limit above the ceiling), so it never dwells at the
-// ceiling.
+// ceiling.  Nor at the floor: kYesAtFloor "yes" answers in a row at kMinLevel_mA end it,
+// not found (the level is below what the procedure measures).  end() says which ended it.
 //
 // "yes" is whatever the question asks: "did you feel it?" for a detection threshold,
 // "is it too strong?" for a comfort limit.
@@ -30,6 +31,9 @@ namespace tp {
 
 // "No" answers in a row at the ceiling that end a staircase, not found.
 inline constexpr int kNoAtCeiling = 3;
+
+// "Yes" answers in a row at the floor that end a staircase, not found.
+inline constexpr int kYesAtFloor = 3;
 
 // The lowest level a run uses: a start below it is bad input, and no step goes under it.
 inline constexpr double kMinLevel_mA = 0.001;
@@ -47,6 +51,16 @@ struct StaircaseOptions {
 // Throws tp::Error (bad input) naming the first value outside its range.
 void check_staircase_options(const StaircaseOptions& o);
 
+// What ended a run.
+enum class StaircaseEnd {
+  running,        // not done yet
+  reversals,      // its `reversals` reversals: found
+  ceiling,        // the ascending series reached the ceiling, answered "no" there
+  no_at_ceiling,  // kNoAtCeiling "no" answers in a row at the ceiling, in the staircase
+  yes_at_floor,   // kYesAtFloor "yes" answers in a row at the floor
+  trials,         // max_trials trials before `reversals` reversals
+};
+
 struct StaircaseTrial {
   int n = 0;  // 1, 2, ...
   double level_mA = 0;
@@ -55,29 +69,35 @@ struct StaircaseTrial {
   bool reversal = false;  // this answer turned the staircase's direction
 };
 
+// The trials a run takes against an observer who answers "yes" exactly above level_mA:
+// the procedure's own count for a session's length (calibrate's "about N trials").
+int typical_trials(const StaircaseOptions& o, double level_mA);
+
 class Staircase {
  public:
   explicit Staircase(const StaircaseOptions& o);  // checks o
   bool done() const { return done_; }
   double level_mA() const { return level_; }  // the next trial's level (while !done())
   void respond(bool yes);                     // the answer at level_mA()
-  // After done(): whether the staircase ran to its end (false: the ceiling was reached in
-  // the ascending series with no "yes", or the trials ran out first), its estimate
-  // (geometric mean of the small-step reversals) and their spread (the standard deviation
-  // of those levels, mA).
-  bool found() const { return found_; }
+  // After done(): what ended it; whether the staircase ran to its end (its reversals; any
+  // other end is not found), its estimate (geometric mean of the small-step reversals) and
+  // their spread (the standard deviation of those levels, mA).
+  StaircaseEnd end() const { return end_; }
+  bool found() const { return end_ == StaircaseEnd::reversals; }
+  int reversals() const { return static_cast<int>(reversal_levels_.size()); }
   double estimate_mA() const { return estimate_; }
   double spread_mA() const { return spread_; }
   const std::vector<StaircaseTrial>& trials() const { return trials_; }
 
  private:
-  void finish();
+  void finish(StaircaseEnd end);
   StaircaseOptions o_;
   double level_ = 0;
   bool ascending_ = true;
-  bool done_ = false, found_ = false;
+  bool done_ = false;
+  StaircaseEnd end_ = StaircaseEnd::running;
   int yes_run_ = 0;
-  int no_at_ceiling_ = 0;
+  int no_at_ceiling_ = 0, yes_at_floor_ = 0;
   int direction_ = 0;  // +1 up, -1 down, 0 none yet
   double step_ = 1;
   std::vector<double> reversal_levels_;

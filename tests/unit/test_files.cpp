@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -146,6 +147,36 @@ TEST_CASE("a line file writes whole lines, so a killed writer leaves no cut line
   const std::string text = slurp(p);
   REQUIRE(!text.empty());
   CHECK(text.size() % 301 == 0);
+  CHECK(text.back() == '\n');
+}
+
+TEST_CASE("a line file that cannot be written whole leaves no cut line", "[io][files]") {
+  TempDir t;
+  const fs::path p = t.dir / "log.csv";
+  // A child under a 1000-byte file size limit (SIGXFSZ ignored: write(2) fails with EFBIG)
+  // writes lines of 301 bytes: the fourth is cut at byte 1000, then refused.
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{1000, 1000};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      LineFile f(p.string(), "--log");
+      for (int k = 0; k < 10; ++k) f.line(std::string(300, 'x'));
+    } catch (const Error& e) {
+      _exit(std::string(e.what()) == "--log: cannot write '" + p.string() + "': File too large"
+                ? 3
+                : 4);
+    }
+    _exit(5);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 3);
+  const std::string text = slurp(p);
+  CHECK(text.size() == 3 * 301u);
   CHECK(text.back() == '\n');
 }
 

@@ -279,7 +279,7 @@ TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pi
   while (!none.done()) none.respond(false);
   CHECK_FALSE(none.profile().primary[1].has_value());
   REQUIRE(none.notes().size() == 1);
-  CHECK_THAT(none.notes()[0], Catch::Contains("no threshold found"));
+  CHECK_THAT(none.notes()[0], Catch::Contains("not felt up to the ceiling, 1 mA; no threshold"));
   // The bank's own current limit bounds the ceiling; a trial that some limit refuses at
   // the ceiling (the RMS current, with 1000 us phases at 2 mA) is refused before any trial.
   PixelBank low = b;

@@ -1,20 +1,73 @@
 # calibrate with answers from a pipe (--responses -): q stops after the first trial (one
 # trial delivered, no profile); someone who never feels anything gets no profile and a log
-# of every trial, none above the ceiling.
+# of every trial, none above the ceiling; someone who feels everything is stopped at the
+# floor, and told so.  A program that answers (a coprocess reading the prompts) gets its
+# hidden levels, the session's length up front, each staircase as it starts and a summary
+# at the end; its log's answers, given again, give the same trials and profile.
 source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
 cal=(calibrate --bank "$BANK" --primaries SAI --trial-duration 0.05 --responses - --port emu --emu-channels 64)
 echo q | "${cal[@]}" --log q.csv --record q.jsonl > q.json 2> q.err && fail "q: exit 0"
 grep -q "stopped by the user (q) after trial 1" q.err || fail "q: $(cat q.err)"
 [[ ! -s q.json ]] || fail "q: a profile was written"
 [[ $(lines q.csv) -eq 1 && $(lines q.jsonl) -eq 10 ]] || fail "q: $(lines q.csv) log lines, $(lines q.jsonl) pulses"
-echo "ok: q after one trial of 10 pulses: $(cat q.err)"
+echo "ok: q after one trial of 10 pulses: $(tail -1 q.err)"
 yes n | head -1000 | "${cal[@]}" --ceiling 0.5 --log none.csv --record none.jsonl > none.json 2> none.err && fail "never felt: exit 0"
-grep -q "nothing was felt up to the ceiling" none.err || fail "never felt: $(cat none.err)"
+grep -qF "SAI at pixel (4, 4): not felt up to the ceiling, 0.5 mA; no threshold" none.err || fail "never felt: $(cat none.err)"
+[[ $(tail -1 none.err) == "calibrate: no primary found (said above): no profile; the log has every trial" ]] \
+  || fail "never felt: $(tail -1 none.err)"
 [[ ! -s none.json ]] || fail "never felt: a profile was written"
 peak=$(jq -s 'map(.currents_mA | map(fabs) | max) | max' none.jsonl)
 last=$(tail -1 none.csv | cut -d, -f7)
 awk -v p="$peak" -v l="$last" 'BEGIN { exit !(p <= 0.5 + 0.000977 && l == 0.5) }' || fail "never felt: peak $peak mA, last level $last"
 echo "ok: never felt: $(($(lines none.csv) - 1)) trials up to the 0.5 mA ceiling (peak $peak mA)"
+# Felt every time: down to the floor, where three "yes" end it, said as such (before: 80
+# trials, then "no threshold found up to the ceiling").
+yes y | head -1000 | "${cal[@]}" --log all.csv > all.json 2> all.err && fail "always felt: exit 0"
+grep -qF "SAI at pixel (4, 4): felt 3 times in a row at the floor, 0.001 mA" all.err || fail "always felt: $(cat all.err)"
+grep -q "ceiling" all.err && fail "always felt: the ceiling named: $(grep ceiling all.err)"
+[[ $(tail -3 all.csv | cut -d, -f7 | sort -u) == 0.001 && $(lines all.csv) -lt 60 ]] \
+  || fail "always felt: $(($(lines all.csv) - 1)) trials, the last at $(tail -3 all.csv | cut -d, -f7 | tr '\n' ' ')"
+echo "ok: always felt: $(($(lines all.csv) - 1)) trials, the last three at the floor"
+
+# observe THRESHOLD COMFORT CALIBRATE...: calibrate (--responses -) as a coprocess, its
+# prompts on stderr answered from the level each names: "felt it?" yes above THRESHOLD,
+# "too strong?" yes above COMFORT.  Everything it said goes to said.txt.
+observe() {
+  local thr=$1 comfort=$2; shift 2
+  coproc CAL { "$@" 2>&1; }
+  local pid=$CAL_PID out=${CAL[0]} in=${CAL[1]} chunk="" level limit
+  : > said.txt
+  while IFS= read -r -d ']' -u "$out" chunk; do
+    printf '%s]' "$chunk" >> said.txt
+    [[ $chunk =~ ([0-9.]+)\ mA\ \.\.\.\ (felt\ it|too\ strong)\?\ \[y/n$ ]] || continue
+    level=${BASH_REMATCH[1]} limit=$thr
+    [[ ${BASH_REMATCH[2]} == "too strong" ]] && limit=$comfort
+    if awk -v l="$level" -v h="$limit" 'BEGIN { exit !(l > h) }'; then echo y; else echo n; fi >&"$in"
+  done
+  printf '%s' "$chunk" >> said.txt
+  wait "$pid"
+}
+observe 0.2 0.5 "${cal[@]}" --log seen.csv --output seen.json || fail "observed: $(tail -2 said.txt)"
+jq -e '.primaries.SAI as $r | ($r.threshold_mA / 0.2 | log | fabs) <= (1.25 | sqrt | log) + 1e-9
+    and ($r.comfort_mA / 0.5 | log | fabs) <= (1.25 | sqrt | log) + 1e-9' seen.json > /dev/null \
+  || fail "observed 0.2 and 0.5 mA: $(jq -c .primaries seen.json)"
+# Up front, from the procedure's own numbers; each staircase as it starts; the summary.
+n=$(($(lines seen.csv) - 1))
+grep -qE "^calibrate: SAI at 1 pixel: 2 staircases, about [0-9]+ trials of 0.05 s, at most 160$" said.txt \
+  || fail "the session's length: $(head -1 said.txt)"
+about=$(grep -oE 'about [0-9]+' said.txt | cut -d' ' -f2)
+((about * 2 > n && about < n * 2)) || fail "about $about trials, $n taken"
+grep -qF "calibrate: SAI, primary 1 of 1, at pixel (4, 4), 1 of 1: the threshold, felt it?" said.txt \
+  && grep -qF "calibrate: SAI, primary 1 of 1, at pixel (4, 4), 1 of 1: the comfort limit, too strong?" said.txt \
+  || fail "the stages: $(grep -v ^trial said.txt)"
+summary=$(jq -r '.primaries.SAI | "calibrate: \(.trials) trials; SAI threshold \(.threshold_mA * 1e4 | round / 1e4) mA, comfort \(.comfort_mA * 1e4 | round / 1e4) mA"' seen.json)
+[[ $(tail -1 said.txt) == "$summary" ]] || fail "the summary: '$(tail -1 said.txt)', expected '$summary'"
+echo "ok: observed 0.2 and 0.5 mA: about $about trials said, $n taken; $(tail -1 said.txt)"
+# The log's answers again (docs/calibration.md): the same trials, the same profile.
+tail -n +2 seen.csv | cut -d, -f9 | "${cal[@]}" --log again.csv --output again.json 2> /dev/null \
+  || fail "the log's answers again"
+cmp -s seen.csv again.csv && cmp -s seen.json again.json || fail "the log's answers again: another session"
+echo "ok: the log's answers again: the same $n trials and profile"
 # Bad input before anything is sent.
 refuses 2 --says "ceiling 2.5 outside" -- calibrate --bank "$BANK" --log x.csv --ceiling 2.5 --responses -
 refuses 2 --says "--pixel" -- calibrate --bank "$BANK" --log x.csv --pixel 8,0 --responses -
@@ -23,7 +76,8 @@ refuses 2 --says "--responses" -- calibrate --bank "$BANK" --log x.csv --respons
 refuses 2 --says "--record" -- calibrate --bank "$BANK" --log x.csv --port /dev/ttyS99 --record r.jsonl
 refuses 2 --says "give one" -- calibrate --bank "$BANK" --log x.csv --pixel 1,1 --per-pixel --responses -
 refuses 2 --says "not a bank" -- calibrate --bank "$TP_INPUTS/sai-weights.json" --log x.csv --responses -
-refuses 2 --says "--log" -- calibrate --bank "$BANK" --log /nonexistent/dir/x.csv --responses -
+refuses 2 --says "--log: cannot open '/nonexistent/dir/x.csv'" -- calibrate --bank "$BANK" --log /nonexistent/dir/x.csv --responses -
+refuses 2 --says "--output: cannot write '/nonexistent/dir/p.json'" -- calibrate --bank "$BANK" --log x.csv --output /nonexistent/dir/p.json --responses -
 refuses 2 --says "could not find" -- calibrate --bank "$BANK" --log x.csv --pixel 0,0 --primaries PC --responses -
 refuses 2 --says "--trial-duration" -- calibrate --bank "$BANK" --log x.csv --trial-duration 20 --responses -
 # The bank's own current limit bounds the ceiling (found by the review).
