@@ -148,6 +148,11 @@ Mix mix_from_json(const Json& j) {
     double phase = 0;
     if (one.contains("phase_us")) phase = json_finite(one["phase_us"], where + "phase_us");
     one.erase("phase_us");
+    // A pattern is a stimulus document without its format (mix_to_json leaves it out); one
+    // that names a format must name that one, never have another silently replaced.
+    if (one.contains("format") && one["format"] != "tactile-primaries/stimulus/1")
+      bad_input(where + "'format' " + one["format"].dump() +
+                ": a pattern is a stimulus (\"tactile-primaries/stimulus/1\", or no format)");
     one["format"] = "tactile-primaries/stimulus/1";
     try {
       m.patterns.push_back(stimulus_from_json(one));
