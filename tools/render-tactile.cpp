@@ -77,6 +77,33 @@ tp::Profile model_profile(const tp::PixelBank& bank, const tp::RenderOptions& o,
   return mp.profile;
 }
 
+// The PNG images on the bank's pads, each read and checked; a sequence's kept as
+// SequenceFrames keeps them (not returned, so memory does not grow with their number).
+// `note`: one line when some pixel was not opaque (composited onto black), else empty.
+std::vector<tp::PadIntensities> read_images(const std::vector<std::string>& paths,
+                                            const tp::PixelBank& bank, bool resample,
+                                            tp::SequenceFrames* kept, std::string& note) {
+  std::vector<tp::PadIntensities> out;
+  std::size_t translucent = 0;  // images with a pixel not opaque
+  for (const std::string& f : paths) {
+    const tp::RgbImage im = tp::read_png(f);
+    if (im.translucent > 0 && translucent++ == 0)
+      note = "image '" + f + "': " + tp::count_text(im.translucent, "pixel") + " of " +
+             std::to_string(im.rgb.size() / 3) + " not opaque";
+    tp::PadIntensities p = tp::pad_intensities(im, bank.columns, bank.rows, resample);
+    if (kept) {
+      kept->add(p, f);
+    } else {
+      out.push_back(std::move(p));
+    }
+  }
+  if (translucent > 0)
+    note = "render-tactile: note: " + note +
+           (translucent > 1 ? " (and " + tp::count_text(translucent - 1, "image") + " more)" : "") +
+           ": composited onto black (transparent is 0)\n";
+  return out;
+}
+
 void play_frames(const tp::Sequence& seq, const tp::Profile& profile, const tp::PixelBank& bank,
                  const std::vector<std::vector<double>>& given, bool from_stdin, double fps) {
   using clock = std::chrono::steady_clock;
@@ -238,27 +265,13 @@ int main(int argc, char** argv) {
     std::vector<tp::PadIntensities> frames;
     tp::SequenceFrames kept(bank.columns, bank.rows);
     std::string note;  // composited transparency, said with the warning
-    std::size_t translucent_images = 0;
     if (sequence && images.size() == 1 && images[0] == "-") {
       for_each_stdin_frame(
           bank, [&](const tp::PadIntensities& f, const std::string& where) { kept.add(f, where); });
       if (kept.count() == 0) tp::bad_input("--sequence -: no frames on stdin");
     } else if (!live_input) {
-      for (const std::string& f : images) {
-        const tp::RgbImage im = tp::read_png(f);
-        if (im.translucent > 0 && translucent_images++ == 0)
-          note = "image '" + f + "': " + tp::count_text(im.translucent, "pixel") + " of " +
-                 std::to_string(im.rgb.size() / 3) + " not opaque";
-        frames.push_back(tp::pad_intensities(im, bank.columns, bank.rows, resample));
-        if (sequence) kept.add(frames.back(), f);
-      }
+      frames = read_images(images, bank, resample, sequence ? &kept : nullptr, note);
     }
-    if (translucent_images > 0)
-      note = "render-tactile: note: " + note +
-             (translucent_images > 1
-                  ? " (and " + tp::count_text(translucent_images - 1, "image") + " more)"
-                  : "") +
-             ": composited onto black (transparent is 0)\n";
 
     // Without a profile, the model's.
     std::string warning;  // said before the first output, when every input is checked
