@@ -55,7 +55,7 @@ void on_png_warning(png_structp, png_const_charp) {}  // ancillary trouble: not 
 
 void on_png_read(png_structp png, png_bytep out, std::size_t n) {
   auto* r = static_cast<PngReader*>(png_get_io_ptr(png));
-  if (n > r->size - r->at) png_error(png, "the file ends early (truncated)");
+  if (n > r->size - r->at) png_error(png, "truncated: the file ends early");
   std::memcpy(out, r->data + r->at, n);
   r->at += n;
 }

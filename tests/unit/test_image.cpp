@@ -164,7 +164,7 @@ TEST_CASE("a PNG that does not decode is bad input", "[render][image]") {
   auto good = encode_png(random_image(64, 64, 9));
   auto truncated = good;
   truncated.resize(truncated.size() / 2);
-  refused(truncated, "does not decode (the file ends early (truncated))");
+  refused(truncated, "does not decode (truncated: the file ends early)");
   auto damaged = good;
   damaged[20] ^= 0x5A;  // inside IHDR: its CRC fails
   refused(damaged, "does not decode");
