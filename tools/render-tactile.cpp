@@ -24,19 +24,6 @@
 
 namespace {
 
-std::string rates_text(const tp::RenderPlan& plan) {
-  std::string out;
-  for (std::size_t p = 0; p < 3; ++p) {
-    if (plan.groups_per_primary[p] == 0) continue;
-    if (!out.empty()) out += ", ";
-    out += std::string(tp::kPrimaries[p]) + " " +
-           tp::number_text(std::round(plan.rate_hz[p] * 100) / 100) + " Hz (" +
-           tp::number_text(plan.requested_hz[p]) + " requested; " +
-           std::to_string(plan.groups_per_primary[p]) + " groups)";
-  }
-  return out;
-}
-
 // Each JSON-line frame on stdin ({"rgb": [...]}, blank lines skipped), checked, in order,
 // with its name ("frame N") for messages.
 template <class F>
@@ -90,7 +77,34 @@ tp::Profile model_profile(const tp::PixelBank& bank, const tp::RenderOptions& o,
   return mp.profile;
 }
 
-void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::PixelBank& bank,
+// The PNG images on the bank's pads, each read and checked; a sequence's kept as
+// SequenceFrames keeps them (not returned, so memory does not grow with their number).
+// `note`: one line when some pixel was not opaque (composited onto black), else empty.
+std::vector<tp::PadIntensities> read_images(const std::vector<std::string>& paths,
+                                            const tp::PixelBank& bank, bool resample,
+                                            tp::SequenceFrames* kept, std::string& note) {
+  std::vector<tp::PadIntensities> out;
+  std::size_t translucent = 0;  // images with a pixel not opaque
+  for (const std::string& f : paths) {
+    const tp::RgbImage im = tp::read_png(f);
+    if (im.translucent > 0 && translucent++ == 0)
+      note = "image '" + f + "': " + tp::count_text(im.translucent, "pixel") + " of " +
+             std::to_string(im.rgb.size() / 3) + " not opaque";
+    tp::PadIntensities p = tp::pad_intensities(im, bank.columns, bank.rows, resample);
+    if (kept) {
+      kept->add(p, f);
+    } else {
+      out.push_back(std::move(p));
+    }
+  }
+  if (translucent > 0)
+    note = "render-tactile: note: " + note +
+           (translucent > 1 ? " (and " + tp::count_text(translucent - 1, "image") + " more)" : "") +
+           ": composited onto black (transparent is 0)\n";
+  return out;
+}
+
+void play_frames(const tp::Sequence& seq, const tp::Profile& profile, const tp::PixelBank& bank,
                  const std::vector<std::vector<double>>& given, bool from_stdin, double fps) {
   using clock = std::chrono::steady_clock;
   const auto period =
@@ -114,7 +128,8 @@ void play_frames(const tp::Mix& seq, const tp::Profile& profile, const tp::Pixel
     });
   }
   if (k > 0) std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
-  std::fprintf(stderr, "render-tactile: %zu frames at %s fps\n", k, tp::number_text(fps).c_str());
+  std::fprintf(stderr, "render-tactile: %s at %s fps\n", tp::count_text(k, "frame").c_str(),
+               tp::number_text(fps).c_str());
 }
 
 }  // namespace
@@ -134,9 +149,11 @@ int main(int argc, char** argv) {
                                                         frames_for, fps_text = "30", comfort_factor;
   std::vector<std::string> images;
   bool resample = false, plan_only = false, sequence = false;
-  app.add_option("images", images,
-                 "The picture: an 8-bit RGB PNG, - for stdin; with --sequence or --frames, the "
-                 "frames in order (-: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
+  app.add_option(
+         "images", images,
+         "The picture: a PNG (any colour type and depth, read as the 8-bit RGB it "
+         "shows; transparency composited onto black), - for stdin; with --sequence or "
+         "--frames, the frames in order (-: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
       ->type_name("PNG...");
   app.add_option("--bank", bank_path, "Pattern bank (optimize-weights --bank; every pad's pixel)")
       ->required()
@@ -149,46 +166,69 @@ int main(int argc, char** argv) {
   app.add_option("--comfort-factor", comfort_factor,
                  "Without --profile: comfort = this x the model's threshold, 1.1 to 10 [2]")
       ->type_name("K");
-  app.add_option("--rates", rates,
-                 "Requested rate per primary, Hz, 0.1 to 1000 [RA:30,SAI:200,PC:250]")
-      ->type_name("P:HZ,...");
-  app.add_option("--duration", duration,
-                 "Seconds, (0, 3600] [a still image: 1; a sequence: its frames and one more "
-                 "frame period, or 3600 for frames on stdin]")
-      ->type_name("S");
-  app.add_option("--crosstalk", crosstalk,
-                 "Largest crosstalk between patterns that fire together, 0 to 1 [0.1]")
-      ->type_name("X");
+  CLI::Option* rates_option =
+      app.add_option("--rates", rates,
+                     "Requested rate per primary, each once, Hz, 0.1 to 1000 "
+                     "[RA:30,SAI:200,PC:250]")
+          ->type_name("P:HZ,...");
+  CLI::Option* duration_option =
+      app.add_option("--duration", duration,
+                     "Seconds, (0, 3600], at least one period of every pattern, never clamped [a "
+                     "still image: 1; a sequence: its frames and one more frame period at --fps, "
+                     "or 3600 for frames on stdin]")
+          ->type_name("S");
+  CLI::Option* crosstalk_option =
+      app.add_option("--crosstalk", crosstalk,
+                     "Largest crosstalk between patterns that fire together, 0 to 1 [0.1]")
+          ->type_name("X");
   app.add_option("--width", width, "Main phase, us, whole, 10 to 1000 [200]")->type_name("US");
   app.add_option("--balance-width", balance,
                  "Balancing phase, us, whole, from --width to 8000 [--width]")
       ->type_name("US");
   app.add_flag("--resample", resample,
                "Resample an image of another size to the array's (area-weighted)");
-  app.add_flag("--plan", plan_only,
-               "Print the plan (groups, slots, rates) as JSON instead of the stimulus; for "
-               "arrays larger than a device");
+  CLI::Option* plan_option =
+      app.add_flag("--plan", plan_only,
+                   "Print the plan (groups, slots, rates) as JSON instead of the stimulus; for "
+                   "arrays larger than a device");
   app.add_flag("--sequence", sequence,
                "A sequence's stimulus, for stimctl --live: each pixel and primary the frames "
-               "light (none given: every one the bank has) its own pattern, uploaded once, "
-               "starting from the first frame");
+               "light (none given: every one the bank has), uploaded once, starting from the "
+               "first frame; pixels every frame lights alike fire together where a still's "
+               "would (none given: each alone)");
   app.add_option("--frames", frames_for,
                  "Play the frames (the images, or JSON lines on stdin) as live amplitude "
-                 "frames for the sequence's stimulus FILE, one every 1/--fps s")
+                 "frames for the sequence's stimulus FILE (made for this bank, under a profile "
+                 "of no higher comfort), one every 1/--fps s")
       ->type_name("FILE");
-  app.add_option("--fps", fps_text, "Frames per second, 0.1 to 1000 [30]")->type_name("FPS");
+  CLI::Option* fps_option =
+      app.add_option("--fps", fps_text,
+                     "Frames per second (--sequence, --frames), 0.1 to 1000 [30]")
+          ->type_name("FPS");
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::RenderOptions o;
+    // What would do nothing is refused, not ignored: --fps paces --frames and sets the
+    // default duration of --sequence's frames, nothing else; --frames plays a stimulus
+    // already made.
+    if (fps_option->count() > 0 && frames_for.empty() &&
+        (!sequence || !duration.empty() || images.empty()))
+      tp::bad_input("--fps: applies to --frames, and to --sequence's frames without --duration");
+    for (const CLI::Option* opt : {rates_option, duration_option, crosstalk_option, plan_option})
+      if (!frames_for.empty() && opt->count() > 0)
+        tp::bad_input(opt->get_name() +
+                      ": --frames plays the sequence's stimulus as it was made; give it to "
+                      "--sequence");
     if (!rates.empty()) tp::parse_rates(rates, o.rate_hz);
     const double fps = tp::parse_finite(fps_text, "--fps");
     if (!(fps >= 0.1 && fps <= 1000)) tp::bad_input("--fps: " + fps_text + " outside [0.1, 1000]");
     const bool live_input = images.size() == 1 && images[0] == "-" && !frames_for.empty();
+    // The duration as given, never clamped: out of range is refused (check_render_options,
+    // and plan_render when it holds no pulse of some pattern).
     o.duration_s = !duration.empty()            ? tp::parse_finite(duration, "--duration")
-                   : sequence && images.empty() ? 3600.0
-                   : sequence                   ? (static_cast<double>(images.size()) + 1) / fps
-                                                : 1.0;
-    o.duration_s = std::min(o.duration_s, o.limits.max_duration_s);
+                   : sequence && images.empty() ? o.limits.max_duration_s
+                   : sequence ? tp::sequence_duration_s(images.size(), fps, o.limits)
+                              : 1.0;
     o.crosstalk = tp::parse_finite(crosstalk, "--crosstalk");
     o.width_us = tp::parse_finite(width, "--width");
     o.balance_width_us =
@@ -196,7 +236,7 @@ int main(int argc, char** argv) {
     tp::check_render_options(o);
     if (sequence && !frames_for.empty()) tp::bad_input("--sequence and --frames: give one");
     if (!sequence && frames_for.empty() && images.size() != 1)
-      tp::bad_input(std::to_string(images.size()) + " images: a still image takes one");
+      tp::bad_input(tp::count_text(images.size(), "image") + ": a still image takes one");
     if (!frames_for.empty() && images.empty())
       tp::bad_input("--frames: no frames (images, or - for JSON lines on stdin)");
     int stdin_uses = (bank_path == "-") + (profile_path == "-") + (frames_for == "-");
@@ -205,9 +245,9 @@ int main(int argc, char** argv) {
     const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(bank_path, "bank"));
     o.limits.max_current_mA = std::min(o.limits.max_current_mA, bank.doc.max_current_mA);
     if (!plan_only && bank.pads() > static_cast<std::size_t>(tp::ranges::max_channels))
-      tp::bad_input("bank: " + std::to_string(bank.pads()) +
-                    " pads, more than a stimulator drives (" +
-                    std::to_string(tp::ranges::max_channels) + "); --plan plans it");
+      tp::bad_input("bank: " + tp::count_text(bank.pads(), "pad") +
+                    ", more than a stimulator drives (" + std::to_string(tp::ranges::max_channels) +
+                    "); --plan plans it");
     if (!profile_path.empty() && !comfort_factor.empty())
       tp::bad_input("--comfort-factor: applies without --profile only");
     const double factor = comfort_factor.empty()
@@ -220,47 +260,36 @@ int main(int argc, char** argv) {
       given = tp::profile_from_json(tp::read_json(profile_path, "profile"), o.limits.max_current_mA,
                                     static_cast<long>(bank.pads()));
     // The images, all read and checked before anything is printed (frames on stdin: as
-    // they come, each checked before it is written).
+    // they come, each checked before it is written).  A sequence's frames are kept as
+    // SequenceFrames keeps them, so memory does not grow with their number.
     std::vector<tp::PadIntensities> frames;
-    std::size_t frame_count = images.size();
+    tp::SequenceFrames kept(bank.columns, bank.rows);
+    std::string note;  // composited transparency, said with the warning
     if (sequence && images.size() == 1 && images[0] == "-") {
-      // A sequence's frames as JSON lines on stdin: kept are the first (the start) and
-      // what any lights (the patterns), so memory does not grow with their number.
-      frame_count = 0;
-      for_each_stdin_frame(bank, [&](const tp::PadIntensities& f, const std::string&) {
-        if (frames.empty()) frames = {f, f};
-        for (std::size_t pad = 0; pad < f.value.size(); ++pad)
-          for (std::size_t p = 0; p < 3; ++p)
-            if (f.value[pad][p] > 0) frames[1].value[pad][p] = 1.0;
-        ++frame_count;
-      });
-      if (frames.empty()) tp::bad_input("--sequence -: no frames on stdin");
+      for_each_stdin_frame(
+          bank, [&](const tp::PadIntensities& f, const std::string& where) { kept.add(f, where); });
+      if (kept.count() == 0) tp::bad_input("--sequence -: no frames on stdin");
     } else if (!live_input) {
-      for (const std::string& f : images)
-        frames.push_back(tp::pad_intensities(tp::read_png(f), bank.columns, bank.rows, resample));
+      frames = read_images(images, bank, resample, sequence ? &kept : nullptr, note);
     }
 
     // Without a profile, the model's.
     std::string warning;  // said before the first output, when every input is checked
     const tp::Profile profile = given ? *given : model_profile(bank, o, factor, warning);
-    if (sequence && duration.empty() && frame_count > 0)
-      o.duration_s =
-          std::min((static_cast<double>(frame_count) + 1) / fps, o.limits.max_duration_s);
+    if (sequence && duration.empty() && kept.count() > 0)
+      o.duration_s = tp::sequence_duration_s(kept.count(), fps, o.limits);
     if (!frames_for.empty()) {
-      const tp::Mix seq = tp::mix_from_json(tp::read_json(frames_for, "stimulus"));
-      if (seq.patterns[0].currents_mA.size() != bank.pads())
-        tp::bad_input("--frames: a stimulus of " +
-                      std::to_string(seq.patterns[0].currents_mA.size()) +
-                      " channels for a bank of " + std::to_string(bank.pads()) + " pads");
+      const tp::Sequence seq = tp::sequence_from_json(tp::read_json(frames_for, "stimulus"), bank,
+                                                      profile, "--frames " + frames_for);
       std::vector<std::vector<double>> out;  // PNG frames: every one checked first
       for (std::size_t k = 0; k < frames.size(); ++k)
         out.push_back(tp::frame_amplitudes(seq, profile, frames[k], images[k]));
-      std::fputs(warning.c_str(), stderr);
+      std::fputs((warning + note).c_str(), stderr);
       play_frames(seq, profile, bank, out, live_input, fps);
       return;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const tp::RenderPlan plan = sequence ? tp::plan_sequence(bank, profile, frames, o)
+    const tp::RenderPlan plan = sequence ? tp::plan_sequence(bank, profile, kept, o)
                                          : tp::plan_render(bank, profile, frames[0], o);
     const double plan_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -271,24 +300,16 @@ int main(int argc, char** argv) {
     // stimulator drives is only a plan, and skips them).
     if (bank.pads() <= static_cast<std::size_t>(tp::ranges::max_channels))
       tp::check_mix(plan.mix, o.limits);
-    std::fputs(warning.c_str(), stderr);
-    if (plan.lowered)
-      std::fprintf(stderr,
-                   "render-tactile: the %s's pulses at the requested rates would take %s %% of "
-                   "the device's time: rates lowered by %s, every lit pixel kept\n",
-                   sequence ? "sequence" : "image",
-                   tp::number_text(std::round(plan.requested_utilisation * 1000) / 10).c_str(),
-                   plan.limited_by.c_str());
-    std::fprintf(stderr,
-                 "render-tactile: %zu lit patterns in %zu groups, cycle %s us of %d slots, "
-                 "worst crosstalk %s; refresh %s; planned in %s ms\n",
-                 plan.lit.size(), plan.groups.size(), tp::number_text(plan.cycle_us).c_str(),
-                 plan.slots, tp::number_text(std::round(plan.worst_crosstalk * 1e4) / 1e4).c_str(),
-                 rates_text(plan).c_str(), tp::number_text(std::round(plan_ms * 10) / 10).c_str());
+    std::fputs((warning + note).c_str(), stderr);
+    const std::string lowered = tp::lowered_text(plan, sequence ? "sequence" : "image");
+    if (!lowered.empty()) std::fprintf(stderr, "render-tactile: %s\n", lowered.c_str());
+    std::fprintf(stderr, "render-tactile: %s; planned in %s ms\n", tp::plan_summary(plan).c_str(),
+                 tp::number_text(std::round(plan_ms * 10) / 10).c_str());
     if (plan_only) {
       tp::cli::write_stdout(tp::dump_json(tp::plan_to_json(plan)));
       return;
     }
-    tp::cli::write_stdout(tp::dump_json(tp::mix_to_json(plan.mix)));
+    tp::cli::write_stdout(
+        tp::dump_json(sequence ? tp::sequence_to_json(plan, bank) : tp::mix_to_json(plan.mix)));
   });
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include <png.h>
@@ -19,8 +20,8 @@ std::array<std::uint8_t, 3> RgbImage::at(int column, int row) const {
 
 namespace {
 
-// libpng's simplified API (png_image_*): no setjmp here, its errors come back as a 0 and a
-// message; the image is freed on every path.
+// libpng's simplified API (png_image_*), for writing: no setjmp here, its errors come
+// back as a 0 and a message; the image is freed on every path.
 struct PngImage {
   png_image image;
   PngImage() {
@@ -32,34 +33,90 @@ struct PngImage {
   PngImage& operator=(const PngImage&) = delete;
 };
 
-// What an image that is not 8-bit RGB is instead.
-std::string not_rgb(png_uint_32 format) {
-  if (format & PNG_FORMAT_FLAG_COLORMAP) return "a palette image";
-  if (!(format & PNG_FORMAT_FLAG_COLOR)) return "greyscale";
-  if (format & PNG_FORMAT_FLAG_ALPHA) return "RGB with alpha (transparency)";
-  if (format & PNG_FORMAT_FLAG_LINEAR) return "16-bit RGB";
-  return "";
+// Reading goes through libpng's own API, which changes no value unless asked (the
+// simplified reader would convert 16-bit and gamma-tagged files).  Its errors longjmp back
+// to the setjmp in read_header or read_rows; those two hold no C++ object of their own, so
+// nothing is skipped, and the structs are freed by PngReader's destructor on every path.
+struct PngReader {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  const std::uint8_t* data = nullptr;
+  std::size_t size = 0, at = 0;
+  char message[200] = "";
+  ~PngReader() { png_destroy_read_struct(&png, &info, nullptr); }
+};
+
+[[noreturn]] void on_png_error(png_structp png, png_const_charp text) {
+  auto* r = static_cast<PngReader*>(png_get_error_ptr(png));
+  std::snprintf(r->message, sizeof r->message, "%s", text);
+  png_longjmp(png, 1);
+}
+void on_png_warning(png_structp, png_const_charp) {}  // ancillary trouble: not ours to say
+
+void on_png_read(png_structp png, png_bytep out, std::size_t n) {
+  auto* r = static_cast<PngReader*>(png_get_io_ptr(png));
+  if (n > r->size - r->at) png_error(png, "truncated: the file ends early");
+  std::memcpy(out, r->data + r->at, n);
+  r->at += n;
 }
 
-// The file's gamma from its gAMA chunk (x 100000), or 0 without one: the chunks before
-// the image data, walked by their lengths.
-std::uint32_t file_gamma(const std::vector<std::uint8_t>& b) {
-  auto be32 = [&](std::size_t at) {
-    return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
-           (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+// The file's header, and the transforms to 8- or 16-bit RGB, or RGBA where the file has
+// alpha or a transparent colour (tRNS): palettes and greys expanded, nothing else changed.
+struct PngShape {
+  png_uint_32 width = 0, height = 0;
+  int channels = 0, depth = 0;  // after the transforms: 3 or 4, 8 or 16
+  std::size_t row_bytes = 0;
+};
+bool read_header(PngReader& r, PngShape& s) {
+  if (setjmp(png_jmpbuf(r.png))) return false;
+  png_set_read_fn(r.png, &r, on_png_read);
+  png_read_info(r.png, r.info);
+  s.width = png_get_image_width(r.png, r.info);
+  s.height = png_get_image_height(r.png, r.info);
+  if (s.width > static_cast<png_uint_32>(kMaxImageSide) ||
+      s.height > static_cast<png_uint_32>(kMaxImageSide))
+    return true;  // refused by the caller, before anything is allocated
+  const int type = png_get_color_type(r.png, r.info);
+  if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(r.png);
+  if (type == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(r.png, r.info) < 8)
+    png_set_expand_gray_1_2_4_to_8(r.png);
+  if (png_get_valid(r.png, r.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(r.png);
+  if (!(type & PNG_COLOR_MASK_COLOR)) png_set_gray_to_rgb(r.png);
+  png_set_interlace_handling(r.png);
+  png_read_update_info(r.png, r.info);
+  s.channels = png_get_channels(r.png, r.info);
+  s.depth = png_get_bit_depth(r.png, r.info);
+  s.row_bytes = png_get_rowbytes(r.png, r.info);
+  return true;
+}
+bool read_rows(PngReader& r, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(r.png))) return false;
+  png_read_image(r.png, rows);
+  png_read_end(r.png, nullptr);  // the rest: a file cut after its pixels is refused too
+  return true;
+}
+
+// The 8- or 16-bit RGB(A) rows as 8-bit RGB: alpha composited onto black (v a / max), each
+// value rounded once to the nearest of 0 to 255.  Returns how many pixels were not opaque.
+std::size_t to_rgb8(const std::vector<std::uint8_t>& raw, const PngShape& s, RgbImage& out) {
+  const std::uint64_t max = s.depth == 16 ? 65535 : 255;
+  const std::uint64_t whole = s.channels == 4 ? max * max : max;  // v a, or v, at full scale
+  auto value = [&](const std::uint8_t* p, int k) -> std::uint64_t {
+    return s.depth == 16 ? (std::uint64_t{p[2 * k]} << 8) | p[2 * k + 1] : p[k];
   };
-  std::size_t at = 8;
-  while (at + 12 <= b.size()) {
-    const std::uint32_t length = be32(at);
-    const char* type = reinterpret_cast<const char*>(b.data() + at + 4);
-    if (std::memcmp(type, "IDAT", 4) == 0 || std::memcmp(type, "IEND", 4) == 0) break;
-    if (std::memcmp(type, "sRGB", 4) == 0) return 0;  // sRGB: what is read already
-    if (std::memcmp(type, "gAMA", 4) == 0 && length == 4 && at + 12 <= b.size())
-      return be32(at + 8);
-    if (length > b.size() - at - 12) break;  // damaged: libpng says so below
-    at += 12 + length;
-  }
-  return 0;
+  std::size_t translucent = 0;
+  for (png_uint_32 y = 0; y < s.height; ++y)
+    for (png_uint_32 x = 0; x < s.width; ++x) {
+      const std::uint8_t* p =
+          raw.data() + y * s.row_bytes +
+          static_cast<std::size_t>(x) * static_cast<std::size_t>(s.channels) * (s.depth / 8);
+      const std::uint64_t alpha = s.channels == 4 ? value(p, 3) : 1;
+      translucent += s.channels == 4 && alpha != max;
+      for (int k = 0; k < 3; ++k)
+        out.rgb[3 * (static_cast<std::size_t>(y) * s.width + x) + static_cast<std::size_t>(k)] =
+            static_cast<std::uint8_t>((value(p, k) * alpha * 255 + whole / 2) / whole);
+    }
+  return translucent;
 }
 
 }  // namespace
@@ -67,30 +124,28 @@ std::uint32_t file_gamma(const std::vector<std::uint8_t>& b) {
 RgbImage decode_png(const std::vector<std::uint8_t>& bytes, const std::string& what) {
   if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0)
     bad_input(what + ": not a PNG file");
-  PngImage p;
-  if (!png_image_begin_read_from_memory(&p.image, bytes.data(), bytes.size()))
-    bad_input(what + ": the PNG does not decode (" + p.image.message + ")");
-  const std::string other = not_rgb(p.image.format);
-  if (!other.empty()) bad_input(what + ": " + other + ", expected an 8-bit RGB PNG");
-  // libpng's simplified reader converts a file whose gamma is not sRGB's (1/2.2, within
-  // its 5 % threshold) to sRGB: intensities would not be read as written.
-  const std::uint32_t gamma = file_gamma(bytes);
-  if (gamma != 0 && (gamma < 43182 || gamma > 47728))
-    bad_input(what + ": its gAMA chunk gives a gamma of " + std::to_string(gamma) +
-              "/100000, not sRGB's 45455 (1/2.2): its values would be converted; save it "
-              "without gAMA, or as sRGB");
-  if (p.image.width > static_cast<png_uint_32>(kMaxImageSide) ||
-      p.image.height > static_cast<png_uint_32>(kMaxImageSide))
-    bad_input(what + ": " + std::to_string(p.image.width) + " x " + std::to_string(p.image.height) +
+  PngReader r;
+  r.data = bytes.data();
+  r.size = bytes.size();
+  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r, on_png_error, on_png_warning);
+  if (r.png) r.info = png_create_info_struct(r.png);
+  if (!r.png || !r.info) failure("cannot start libpng's reader (out of memory)");
+  PngShape s;
+  if (!read_header(r, s)) bad_input(what + ": the PNG does not decode (" + r.message + ")");
+  if (s.width > static_cast<png_uint_32>(kMaxImageSide) ||
+      s.height > static_cast<png_uint_32>(kMaxImageSide))
+    bad_input(what + ": " + std::to_string(s.width) + " x " + std::to_string(s.height) +
               " pixels, larger than " + std::to_string(kMaxImageSide) + " x " +
               std::to_string(kMaxImageSide));
-  p.image.format = PNG_FORMAT_RGB;
+  std::vector<std::uint8_t> raw(s.row_bytes * s.height);
+  std::vector<png_bytep> rows(s.height);
+  for (png_uint_32 y = 0; y < s.height; ++y) rows[y] = raw.data() + y * s.row_bytes;
+  if (!read_rows(r, rows.data())) bad_input(what + ": the PNG does not decode (" + r.message + ")");
   RgbImage out;
-  out.width = static_cast<int>(p.image.width);
-  out.height = static_cast<int>(p.image.height);
-  out.rgb.assign(PNG_IMAGE_SIZE(p.image), 0);
-  if (!png_image_finish_read(&p.image, nullptr, out.rgb.data(), 0, nullptr))
-    bad_input(what + ": the PNG does not decode (" + p.image.message + ")");
+  out.width = static_cast<int>(s.width);
+  out.height = static_cast<int>(s.height);
+  out.rgb.assign(3 * static_cast<std::size_t>(s.width) * s.height, 0);
+  out.translucent = to_rgb8(raw, s, out);
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "io/number.hpp"
+#include "render/text.hpp"
 
 namespace tp {
 
@@ -40,6 +41,12 @@ namespace {
 
 PrimaryRange range_from_json(const Json& j, const std::string& where, double max_mA) {
   if (!j.is_object()) bad_input(where + ": expected an object");
+  for (const auto& [key, value] : j.items())
+    if (key != "threshold_mA" && key != "comfort_mA" && key != "trials" &&
+        key != "threshold_spread_mA" && key != "comfort_spread_mA")
+      bad_input(where + ": unknown key '" + key +
+                "' (a range has threshold_mA, comfort_mA, trials, threshold_spread_mA and "
+                "comfort_spread_mA)");
   for (const char* key : {"threshold_mA", "comfort_mA"})
     if (!j.contains(key)) bad_input(where + ": no " + key);
   PrimaryRange r;
@@ -107,7 +114,7 @@ Profile profile_from_json(const Json& j, double max_mA, long pads) {
       const long pad = json_int(e["pad"], where + ".pad");
       if (pad < 0 || pad >= pads)
         bad_input(where + ".pad: " + std::to_string(pad) + " is not one of the array's " +
-                  std::to_string(pads) + " pads");
+                  count_text(static_cast<std::size_t>(pads), "pad"));
       if (p.pixel.count(pad)) bad_input(where + ".pad: " + std::to_string(pad) + " given twice");
       p.pixel[pad] = ranges_from_json(e, where, max_mA, true);
     }

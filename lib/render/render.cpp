@@ -4,8 +4,10 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <numeric>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
@@ -17,6 +19,11 @@
 namespace tp {
 
 namespace {
+
+// "pixel (c, r)": pad r x columns + c as the image's column and row.
+std::string pixel_text(long pad, int columns) {
+  return "pixel (" + std::to_string(pad % columns) + ", " + std::to_string(pad / columns) + ")";
+}
 
 double get_finite(const Json& j, const char* key, const std::string& where) {
   if (!j.is_object() || !j.contains(key)) bad_input(where + ": no " + key);
@@ -37,8 +44,8 @@ PixelBank pixel_bank_from_json(const Json& j) {
   b.pad_area_mm2 = a.width_mm * a.length_mm;
   const Json& px = j["pixels"];
   if (px.size() != a.size())
-    bad_input("bank: " + std::to_string(px.size()) + " pixels for " + std::to_string(a.size()) +
-              " pads (render-tactile needs every pad's pixel: a bank without --at)");
+    bad_input("bank: " + count_text(px.size(), "pixel") + " for " + count_text(a.size(), "pad") +
+              " (render-tactile needs every pad's pixel: a bank without --at)");
   b.entry.resize(a.size());
   for (std::size_t k = 0; k < px.size(); ++k) {
     const Json& p = px[k];
@@ -99,12 +106,16 @@ std::vector<std::string> split_commas(const std::string& text) {
 }  // namespace
 
 void parse_rates(const std::string& text, std::array<double, 3>& rate) {
+  std::array<bool, 3> given{};
   for (const std::string& item : split_commas(text)) {
     const std::size_t colon = item.find(':');
     if (colon == std::string::npos)
       bad_input("--rates: '" + item + "' is not PRIMARY:HZ (e.g. SAI:200)");
-    const int p = primary_index(item.substr(0, colon), "--rates");
-    rate[static_cast<std::size_t>(p)] = parse_finite(item.substr(colon + 1), "--rates");
+    const std::string name = item.substr(0, colon);
+    const auto p = static_cast<std::size_t>(primary_index(name, "--rates"));
+    if (given[p]) bad_input("--rates: " + name + " given twice (" + text + "): give each once");
+    given[p] = true;
+    rate[p] = parse_finite(item.substr(colon + 1), "--rates");
   }
 }
 
@@ -427,33 +438,19 @@ double crosstalk(const PixelBank& bank, int primary, long a, double ia, long b, 
   return f.onto(0, 1, {ia, ib});
 }
 
-RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
-                       const RenderOptions& o) {
-  check_render_options(o);
-  // A profile calibrated on an array (calibrate writes its size) fits only that array.
-  if (profile.carried.contains("array")) {
-    const Json& a = profile.carried["array"];
-    const bool same = a.is_object() && a.contains("columns") && a.contains("rows") &&
-                      a["columns"] == bank.columns && a["rows"] == bank.rows;
-    if (!same)
-      bad_input("profile: calibrated on an array of " + a.dump() + ", the bank's is " +
-                std::to_string(bank.columns) + " x " + std::to_string(bank.rows));
-  }
-  if (image.columns != bank.columns || image.rows != bank.rows)
-    bad_input("image: " + std::to_string(image.columns) + " x " + std::to_string(image.rows) +
-              " pixels for a bank of " + std::to_string(bank.columns) + " x " +
-              std::to_string(bank.rows) + " pads");
-  RenderPlan plan;
-  plan.requested_hz = o.rate_hz;
-  // The lit patterns, pixel-major.
+namespace {
+
+// The lit patterns of an image, pixel-major, at the profile's currents.
+std::vector<LitPattern> lit_patterns(const PixelBank& bank, const Profile& profile,
+                                     const PadIntensities& image, const RenderOptions& o) {
+  std::vector<LitPattern> lit;
   for (std::size_t pad = 0; pad < bank.pads(); ++pad)
     for (int p = 0; p < 3; ++p) {
       const BankEntry& e = bank.entry[pad][static_cast<std::size_t>(p)];
       const double v = image.value[pad][static_cast<std::size_t>(p)];
       if (!(v > 0)) continue;
-      const int c = static_cast<int>(pad) % bank.columns, r = static_cast<int>(pad) / bank.columns;
-      const std::string where = "image pixel (" + std::to_string(c) + ", " + std::to_string(r) +
-                                ") lights " + kPrimaries[static_cast<std::size_t>(p)];
+      const std::string where = "image " + pixel_text(static_cast<long>(pad), bank.columns) +
+                                " lights " + kPrimaries[static_cast<std::size_t>(p)];
       if (!e.present) bad_input(where + ", which the bank has no patterns for");
       if (!e.feasible) bad_input(where + ", whose pattern the bank could not find: " + e.reason);
       LitPattern l;
@@ -463,9 +460,17 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
       l.current_mA = profile.current_mA(p, l.pad, v);
       if (l.current_mA > o.limits.max_current_mA)
         bad_input(where + " at " + number_text(l.current_mA) + " mA, above the current limit");
-      plan.lit.push_back(l);
+      lit.push_back(l);
     }
-  if (plan.lit.empty()) return plan;
+  return lit;
+}
+
+// Which lit patterns fire together: per primary, the conflict graph (a shared pad, the
+// crosstalk bound broken in either direction, or another kin) coloured by DSatur.  Sets
+// the plan's groups, groups_per_primary and worst_crosstalk.  kin: by 3 x pad + primary
+// (empty: every pattern the same kin).
+void group_patterns(const PixelBank& bank, const RenderOptions& o, const std::vector<long>& kin,
+                    RenderPlan& plan) {
   const std::size_t n = plan.lit.size();
   const std::size_t pads = bank.pads();
   // Which pads each pattern uses.
@@ -479,6 +484,14 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     for (std::size_t w = 0; w < uses[i].size(); ++w)
       if (uses[i][w] & uses[j][w]) return true;
     return false;
+  };
+  auto other_kin = [&](std::size_t i, std::size_t j) {
+    if (kin.empty()) return false;
+    auto at = [&](std::size_t k) {
+      return kin[3 * static_cast<std::size_t>(plan.lit[k].pad) +
+                 static_cast<std::size_t>(plan.lit[k].primary)];
+    };
+    return at(i) != at(j);
   };
   // Each pad's AF alone (1 mA) at every lit pattern's peak, on its receptor: a pattern's
   // AF anywhere is its weights' sum of these (the field is linear in the currents).
@@ -515,7 +528,6 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     if (!(own[j] > 0)) return HUGE_VAL;
     return std::abs(plan.lit[i].current_mA * af(i, j)) / (plan.lit[j].current_mA * own[j]);
   };
-  // Groups per primary.
   for (int p = 0; p < 3; ++p) {
     std::vector<std::size_t> nodes;
     for (std::size_t i = 0; i < n; ++i)
@@ -524,7 +536,7 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     parallel_for(nodes.size(), o.threads, [&](std::size_t a) {
       for (std::size_t b = a + 1; b < nodes.size(); ++b) {
         const std::size_t i = nodes[a], j = nodes[b];
-        if (o.alone || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk)
+        if (other_kin(i, j) || share_pad(i, j) || std::max(cross(i, j), cross(j, i)) > o.crosstalk)
           later[a].push_back(b);
       }
     });
@@ -550,21 +562,17 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
       plan.groups.push_back(g);
     }
   }
-  // Each group's currents (its members share no pad).
-  std::vector<std::vector<double>> currents(plan.groups.size(), std::vector<double>(pads, 0.0));
-  for (std::size_t g = 0; g < plan.groups.size(); ++g)
-    for (const std::size_t i : plan.groups[g].members) {
-      const LitPattern& l = plan.lit[i];
-      const auto& w =
-          bank.entry[static_cast<std::size_t>(l.pad)][static_cast<std::size_t>(l.primary)].weights;
-      for (std::size_t e = 0; e < pads; ++e) currents[g][e] += l.current_mA * w[e];
-    }
-  // The frame.
+}
+
+// The frame for the groups' currents (by group, by pad): sets the plan's cycle, slots,
+// periods, rates and whether (and by what) they were lowered.
+Frame frame_for(const RenderOptions& o, const std::vector<std::vector<double>>& currents,
+                RenderPlan& plan) {
+  const std::size_t pads = currents.empty() ? 0 : currents[0].size();
   FrameProblem fp;
   fp.groups = plan.groups_per_primary;
   for (std::size_t p = 0; p < 3; ++p) fp.period_us[p] = 1e6 / o.rate_hz[p];
-  const double length = o.width_us + o.interphase_us + o.balance_width_us;
-  fp.slot_us = length + o.gap_us;
+  fp.slot_us = o.width_us + o.interphase_us + o.balance_width_us + o.gap_us;
   fp.max_rms_mA = o.load_margin * o.limits.max_rms_current_mA;
   fp.max_mean_mA = o.load_margin * o.limits.max_mean_current_mA;
   for (std::size_t p = 0; p < 3; ++p) {
@@ -603,7 +611,29 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     plan.limited_by = best.score < unloaded.score      ? "the electrodes' RMS and mean current"
                       : plan.requested_utilisation > 1 ? "the device's time"
                                                        : "the frame's slots";
-  // Slots and turns, as the frame placed them, and the mix.
+  return best;
+}
+
+// Each pattern's pulses in o.duration_s at its period; bad input when the duration holds
+// none (it is never stretched to one).
+long pulse_count(const RenderOptions& o, int primary, double period_us) {
+  const double count = std::floor(o.duration_s * 1e6 / period_us + 1e-9);
+  if (count < 1) {
+    const double least_s = std::ceil(period_us / 100) / 1e4;  // rounded up, 0.1 ms
+    bad_input("--duration: the stimulus's " + number_text(o.duration_s) +
+              " s is shorter than one period of " + kPrimaries[static_cast<std::size_t>(primary)] +
+              " at its planned " + number_text(std::round(1e8 / period_us) / 100) + " Hz (" +
+              number_text(period_us / 1e6) + " s): give --duration " + number_text(least_s) +
+              " or more");
+  }
+  return static_cast<long>(count);
+}
+
+// The groups as the frame placed them: their slots and turns, and the mix.
+void build_mix(const PixelBank& bank, const RenderOptions& o,
+               const std::vector<std::vector<double>>& currents, const Frame& best,
+               RenderPlan& plan) {
+  const double slot_us = o.width_us + o.interphase_us + o.balance_width_us + o.gap_us;
   std::array<std::size_t, 3> next{};
   plan.mix.gap_us = o.gap_us;
   for (std::size_t g = 0; g < plan.groups.size(); ++g) {
@@ -619,8 +649,8 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
     s.shape.balance_width_us = o.balance_width_us;
     const double period = static_cast<double>(best.k[p]) * plan.cycle_us;
     s.shape.frequency_hz = 1e6 / period;
-    s.count = std::max(1L, static_cast<long>(std::floor(o.duration_s * 1e6 / period + 1e-9)));
-    s.phase_us = grp.turn * plan.cycle_us + grp.slot * fp.slot_us;
+    s.count = pulse_count(o, grp.primary, period);
+    s.phase_us = grp.turn * plan.cycle_us + grp.slot * slot_us;
     double peak = 0;
     for (const double i : s.currents_mA) peak = std::max(peak, std::abs(i));
     s.amplitude_mA = peak;
@@ -638,70 +668,292 @@ RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadI
                  {"pixel_currents_mA", mA}};
     plan.mix.patterns.push_back(std::move(s));
   }
+}
+
+void check_plan_inputs(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
+                       const RenderOptions& o) {
+  check_render_options(o);
+  // A profile calibrated on an array (calibrate writes its size) fits only that array.
+  if (profile.carried.contains("array")) {
+    const Json& a = profile.carried["array"];
+    const bool same = a.is_object() && a.contains("columns") && a.contains("rows") &&
+                      a["columns"] == bank.columns && a["rows"] == bank.rows;
+    if (!same)
+      bad_input("profile: calibrated on an array of " + a.dump() + ", the bank's is " +
+                std::to_string(bank.columns) + " x " + std::to_string(bank.rows));
+  }
+  if (image.columns != bank.columns || image.rows != bank.rows)
+    bad_input("image: " + std::to_string(image.columns) + " x " + std::to_string(image.rows) +
+              " pixels for a bank of " + std::to_string(bank.columns) + " x " +
+              std::to_string(bank.rows) + " pads");
+}
+
+// The plan: lit patterns, their groups (kin as group_patterns takes it), the frame, the mix.
+RenderPlan plan_with_kin(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
+                         const RenderOptions& o, const std::vector<long>& kin) {
+  check_plan_inputs(bank, profile, image, o);
+  RenderPlan plan;
+  plan.requested_hz = o.rate_hz;
+  plan.lit = lit_patterns(bank, profile, image, o);
+  if (plan.lit.empty()) return plan;
+  group_patterns(bank, o, kin, plan);
+  // Each group's currents (its members share no pad).
+  std::vector<std::vector<double>> currents(plan.groups.size(),
+                                            std::vector<double>(bank.pads(), 0.0));
+  for (std::size_t g = 0; g < plan.groups.size(); ++g)
+    for (const std::size_t i : plan.groups[g].members) {
+      const LitPattern& l = plan.lit[i];
+      const auto& w = entry_of(bank, l).weights;
+      for (std::size_t e = 0; e < bank.pads(); ++e) currents[g][e] += l.current_mA * w[e];
+    }
+  const Frame best = frame_for(o, currents, plan);
+  build_mix(bank, o, currents, best, plan);
   return plan;
 }
 
+std::string rates_text(const RenderPlan& plan) {
+  std::string out;
+  for (std::size_t p = 0; p < 3; ++p) {
+    if (plan.groups_per_primary[p] == 0) continue;
+    if (!out.empty()) out += ", ";
+    out += std::string(kPrimaries[p]) + " " + number_text(std::round(plan.rate_hz[p] * 100) / 100) +
+           " Hz (" + number_text(plan.requested_hz[p]) + " requested; " +
+           count_text(static_cast<std::size_t>(plan.groups_per_primary[p]), "group") + ")";
+  }
+  return out;
+}
+
+// A sequence's stimulus read back: each pattern's primary, pixels and the currents they
+// were made at (render-tactile --sequence's carried keys).
+Sequence sequence_of(const Mix& m, std::size_t pads) {
+  Sequence q;
+  q.mix = m;
+  std::vector<char> seen(3 * pads, 0);
+  for (std::size_t g = 0; g < m.patterns.size(); ++g) {
+    const Json& c = m.patterns[g].carried;
+    const std::string where = "stimulus: pattern " + std::to_string(g);
+    if (!c.contains("primary") || !c["primary"].is_string() || !c.contains("pixels") ||
+        !c["pixels"].is_array() || c["pixels"].empty() || !c.contains("pixel_currents_mA") ||
+        !c["pixel_currents_mA"].is_array() || c["pixel_currents_mA"].size() != c["pixels"].size())
+      bad_input(where +
+                " is not a sequence's (render-tactile --sequence: a primary, its pixels "
+                "and their pixel_currents_mA)");
+    q.primary.push_back(primary_index(c["primary"].get<std::string>(), where + ": primary"));
+    q.pads.emplace_back();
+    q.made_mA.emplace_back();
+    for (std::size_t k = 0; k < c["pixels"].size(); ++k) {
+      const long pad = json_int(c["pixels"][k], where + ": pixels");
+      const double mA = json_finite(c["pixel_currents_mA"][k], where + ": pixel_currents_mA");
+      if (pad < 0 || static_cast<std::size_t>(pad) >= pads)
+        bad_input(where + "'s pixel " + std::to_string(pad) + " is not one of the bank's " +
+                  count_text(pads, "pad"));
+      if (!(mA > 0)) bad_input(where + ": pixel_currents_mA: not above 0");
+      char& s = seen[3 * static_cast<std::size_t>(pad) + static_cast<std::size_t>(q.primary[g])];
+      if (s) bad_input(where + ": pixel " + std::to_string(pad) + " in two patterns");
+      s = 1;
+      q.pads[g].push_back(pad);
+      q.made_mA[g].push_back(mA);
+    }
+  }
+  return q;
+}
+
+// The share of a pixel's made current that intensity v asks under the profile.
+double share_of(const Sequence& q, const Profile& profile, std::size_t g, std::size_t k, double v) {
+  return profile.current_mA(q.primary[g], q.pads[g][k], v) / q.made_mA[g][k];
+}
+
+constexpr double kShareTolerance = 1e-9;  // shares this close are the same (rounding)
+
+}  // namespace
+
+RenderPlan plan_render(const PixelBank& bank, const Profile& profile, const PadIntensities& image,
+                       const RenderOptions& o) {
+  return plan_with_kin(bank, profile, image, o, {});
+}
+
+std::string plan_summary(const RenderPlan& plan) {
+  return count_text(plan.lit.size(), "lit pattern") + " in " +
+         count_text(plan.groups.size(), "group") + ", cycle " + number_text(plan.cycle_us) +
+         " us of " + count_text(static_cast<std::size_t>(plan.slots), "slot") +
+         ", worst crosstalk " + number_text(std::round(plan.worst_crosstalk * 1e4) / 1e4) +
+         "; refresh " + rates_text(plan);
+}
+
+std::string lowered_text(const RenderPlan& plan, const std::string& what) {
+  if (!plan.lowered) return "";
+  return "the " + what + "'s pulses at the requested rates would take " +
+         number_text(std::round(plan.requested_utilisation * 1000) / 10) +
+         " % of the device's time: rates lowered by " + plan.limited_by + ", every lit pixel kept";
+}
+
+SequenceFrames::SequenceFrames(int columns, int rows) : columns_(columns), rows_(rows) {
+  const std::size_t n = static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows);
+  first_.columns = columns;
+  first_.rows = rows;
+  first_.value.assign(n, {0.0, 0.0, 0.0});
+  lit_.assign(3 * n, 0);
+  kin_.assign(3 * n, 0);
+}
+
+void SequenceFrames::add(const PadIntensities& frame, const std::string& where) {
+  if (frame.columns != columns_ || frame.rows != rows_ || frame.value.size() != first_.value.size())
+    bad_input(where + ": " + std::to_string(frame.columns) + " x " + std::to_string(frame.rows) +
+              " pixels for a bank of " + std::to_string(columns_) + " x " + std::to_string(rows_) +
+              " pads");
+  if (count_++ == 0) first_ = frame;
+  // Kin refined: the same kin before and the same intensity now (ids by first appearance).
+  std::map<std::pair<long, double>, long> next;
+  for (std::size_t pad = 0; pad < frame.value.size(); ++pad)
+    for (std::size_t p = 0; p < 3; ++p) {
+      const double v = frame.value[pad][p];
+      if (v > 0) lit_[3 * pad + p] = 1;
+      long& k = kin_[3 * pad + p];
+      k = next.emplace(std::pair{k, v}, static_cast<long>(next.size())).first->second;
+    }
+}
+
 RenderPlan plan_sequence(const PixelBank& bank, const Profile& profile,
-                         const std::vector<PadIntensities>& frames, RenderOptions o) {
+                         const SequenceFrames& frames, const RenderOptions& o) {
   PadIntensities any;
   any.columns = bank.columns;
   any.rows = bank.rows;
   any.value.assign(bank.pads(), {0.0, 0.0, 0.0});
-  for (std::size_t f = 0; f < frames.size(); ++f) {
-    if (frames[f].columns != bank.columns || frames[f].rows != bank.rows)
-      bad_input("frame " + std::to_string(f + 1) + ": " + std::to_string(frames[f].columns) +
-                " x " + std::to_string(frames[f].rows) + " pixels for a bank of " +
-                std::to_string(bank.columns) + " x " + std::to_string(bank.rows) + " pads");
-    for (std::size_t pad = 0; pad < bank.pads(); ++pad)
-      for (std::size_t p = 0; p < 3; ++p)
-        if (frames[f].value[pad][p] > 0) any.value[pad][p] = 1.0;
-  }
-  if (frames.empty())
-    for (std::size_t pad = 0; pad < bank.pads(); ++pad)
-      for (std::size_t p = 0; p < 3; ++p)
-        if (bank.entry[pad][p].feasible && profile.primary[p]) any.value[pad][p] = 1.0;
-  o.alone = true;
-  RenderPlan plan = plan_render(bank, profile, any, o);
+  // Kin: the frames' and the same range (so one amplitude sets both alike); without
+  // frames, each its own.
+  std::vector<long> kin(3 * bank.pads());
+  std::map<std::tuple<long, double, double>, long> ids;
+  for (std::size_t pad = 0; pad < bank.pads(); ++pad)
+    for (std::size_t p = 0; p < 3; ++p) {
+      const bool lit = frames.count() > 0 ? frames.lit(pad, p)
+                                          : bank.entry[pad][p].feasible && profile.primary[p];
+      if (!lit) continue;
+      any.value[pad][p] = 1.0;
+      const PrimaryRange& r = profile.range(static_cast<int>(p), static_cast<long>(pad));
+      const long frame_kin =
+          frames.count() > 0 ? frames.kin(pad, p) : static_cast<long>(3 * pad + p);
+      kin[3 * pad + p] = ids.emplace(std::tuple{frame_kin, r.threshold_mA, r.comfort_mA},
+                                     static_cast<long>(ids.size()))
+                             .first->second;
+    }
+  RenderPlan plan = plan_with_kin(bank, profile, any, o, kin);
   if (plan.lit.empty()) return plan;
-  plan.mix.start_amplitudes_mA = frames.empty()
+  plan.mix.start_amplitudes_mA = frames.count() == 0
                                      ? std::vector<double>(plan.mix.patterns.size(), 0.0)
-                                     : frame_amplitudes(plan.mix, profile, frames[0], "frame 1");
+                                     : frame_amplitudes(sequence_of(plan.mix, bank.pads()), profile,
+                                                        frames.first(), "frame 1");
   return plan;
 }
 
-std::vector<double> frame_amplitudes(const Mix& seq, const Profile& profile,
-                                     const PadIntensities& frame, const std::string& where) {
-  // Which device pattern holds each (pad, primary): a sequence's patterns each carry
-  // their primary and their one pixel.
-  std::vector<std::array<long, 3>> index(frame.value.size(), {-1, -1, -1});
-  for (std::size_t g = 0; g < seq.patterns.size(); ++g) {
-    const Json& c = seq.patterns[g].carried;
-    if (!c.contains("primary") || !c["primary"].is_string() || !c.contains("pixels") ||
-        !c["pixels"].is_array() || c["pixels"].size() != 1 || !c["pixels"][0].is_number_integer())
-      bad_input("stimulus: pattern " + std::to_string(g) +
-                " is not a sequence's (render-tactile --sequence: one primary, one pixel)");
-    const int p = primary_index(c["primary"].get<std::string>(), "stimulus: primary");
-    const long pad = c["pixels"][0].get<long>();
-    if (pad < 0 || static_cast<std::size_t>(pad) >= index.size())
-      bad_input("stimulus: pattern " + std::to_string(g) + "'s pixel " + std::to_string(pad) +
-                " is not one of the frame's " + std::to_string(index.size()));
-    index[static_cast<std::size_t>(pad)][static_cast<std::size_t>(p)] = static_cast<long>(g);
+RenderPlan plan_sequence(const PixelBank& bank, const Profile& profile,
+                         const std::vector<PadIntensities>& frames, const RenderOptions& o) {
+  SequenceFrames s(bank.columns, bank.rows);
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    s.add(frames[f], "frame " + std::to_string(f + 1));
+  return plan_sequence(bank, profile, s, o);
+}
+
+Json sequence_to_json(const RenderPlan& sequence, const PixelBank& bank) {
+  Json j = mix_to_json(sequence.mix);
+  j["array"] = array_to_json(bank.doc.setup.array);
+  return j;
+}
+
+double sequence_duration_s(std::size_t frames, double fps, const StimulusLimits& limits) {
+  const double s = (static_cast<double>(frames) + 1) / fps;
+  if (s > limits.max_duration_s)
+    bad_input("--sequence: " + count_text(frames, "frame") + " at " + number_text(fps) +
+              " fps and one frame period more last " + number_text(s) +
+              " s, longer than a stimulus may (" + number_text(limits.max_duration_s) +
+              " s): split the sequence, or give a higher --fps");
+  return s;
+}
+
+Sequence sequence_from_json(const Json& j, const PixelBank& bank, const Profile& profile,
+                            const std::string& what) {
+  const Json mine = array_to_json(bank.doc.setup.array);
+  if (!j.is_object() || !j.contains("array"))
+    bad_input(what +
+              ": records no array (render-tactile --sequence writes the bank's): make "
+              "the sequence again with --sequence");
+  if (j["array"] != mine) {
+    const Json& a = j["array"];
+    const bool grid = a.is_object() && a.contains("grid") && a["grid"].is_object() &&
+                      a["grid"].contains("columns") && a["grid"].contains("rows");
+    const std::string theirs =
+        grid ? a["grid"]["columns"].dump() + " x " + a["grid"]["rows"].dump() : "";
+    const std::string ours = std::to_string(bank.columns) + " x " + std::to_string(bank.rows);
+    bad_input(what + ": a sequence made for " +
+              (grid && theirs != ours
+                   ? theirs + " pads (columns x rows), not the bank's " + ours
+                   : "the array " + a.dump() + ", not the bank's " + mine.dump()) +
+              ": give the bank it was made with, or make the sequence again with this one");
   }
-  std::vector<double> a(seq.patterns.size(), 0.0);
-  for (std::size_t pad = 0; pad < frame.value.size(); ++pad)
-    for (std::size_t p = 0; p < 3; ++p) {
-      const double v = frame.value[pad][p];
-      if (!(v > 0)) continue;
-      const long g = index[pad][p];
-      if (g < 0)
-        bad_input(where + ": pixel (" +
-                  std::to_string(pad % static_cast<std::size_t>(frame.columns)) + ", " +
-                  std::to_string(pad / static_cast<std::size_t>(frame.columns)) + ") lights " +
-                  kPrimaries[p] + ", which the sequence's stimulus has no pattern for");
-      const auto k = static_cast<std::size_t>(g);
-      a[k] = std::min(profile.current_mA(static_cast<int>(p), static_cast<long>(pad), v),
-                      seq.patterns[k].amplitude_mA);
+  const Mix m = mix_from_json(j);
+  if (m.patterns[0].currents_mA.size() != bank.pads())
+    bad_input(what + ": " + count_text(m.patterns[0].currents_mA.size(), "channel") +
+              " for a bank of " + count_text(bank.pads(), "pad"));
+  Sequence q = sequence_of(m, bank.pads());
+  // The profile against the currents each pixel was made at: never more (the pattern holds
+  // no more), and a pattern's pixels in one proportion (one amplitude scales them all).
+  for (std::size_t g = 0; g < q.pads.size(); ++g)
+    for (std::size_t k = 0; k < q.pads[g].size(); ++k) {
+      const std::string pixel = pixel_text(q.pads[g][k], bank.columns) + "'s " +
+                                kPrimaries[static_cast<std::size_t>(q.primary[g])];
+      const double top = share_of(q, profile, g, k, 1.0);
+      if (top > 1 + kShareTolerance)
+        bad_input(what + ": the profile gives " + pixel + " up to " +
+                  number_text(profile.current_mA(q.primary[g], q.pads[g][k], 1.0)) +
+                  " mA, above the " + number_text(q.made_mA[g][k]) +
+                  " mA its pattern was made for (another profile): make the sequence again "
+                  "with this profile");
+      const double v = 1.0 / 255;  // the lowest intensity: the threshold's share
+      if (k > 0 && (std::abs(top - share_of(q, profile, g, 0, 1.0)) > kShareTolerance ||
+                    std::abs(share_of(q, profile, g, k, v) - share_of(q, profile, g, 0, v)) >
+                        kShareTolerance))
+        bad_input(what + ": the profile gives " + pixel + " another range than " +
+                  pixel_text(q.pads[g][0], bank.columns) +
+                  ", which fires with it as one pattern: make the sequence again with this "
+                  "profile");
     }
+  return q;
+}
+
+std::vector<double> frame_amplitudes(const Sequence& q, const Profile& profile,
+                                     const PadIntensities& frame, const std::string& where) {
+  // Where each (pad, primary) is: its pattern and member.
+  std::vector<std::pair<long, std::size_t>> at(3 * frame.value.size(), {-1, 0});
+  for (std::size_t g = 0; g < q.pads.size(); ++g)
+    for (std::size_t k = 0; k < q.pads[g].size(); ++k) {
+      const auto pad = static_cast<std::size_t>(q.pads[g][k]);
+      if (pad >= frame.value.size())
+        bad_input("stimulus: pattern " + std::to_string(g) + "'s pixel " + std::to_string(pad) +
+                  " is not one of the frame's " + count_text(frame.value.size(), "pixel"));
+      at[3 * pad + static_cast<std::size_t>(q.primary[g])] = {static_cast<long>(g), k};
+    }
+  for (std::size_t pad = 0; pad < frame.value.size(); ++pad)
+    for (std::size_t p = 0; p < 3; ++p)
+      if (frame.value[pad][p] > 0 && at[3 * pad + p].first < 0)
+        bad_input(where + ": " + pixel_text(static_cast<long>(pad), frame.columns) + " lights " +
+                  kPrimaries[p] + ", which the sequence's stimulus has no pattern for");
+  std::vector<double> a(q.pads.size(), 0.0);
+  for (std::size_t g = 0; g < q.pads.size(); ++g) {
+    const auto p = static_cast<std::size_t>(q.primary[g]);
+    auto v = [&](std::size_t k) { return frame.value[static_cast<std::size_t>(q.pads[g][k])][p]; };
+    const double share = share_of(q, profile, g, 0, v(0));
+    for (std::size_t k = 1; k < q.pads[g].size(); ++k)
+      if (std::abs(share_of(q, profile, g, k, v(k)) - share) > kShareTolerance)
+        bad_input(where + ": " + pixel_text(q.pads[g][0], frame.columns) + " and " +
+                  pixel_text(q.pads[g][k], frame.columns) + " fire as one " + kPrimaries[p] +
+                  " pattern of the sequence's stimulus (its frames lit them alike), but this "
+                  "frame lights them unlike: make the sequence from these frames");
+    if (share > 1 + kShareTolerance)
+      bad_input(where + ": " + pixel_text(q.pads[g][0], frame.columns) + " asks " +
+                number_text(profile.current_mA(q.primary[g], q.pads[g][0], v(0))) + " mA of " +
+                kPrimaries[p] + ", above the " + number_text(q.made_mA[g][0]) +
+                " mA its pattern was made for: make the sequence again with this profile");
+    a[g] = std::min(share, 1.0) * q.mix.patterns[g].amplitude_mA;
+  }
   return a;
 }
 
@@ -711,7 +963,7 @@ PadIntensities frame_from_json(const Json& j, int columns, int rows, const std::
   const Json& a = j["rgb"];
   const auto n = static_cast<std::size_t>(columns) * static_cast<std::size_t>(rows);
   if (a.size() != n)
-    bad_input(where + ": " + std::to_string(a.size()) + " pixels for " + std::to_string(columns) +
+    bad_input(where + ": " + count_text(a.size(), "pixel") + " for " + std::to_string(columns) +
               " x " + std::to_string(rows) + " pads");
   PadIntensities f;
   f.columns = columns;

@@ -1,6 +1,7 @@
 # A 30 fps sequence of 60 frames, a bar of SAI moving across the 8 x 8 array: its stimulus
-# (every pixel the frames light, each its own pattern, starting from the first frame), then
-# the frames played live through stimctl.  From the record: frames applied in order, each
+# (every pixel the frames light; a column's pixels lit alike fire together where they share
+# no pad, in 32 patterns of two; starting from the first frame), then the frames played
+# live through stimctl.  From the record: frames applied in order, each
 # column's first pulse within one frame period (plus one pulse period, the record's
 # sampling) of its frame's time; the last frame's intensities at the end; 60 frames.
 source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
@@ -14,13 +15,21 @@ for ((k = 0; k < 60; ++k)); do
 done
 render-tactile --bank "$BANK" --profile profile.json --sequence "${frames[@]}" > bar.json 2> seq.err \
   || fail "--sequence: $(cat seq.err)"
-jq -e '(.patterns | length) == 64 and all(.patterns[]; .primary == "SAI" and (.pixels | length) == 1)
-    and (.start_amplitudes_mA | length) == 64
-    and ([range(0; 64) as $i | select(.start_amplitudes_mA[$i] > 0) | .patterns[$i].pixels[0] % 8] | unique) == [0]
-    and ([.start_amplitudes_mA[] | select(. > 0)] | unique) == [0.9]' bar.json > /dev/null \
-  || fail "the sequence's stimulus: $(jq -c '{n: (.patterns | length), s: .start_amplitudes_mA}' bar.json)"
+jq -e '(.patterns | length) == 32 and all(.patterns[]; .primary == "SAI" and (.pixels | length) == 2
+      and (.pixels | map(. % 8) | unique | length) == 1)
+    and ([.patterns[].pixels[]] | sort) == [range(0; 64)]
+    and (.start_amplitudes_mA | length) == 32
+    and ([range(0; 32) as $i | select(.start_amplitudes_mA[$i] > 0) | .patterns[$i].pixels[0] % 8] | unique) == [0]
+    and ([.start_amplitudes_mA[] | select(. > 0)] | unique) == [0.9]
+    and .array.grid == {columns: 8, rows: 8, pitch_mm: 2, row_pitch_mm: 2}' bar.json > /dev/null \
+  || fail "the sequence's stimulus: $(jq -c '{n: (.patterns | length), s: .start_amplitudes_mA, a: .array}' bar.json)"
+# Each pattern at full intensity: its pixels' currents times their weights, nothing else.
+jq 'del(.start_amplitudes_mA) | .patterns |= map(.count = 1)' bar.json \
+  | stimctl --port emu --emu-channels 64 --record full.jsonl 2> /dev/null || fail "bar.json at full intensity"
+[[ $(lines full.jsonl) -eq 32 ]] || fail "full intensity: $(lines full.jsonl) pulses, expected 32"
+check_pixels full.jsonl bar.json
 period=$(jq '.patterns[0].pulse.frequency_hz | 1 / .' bar.json)
-echo "ok: 64 patterns, one pulse every $period s: $(tail -1 seq.err)"
+echo "ok: 32 patterns of a column's two pixels, one pulse every $period s: $(tail -1 seq.err)"
 
 render-tactile --bank "$BANK" --profile profile.json --frames bar.json --fps 30 "${frames[@]}" 2> play.err \
   | stimctl --port emu --emu-channels 64 --live --stimulus bar.json --record rec.jsonl 2> live.err \

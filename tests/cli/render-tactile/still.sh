@@ -20,6 +20,9 @@ check_pixels rec.jsonl one.json
 jq -se 'length >= 199 and length <= 201 and all(.[]; .pattern == 0)
     and all(.[]; ((.t_s * 1e6 | round) - .slip_us) % 5000 == 0)' rec.jsonl > /dev/null \
   || fail "one pixel: $(lines rec.jsonl) pulses, patterns $(jq -sc 'map(.pattern) | unique' rec.jsonl)"
+# Counts of one in the singular (not "1 groups", "1 slots").
+grep -qF "render-tactile: 1 lit pattern in 1 group, cycle 500 us of 1 slot, " one.err \
+  && grep -qF "SAI 200 Hz (200 requested; 1 group);" one.err || fail "one pixel's summary: $(cat one.err)"
 echo "ok: pad $pad's SAI pattern alone, $(lines rec.jsonl) pulses at 200 Hz: $(cat one.err)"
 
 # 2. R = 255 at (0, 0) and G = 200 at (3, row): RA at comfort, SAI at 0.3 + 200/255 x 0.6 mA.
