@@ -1,7 +1,8 @@
 # scripts/plot-sd draws fiber-threshold's strength-duration CSV (the golden table is
 # monophasic), its title naming the waveform it is told; other input, and no waveform, are
 # refused.
-"$TP_SOURCE/scripts/plot-sd" --waveform monophasic -o sd.png "$TP_GOLDEN/fiber-threshold/sd.csv" 2>/dev/null
+"$TP_SOURCE/scripts/plot-sd" --waveform monophasic -o sd.png "$TP_GOLDEN/fiber-threshold/sd.csv" 2> err.txt ||
+  fail "plot-sd --waveform monophasic: $(cat err.txt)"
 [[ -s sd.png && $(head -c 4 sd.png | tail -c 3) == PNG ]] || fail "no PNG"
 # The title, as gnuplot is given it (a gnuplot that keeps its script).
 mkdir fake
