@@ -93,16 +93,19 @@ done < "$t/blocks.txt"
 
 # What the blocks made, in the folder of the user's own: nothing else, and nothing anywhere in the clone.
 [[ $(find "$root" -mindepth 1 | wc -l) -eq 3 ]] || fail "the walk-through left in the clone: $(ls "$root")"
-# The mix: two patterns at 30 and 200 Hz; each delivery 2 s, then RA faded out.
+# The mix: RA at 30 Hz and SAI at 200 Hz, delivered for 2 s; then RA faded by five frames.
 jq -e '[.patterns[] | [.mode, .pulse.frequency_hz, .amplitude_mA]] == [["RA", 30, 0.8], ["SAI", 200, 1.2]]' \
   ra-sai-mix.json > /dev/null || fail "ra-sai-mix.json: $(head -c 300 ra-sai-mix.json)"
 grep -F "460 pulses on 8 channels of 2 patterns" "$t"/sh.*.err > /dev/null || fail "the mix: $(cat "$t"/sh.*.err)"
+grep -E "of 2 patterns, .*, 5 weight frames, .*; end of input; output stopped" "$t"/sh.*.err > /dev/null ||
+  fail "the fade: $(cat "$t"/sh.*.err)"
 # The picture: the profile from the observer's hidden values, the delivered record, the plot.
 for p in RA:0.2:0.5 SAI:0.15:0.4 PC:0.25:0.6; do
-  IFS=: read -r name t c <<< "$p"
-  jq -e --arg p "$name" --argjson t "$t" --argjson c "$c" '.primaries[$p] | (.threshold_mA / $t) > 0.85 and
-      (.threshold_mA / $t) < 1.15 and (.comfort_mA / $c) > 0.85 and (.comfort_mA / $c) < 1.15' profile.json > /dev/null ||
-    fail "profile.json's $name: $(jq -c --arg p "$name" '.primaries[$p]' profile.json), hidden $t and $c mA"
+  IFS=: read -r name threshold comfort <<< "$p"
+  jq -e --arg p "$name" --argjson t "$threshold" --argjson c "$comfort" '.primaries[$p] |
+      (.threshold_mA / $t) > 0.85 and (.threshold_mA / $t) < 1.15 and
+      (.comfort_mA / $c) > 0.85 and (.comfort_mA / $c) < 1.15' profile.json > /dev/null ||
+    fail "profile.json's $name: $(jq -c --arg p "$name" '.primaries[$p]' profile.json), hidden $threshold and $comfort mA"
 done
 [[ $(lines_of trials.csv) -gt 30 ]] || fail "trials.csv: $(lines_of trials.csv) lines"
 [[ $(lines_of face.jsonl) -gt 100 ]] || fail "face.jsonl: $(lines_of face.jsonl) pulses"
