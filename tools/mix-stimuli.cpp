@@ -1,9 +1,9 @@
 // mix-stimuli: several stimulus documents (make-pulse's) as one, whose patterns the device
 // interleaves, each at its own rate and amplitude.
 //
-//   optimize-weights --mode RA  | make-pulse --amplitude 0.8 --frequency 30  --duration 2 > ra.json
-//   optimize-weights --mode SAI | make-pulse --amplitude 1.2 --frequency 200 --duration 2 >
-//   sai.json mix-stimuli ra.json sai.json | stimctl --port emu --duration 2
+//   optimize-weights --mode RA | make-pulse --amplitude 0.8 --frequency 30 > ra-stimulus.json
+//   optimize-weights --mode SAI | make-pulse --amplitude 1.2 --frequency 200 > sai-stimulus.json
+//   mix-stimuli ra-stimulus.json sai-stimulus.json | stimctl --port emu --duration 2
 
 #include <cstdio>
 #include <limits>

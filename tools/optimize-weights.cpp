@@ -1,6 +1,6 @@
 // optimize-weights: minimax electrode weights for the RA, SAI or PC mode (Eq. 32-34).
 //
-//   optimize-weights --mode SAI > sai.json
+//   optimize-weights --mode SAI > sai-weights.json
 //   optimize-weights --mode PC --electrodes 12 --pitch 0.75 | af-field --config - --summary
 
 #include <cmath>

@@ -5,9 +5,7 @@
 # under test); every block after it runs where the quick start leaves the user, with only
 # the PATH and PYTHONPATH it exports.  Changed, each said when made: calibrate's person is
 # a scripted observer (--responses -, with short trials); the install block is left to the
-# install tests; and, until the render section says otherwise, its two paths into the
-# clone (data/images/face-8x8.png, scripts/plot-render) are the copy the quick start makes
-# and the script's installed name.  Sourced by tests/cli/check (fail, $work).
+# install tests; and no block may use a path into the clone (data/images/, scripts/).  Sourced by tests/cli/check (fail, $work).
 : "${TP_BUILD:?}" "${TP_SOURCE:?}"
 here=$TP_SOURCE/tests/docs
 t=$work/t  # the test's own files
@@ -76,12 +74,10 @@ while read -r n lang; do
   fi
   [[ $quick == 1 ]] || fail "README block $n comes before the quick start"
   if grep -q '^cmake --install' "$block"; then echo "ok: block $n (installing) is the install tests'"; continue; fi
-  sed -E 's/^calibrate (.*) > /observe calibrate \1 > /' "$block" > "$t/run.sh"
+  sed -E 's/^calibrate /observe calibrate /' "$block" > "$t/run.sh"
   cmp -s "$block" "$t/run.sh" || echo "note: block $n: calibrate answered by a scripted observer"
-  if grep -q -e 'data/images/face-8x8.png' -e '^scripts/plot-render' "$t/run.sh"; then
-    echo "note: block $n: data/images/ and scripts/ are paths into the clone: run as face-8x8.png and tp-plot-render"
-    sed -i -E 's#data/images/face-8x8.png#face-8x8.png#; s#^scripts/plot-render#tp-plot-render#' "$t/run.sh"
-  fi
+  ! grep -q -e 'data/images/' -e '^scripts/' "$t/run.sh" ||
+    fail "README block $n uses a path into the clone (data/images/, scripts/): $(cat "$block")"
   SECONDS=0
   bash -euo pipefail "$t/run.sh" > "$t/sh.$n.out" 2> "$t/sh.$n.err" ||
     fail "README block $n failed: $(cat "$block") -> $(tail -3 "$t/sh.$n.err")"
