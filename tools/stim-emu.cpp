@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
       "core.  Fault injection options exercise the host's error handling.",
       "stim-emu"};
   tp::host::PtyEmulatorOptions o;
-  int channels = 8, dac_bits = 12, watchdog_ms = 300;
+  int channels = 8, dac_bits = 12, watchdog_ms = 300,
+      max_pulse_rate = tp::device::hard::max_pulse_rate_hz;
   std::string max_current = "2", drop = "0", corrupt = "0", stall_after, stall_ms = "0",
               disconnect_after, reply_delay_ms = "0";
   namespace hard = tp::device::hard;
@@ -34,6 +35,10 @@ int main(int argc, char** argv) {
   app.add_option("--watchdog-ms", watchdog_ms,
                  "Output stops this long after the session's last frame, 10 to 1000 ms [300]")
       ->check(CLI::Range(int{hard::min_watchdog_ms}, int{hard::max_watchdog_ms}));
+  app.add_option("--max-pulse-rate", max_pulse_rate,
+                 "Pulses a second, over every pattern, the device reports it delivers on time "
+                 "(its throughput), 1 to 10000 [10000]")
+      ->check(CLI::Range(1, int{tp::device::hard::max_pulse_rate_hz}));
   app.add_option("--record", o.record_path, "Write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--apply-log", o.apply_log_path, "Write 'n t_ns' per applied weight frame")
@@ -61,7 +66,7 @@ int main(int argc, char** argv) {
                      "in QEMU: scripts/firmware-emu); the path is printed once it answers")
           ->type_name("SOCKET");
   for (const char* device_option : {"--channels", "--max-current", "--dac-bits", "--watchdog-ms",
-                                    "--record", "--apply-log", "--event-log"})
+                                    "--max-pulse-rate", "--record", "--apply-log", "--event-log"})
     forward->excludes(app.get_option(device_option));
 
   return tp::cli::run(app, argc, argv, [&] {
@@ -101,6 +106,7 @@ int main(int argc, char** argv) {
                     "(use more bits)");
     o.caps.dac_step_nA = static_cast<std::uint16_t>(step);
     o.caps.watchdog_ms = static_cast<std::uint16_t>(watchdog_ms);
+    o.caps.max_pulse_rate_hz = static_cast<std::uint16_t>(max_pulse_rate);
     const int rc = tp::host::run_pty_emulator(o);
     if (rc != 0) tp::failure("emulator stopped");
   });

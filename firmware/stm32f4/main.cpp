@@ -40,8 +40,50 @@ PulseEngine g_engine;
 // The DAC resolutions this board's parts offer: AD5628, AD5648, AD5668.
 constexpr std::uint32_t kDacBits = (1u << 12) | (1u << 14) | (1u << 16);
 
-device::Capabilities capabilities(const device::DeviceConfig& c, const Board& board,
-                                  bool emulated) {
+// The pulses a second this board delivers on time, from its own clock at start-up (the
+// output off): a pulse's work in the main loop and the engine, measured, in at most three
+// quarters of the time (the rest for the host's frames, the watchdog and the loop's turns;
+// under QEMU, 1000 pulses a second keep 62 % of the time busy and come on time:
+// stimctl.pty-rates).
+//  - measured over kProbes pulses: formatting the monitor's record of 8 channels at their
+//    widest, and loading the DAC with the pulse's three phases (main, balancing, zeros);
+//  - plus the engine's four edges, each woken early_us ahead and waited out, and the
+//    core's scheduling of a pulse: at most 6000 instructions (firmware.sched-bench's bound
+//    on one call of advance), at an instruction a cycle, or QEMU's 32 ns an instruction.
+std::uint16_t measure_pulse_rate(std::uint32_t early_us, std::uint32_t core_hz, bool emulated) {
+  constexpr std::uint32_t kProbes = 16;
+  device::PulseRecord r;
+  r.channels = 8;
+  r.pattern = 255;
+  r.t_us = 3599999999u;
+  r.slip_us = 1000;
+  r.step_nA = 977;
+  r.width_us = r.interphase_us = r.balance_width_us = 1000;
+  r.measured = true;
+  r.start_us = 3599999999u;
+  r.measured_width_us = r.measured_interphase_us = r.measured_balance_us = 1000;
+  for (std::size_t i = 0; i < 8; ++i) {
+    r.main[i] = static_cast<std::int16_t>(i % 2 ? -2047 : 2047);
+    r.balance[i] = static_cast<std::int16_t>(-r.main[i]);
+  }
+  static const std::int16_t kZeros[8] = {};
+  char line[device::kMaxRecordLine];
+  const std::uint64_t t0 = g_clock.now_us();
+  for (std::uint32_t k = 0; k < kProbes; ++k) {
+    (void)device::format_record(r, line);
+    g_dac.load(r.main, 8);
+    g_dac.load(r.balance, 8);
+    g_dac.load(kZeros, 8);
+  }
+  const std::uint64_t probed_us = (g_clock.now_us() - t0 + kProbes - 1) / kProbes;
+  const std::uint64_t sched_us = emulated ? 6000u * 32u / 1000u : 6000ull * 1000000u / core_hz + 1;
+  const std::uint64_t pulse_us = probed_us + 4 * (early_us + 2) + sched_us;
+  const std::uint64_t rate = 3000000u / (4 * pulse_us);
+  return static_cast<std::uint16_t>(rate < 1 ? 1 : rate > 65535 ? 65535 : rate);
+}
+
+device::Capabilities capabilities(const device::DeviceConfig& c, const Board& board, bool emulated,
+                                  std::uint16_t max_pulse_rate_hz) {
   device::Capabilities caps;
   caps.channels = c.channels;
   caps.max_current_uA = c.max_current_uA;
@@ -54,6 +96,7 @@ device::Capabilities capabilities(const device::DeviceConfig& c, const Board& bo
   // between two edges takes it about 23 us, so the emulated board's shortest phase is 50.
   if (emulated && caps.min_width_us < 50) caps.min_width_us = 50;
   caps.watchdog_ms = c.watchdog_ms;
+  caps.max_pulse_rate_hz = max_pulse_rate_hz;
   return caps;
 }
 
@@ -111,11 +154,17 @@ extern "C" void firmware_main() {
 
   const device::DeviceConfig config =
       device::parse_config_block(_config_block, DacAd56x8::kChannels, kDacBits);
-  static device::DeviceCore core(capabilities(config, kBoard, clocks.emulated));
-  const std::uint32_t step_nA = core.caps().dac_step_nA;
-
   g_clock.init(clocks.timer_hz);
   g_dac.init(kBoard, config.dac_bits);
+  // The alarm wakes the engine early enough to cover its own interrupt latency, then it
+  // waits on the clock: edges fall on their microsecond.  (QEMU's slower virtual core,
+  // 32 ns an instruction, needs more.)
+  const std::uint32_t early_us = clocks.emulated ? 50u : 3u;
+  static device::DeviceCore core(
+      capabilities(config, kBoard, clocks.emulated,
+                   measure_pulse_rate(early_us, clocks.sysclk_hz, clocks.emulated)));
+  const std::uint32_t step_nA = core.caps().dac_step_nA;
+
   gpio_alternate(kBoard.host_tx, 7);
   gpio_alternate(kBoard.host_rx, 7);
   gpio_alternate(kBoard.monitor_tx, 7);
@@ -123,10 +172,7 @@ extern "C" void firmware_main() {
   g_host.init(reg::USART1, clocks.apb2_hz, kBoard.host_baud, true, clocks.emulated);
   g_monitor.init(reg::USART2, clocks.apb1_hz, kBoard.monitor_baud, false, clocks.emulated);
   g_alarm.init(clocks.sysclk_hz);
-  // The alarm wakes the engine early enough to cover its own interrupt latency, then it
-  // waits on the clock: edges fall on their microsecond.  (QEMU's slower virtual core,
-  // 32 ns an instruction, needs more.)
-  g_engine.init(g_dac, g_clock, g_alarm, clocks.emulated ? 50u : 3u, clocks.sysclk_hz);
+  g_engine.init(g_dac, g_clock, g_alarm, early_us, clocks.sysclk_hz);
   reg::nvic_enable(reg::IRQ_USART1, 2);
   reg::nvic_enable(reg::IRQ_USART2, 3);
   reg::enable_irq();
@@ -174,8 +220,8 @@ extern "C" void firmware_main() {
         // retransmits.
         (void)g_host.write(p, k);
       });
-    // 2. The pulses due soon, to the engine.  One it cannot queue is not delivered, and
-    // not counted.
+    // 2. The pulses due soon, to the engine.  One it cannot queue is not delivered, not
+    // counted, and ends the output.
     std::uint32_t not_queued = 0;
     std::uint64_t not_queued_start_us = 0;
     core.advance(now + kLeadUs, [&](const device::DeliveredPulse& p) {
@@ -203,7 +249,9 @@ extern "C" void firmware_main() {
         not_queued_start_us = p.start_us;
       }
     });
-    if (not_queued != 0) core.not_delivered(not_queued_start_us, not_queued);
+    // A pulse the engine had no room for: it is behind its schedule, and the output ends
+    // (Fault::overrun) rather than deliver less than was asked.
+    if (not_queued != 0) core.overrun(not_queued_start_us, not_queued);
     // 3. The DAC failed: no more output until a reset.
     if (g_dac.faults() != 0 && core.status().fault != device::Fault::output_fault)
       core.output_fault();

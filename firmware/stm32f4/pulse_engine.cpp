@@ -151,9 +151,14 @@ void PulseEngine::on_alarm() {
       std::uint64_t due = job.slot_us + kDelayUs;
       // Within one output, as the core spaced them; a new output's first pulse, at least
       // its period after the previous output's last (lateness never carries over).
-      if (have_last_start_ && job.start_us == last_output_us_ && job.slot_us >= last_slot_us_)
-        due = std::max(due, last_start_us_ + (job.slot_us - last_slot_us_));
-      else if (have_last_start_)
+      if (have_last_start_ && job.start_us == last_output_us_ && job.slot_us >= last_slot_us_) {
+        const std::uint64_t spacing = job.slot_us - last_slot_us_;
+        due = std::max(due, last_start_us_ + spacing);
+        // Another pattern's pulse: never closer to this one's measured end than the core
+        // left between them (the table's gap), though that edge came a tick or two late.
+        if (job.pattern != last_pattern_ && spacing >= last_length_us_)
+          due = std::max(due, last_end_us_ + (spacing - last_length_us_));
+      } else if (have_last_start_)
         due = std::max(due, last_start_us_ + job.period_us);
       if (now + early_us_ < due) {
         next = std::min(next, due - early_us_);
@@ -171,6 +176,9 @@ void PulseEngine::on_alarm() {
       last_start_us_ = edges_[0] <= due + kJitterUs ? due : edges_[0];
       last_slot_us_ = current_.slot_us;
       last_output_us_ = current_.start_us;
+      last_pattern_ = current_.pattern;
+      last_length_us_ =
+          std::uint64_t{current_.width_us} + current_.interphase_us + current_.balance_width_us;
       have_last_start_ = true;
       stage_->output(latched_main_, current_.channels);
       phase_ = Phase::main;
@@ -236,6 +244,7 @@ void PulseEngine::finish_pulse() {
   } else {
     records_lost_ = records_lost_ + 1;
   }
+  last_end_us_ = edges_[3];
   phase_ = Phase::idle;
   if (stop_requested_ || (finish_requested_ && job_head_ == job_tail_)) outputs_off();
 }

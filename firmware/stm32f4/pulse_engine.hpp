@@ -92,6 +92,9 @@ class PulseEngine {
   std::uint64_t last_start_us_ = 0;   // the previous pulse's measured start
   std::uint64_t last_slot_us_ = 0;    // and its slot
   std::uint64_t last_output_us_ = 0;  // and its output's start command
+  std::uint64_t last_end_us_ = 0;     // and its measured end
+  std::uint64_t last_length_us_ = 0;  // and its configured length
+  std::uint16_t last_pattern_ = 0;
   bool have_last_start_ = false;
   void outputs_off();
 };

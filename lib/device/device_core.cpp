@@ -320,6 +320,8 @@ Result DeviceCore::start(std::uint64_t now_us) {
   for (std::uint16_t i = 0; i < patterns_; ++i)
     if (!pattern_[i].timing_set || !pattern_[i].codes_set) return Result::not_configured;
   if (status_.state == State::running) return Result::ok;
+  // No more pulses a second than the device delivers on time (its measured throughput).
+  if (!within_pulse_rate(pulse_rate_mHz(timing_, patterns_), caps_)) return Result::out_of_range;
   // The table's worst slip, from the closed bound or its exact schedule (scheduler.hpp).
   if (sched_.worst_slip(caps_.max_slip_us, kMaxCheckedPulses) > caps_.max_slip_us)
     return Result::out_of_range;
@@ -384,6 +386,14 @@ void DeviceCore::pulse_delivered() {
 void DeviceCore::not_delivered(std::uint64_t start_us, std::uint32_t n) {
   if (start_us != start_us_) return;  // an earlier output's: its count is final
   status_.pulses -= std::min(n, status_.pulses);
+}
+
+void DeviceCore::overrun(std::uint64_t start_us, std::uint32_t n) {
+  if (start_us != start_us_) return;  // an earlier output's
+  not_delivered(start_us, n);
+  if (status_.state != State::running) return;
+  end_session();
+  status_.fault = Fault::overrun;
 }
 
 void DeviceCore::output_fault() {

@@ -13,7 +13,9 @@
 //    stretch between two edges (a gap, the time between pulses) at least the shortest
 //    phase, min_width_us (phase_fits); the balancing phase carries the main phase's charge
 //    (current scaled by width / balance width, never above the main phase's current);
-//  - status.pulses counts delivered pulses only (not_delivered);
+//  - status.pulses counts delivered pulses only (not_delivered); a pulse that cannot be
+//    delivered on time ends the output (overrun: Fault::overrun);
+//  - start: at most max_pulse_rate_hz pulses a second over the table (pulse_rate_mHz);
 //  - sessions: configure opens one (a non-zero token); set_weights, start and keepalive
 //    must carry its token; stop ends it, so nothing of an old session can be restarted;
 //  - watchdog: output stops when no frame *of the running session* arrived for
@@ -106,6 +108,11 @@ class DeviceCore {
   // stopped, or could not deliver them on time): the status counts delivered pulses only.
   // Reports for an earlier output are ignored.
   void not_delivered(std::uint64_t start_us, std::uint32_t n);
+  // Pulses of the output started at start_us that the device could not deliver on time (a
+  // firmware's engine, behind its schedule, had no room to queue them): they are not
+  // counted, and the output ends with Fault::overrun, so that a host never takes fewer
+  // pulses than it asked for as a completed stimulus.
+  void overrun(std::uint64_t start_us, std::uint32_t n);
   // The link is gone (port closed): stop output and end the session.
   void link_lost();
   // The output stage failed: stop output, end the session, and refuse every later

@@ -42,6 +42,8 @@ const char* to_string(Fault f) {
       return "link lost";
     case Fault::completed:
       return "completed";
+    case Fault::overrun:
+      return "it could not deliver a pulse on time (more than it can keep up with)";
     case Fault::stopped:
       return "stopped by the host";
     case Fault::output_fault:
@@ -188,6 +190,13 @@ bool phase_fits(const PulseConfig& c, const Capabilities& caps) {
   return c.period_us > length && c.period_us - length >= caps.min_width_us;
 }
 
+std::uint64_t pulse_rate_mHz(const PatternTiming* t, std::size_t n) {
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (t[i].period_us != 0) sum += (1000000000ull + t[i].period_us - 1) / t[i].period_us;
+  return sum;
+}
+
 Capabilities within_hard_limits(Capabilities c) {
   c.protocol = kProtocolVersion;
   c.channels = static_cast<std::uint8_t>(std::clamp<std::size_t>(c.channels, 1, kMaxChannels));
@@ -204,6 +213,7 @@ Capabilities within_hard_limits(Capabilities c) {
   c.max_slip_us = std::min(c.max_slip_us, hard::max_slip_us);
   c.max_rms_uA = std::min(c.max_rms_uA, hard::max_rms_uA);
   c.max_mean_uA = std::min(c.max_mean_uA, hard::max_mean_uA);
+  c.max_pulse_rate_hz = std::clamp<std::uint16_t>(c.max_pulse_rate_hz, 1, hard::max_pulse_rate_hz);
   return c;
 }
 

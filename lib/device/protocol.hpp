@@ -29,7 +29,7 @@
 
 namespace tp::device {
 
-inline constexpr std::uint8_t kProtocolVersion = 4;
+inline constexpr std::uint8_t kProtocolVersion = 5;
 
 // The most channels a set_weights frame carries: token (4) + count (1) + 2 bytes a code
 // must fit kMaxPayload; 64 is the supported maximum (the host's arrays have at most 64
@@ -64,6 +64,9 @@ inline constexpr std::uint16_t max_slip_us = 1000;
 // and the mean absolute current (the charge per second both phases carry).
 inline constexpr std::uint16_t max_rms_uA = 1000;
 inline constexpr std::uint16_t max_mean_uA = 800;
+// Pulses per second over every pattern of a table: what no device claims to sustain above
+// (a device reports its own, lower, measured throughput: Capabilities::max_pulse_rate_hz).
+inline constexpr std::uint16_t max_pulse_rate_hz = 10000;
 }  // namespace hard
 
 enum class Msg : std::uint8_t {
@@ -103,7 +106,8 @@ enum class Fault : std::uint8_t {
   link_lost = 2,
   completed = 3,
   stopped = 4,
-  output_fault = 5  // the device's output stage failed (a firmware's DAC): it delivers no more
+  output_fault = 5,  // the device's output stage failed (a firmware's DAC): it delivers no more
+  overrun = 6        // the device could not deliver a pulse on time: the output stopped
 };
 const char* to_string(Fault f);
 
@@ -125,6 +129,9 @@ struct Capabilities {
   std::uint16_t max_slip_us = hard::max_slip_us;
   std::uint16_t max_rms_uA = hard::max_rms_uA;
   std::uint16_t max_mean_uA = hard::max_mean_uA;
+  // Version 5: the pulses per second, over every pattern, that the device delivers on time
+  // (its measured throughput): a start that asks more is refused.
+  std::uint16_t max_pulse_rate_hz = hard::max_pulse_rate_hz;
   // The largest code: max_current_uA / dac_step_nA, never above a 16-bit DAC's.
   std::int32_t max_code() const;
 };
@@ -181,7 +188,7 @@ void put_u32(B& b, std::uint32_t v) {
 std::uint16_t get_u16(const std::uint8_t* p);
 std::uint32_t get_u32(const std::uint8_t* p);
 
-inline constexpr std::size_t kCapabilitiesSize = 31;
+inline constexpr std::size_t kCapabilitiesSize = 33;
 inline constexpr std::size_t kConfigSize = 15;
 inline constexpr std::size_t kTimingSize = 18;
 inline constexpr std::size_t kStatusSize = 24;
@@ -206,6 +213,7 @@ void put_capabilities(B& b, const Capabilities& c) {
   put_u16(b, c.max_slip_us);
   put_u16(b, c.max_rms_uA);
   put_u16(b, c.max_mean_uA);
+  put_u16(b, c.max_pulse_rate_hz);
 }
 template <class B>
 void put_timing(B& b, const PatternTiming& t) {
@@ -242,6 +250,13 @@ std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
 std::optional<PatternTiming> decode_timing(const std::uint8_t* p, std::size_t n);
 // A version-3 configuration as the timing of a table's one pattern.
 PatternTiming timing_of(const PulseConfig& c);
+// Pulses per second over n patterns, in thousandths (each 10^9 / period rounded up):
+// exact in integers, for the device's throughput check (Capabilities::max_pulse_rate_hz).
+std::uint64_t pulse_rate_mHz(const PatternTiming* t, std::size_t n);
+inline bool within_pulse_rate(std::uint64_t rate_mHz, const Capabilities& caps) {
+  return rate_mHz <= std::uint64_t{caps.max_pulse_rate_hz} * 1000u;
+}
+
 // phase_fits for a pattern's timing.
 bool phase_fits(const PatternTiming& t, const Capabilities& caps);
 

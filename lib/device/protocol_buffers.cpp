@@ -36,7 +36,9 @@ std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>&
   c.max_slip_us = get_u16(p + 25);
   c.max_rms_uA = get_u16(p + 27);
   c.max_mean_uA = get_u16(p + 29);
-  if (c.channels == 0 || c.dac_step_nA == 0 || c.max_rate_hz == 0) return std::nullopt;
+  c.max_pulse_rate_hz = get_u16(p + 31);
+  if (c.channels == 0 || c.dac_step_nA == 0 || c.max_rate_hz == 0 || c.max_pulse_rate_hz == 0)
+    return std::nullopt;
   return c;
 }
 
@@ -55,7 +57,7 @@ std::vector<std::uint8_t> encode(const Status& s) {
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at) {
   if (b.size() != at + kStatusSize) return std::nullopt;
   const std::uint8_t* p = b.data() + at;
-  if (p[0] > 1 || p[1] > 5) return std::nullopt;
+  if (p[0] > 1 || p[1] > static_cast<std::uint8_t>(Fault::overrun)) return std::nullopt;
   Status s;
   s.state = static_cast<State>(p[0]);
   s.fault = static_cast<Fault>(p[1]);

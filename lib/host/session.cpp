@@ -99,6 +99,24 @@ device::PulseConfig single_config(const Stimulus& s, const device::Capabilities&
   return cfg;
 }
 
+// The device's throughput (Capabilities::max_pulse_rate_hz), checked as it will at start:
+// the pulses a second over every pattern, in whole thousandths.
+void check_pulse_rate(const SessionPlan& plan, const Mix& m) {
+  device::PatternTiming single;
+  single.period_us = plan.single.period_us;
+  const std::uint64_t rate = plan.table
+                                 ? device::pulse_rate_mHz(plan.timings.data(), plan.timings.size())
+                                 : device::pulse_rate_mHz(&single, 1);
+  if (device::within_pulse_rate(rate, plan.caps)) return;
+  bad_input("the stimulus asks " + number_text(std::round(static_cast<double>(rate) / 100) / 10) +
+            " pulses a second" +
+            (m.single() ? std::string()
+                        : " over its " + std::to_string(m.patterns.size()) + " patterns") +
+            "; the device delivers at most " + std::to_string(plan.caps.max_pulse_rate_hz) +
+            " a second on time (its measured throughput): lower the rates or use fewer patterns "
+            "(docs/safety.md)");
+}
+
 // A table: each pattern's timing (its own count) and codes, checked as the device will.
 void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
   const device::Capabilities& caps = plan.caps;
@@ -241,6 +259,7 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
     check_load(load, caps, "");
     plan.pulses = count;
   }
+  check_pulse_rate(plan, m);
   // At the device's (rounded) periods; a table's pulses may come up to 1 ms late.
   plan.expected_s = plan.table ? plan.expected_s + 0.001 : count * plan.single.period_us * 1e-6;
   return plan;

@@ -1,0 +1,246 @@
+// Sessions deliver what was asked or fail saying so (issue 38): live frames by the rule of
+// the pattern in force, folded when they queue; a device's completion that delivered fewer
+// pulses than scheduled is a failure; a stimulus above the device's throughput is refused
+// before anything is sent, and the device refuses it again at start.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+#include <thread>
+
+#include "core/error.hpp"
+#include "device/device_core.hpp"
+#include "device_support.hpp"
+#include "host/live.hpp"
+#include "host/session.hpp"
+#include "host/stimulator.hpp"
+#include "host/transport.hpp"
+
+using namespace tp;
+
+namespace {
+
+Stimulus stimulus(double amplitude_mA, long count = 200) {
+  Stimulus s;
+  s.currents_mA = {0, 0, -0.5 * amplitude_mA, amplitude_mA, -0.5 * amplitude_mA, 0, 0, 0};
+  s.amplitude_mA = amplitude_mA;
+  s.count = count;
+  return s;
+}
+
+Mix mix_of(const Stimulus& s) {
+  Mix m;
+  m.patterns.push_back(s);
+  return m;
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A device core behind an in-memory link whose engine loses every `lose`-th pulse, as a
+// firmware behind its schedule did, reporting them not delivered (or, with overrun, ending
+// the output as the firmware now does).
+class LossyDevice final : public host::Transport {
+ public:
+  LossyDevice(int lose, bool overrun, device::Capabilities caps = {})
+      : core_(caps), lose_(lose), overrun_(overrun) {}
+  std::string name() const override { return "lossy device"; }
+  void write(const std::uint8_t* data, std::size_t n) override {
+    advance();
+    std::vector<std::uint8_t> out;
+    core_.receive(data, n, host::monotonic_us(), out);
+    rx_.insert(rx_.end(), out.begin(), out.end());
+    for (std::size_t i = 0; i < n; ++i)
+      if (decoder_.push(data[i])) sent.push_back(static_cast<device::Msg>(decoder_.frame().type));
+  }
+  std::size_t read(std::uint8_t* buf, std::size_t max, int timeout_ms) override {
+    advance();
+    if (rx_.empty()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(timeout_ms));
+      advance();
+      return 0;
+    }
+    std::size_t k = 0;
+    while (k < max && !rx_.empty()) {
+      buf[k++] = rx_.front();
+      rx_.pop_front();
+    }
+    return k;
+  }
+  std::vector<device::Msg> sent;
+
+ private:
+  void advance() {
+    std::uint64_t start = 0;
+    std::uint32_t lost = 0;
+    core_.advance(host::monotonic_us(), [&](const device::DeliveredPulse& p) {
+      if (++emitted_ % static_cast<unsigned>(lose_) == 0) {
+        ++lost;
+        start = p.start_us;
+      }
+    });
+    if (lost == 0) return;
+    if (overrun_)
+      core_.overrun(start, lost);
+    else
+      core_.not_delivered(start, lost);
+  }
+  device::DeviceCore core_;
+  int lose_;
+  bool overrun_;
+  unsigned emitted_ = 0;
+  std::deque<std::uint8_t> rx_;
+  device::FrameDecoder decoder_;
+};
+
+}  // namespace
+
+TEST_CASE("an amplitude is the current of a weight-1 electrode of the pattern in force",
+          "[host][live]") {
+  const device::Capabilities caps;
+  host::LiveState state(mix_of(stimulus(0.1)), StimulusLimits{}, caps);
+  // The stimulus's own: 0.05 of its 0.1 mA is half scale.
+  state.add(host::parse_live_line("{\"amplitudes\": [0.05]}", "line 1"));
+  CHECK(state.take().scales->at(0) == device::kFullScale / 2);
+  // After a currents frame, its pattern: weights [1, -1, ...] at 1 mA, so 0.05 mA is 0.05
+  // of it (it was half of the new codes: 0.5 mA).
+  state.add(host::parse_live_line("{\"currents_mA\": [1, -1, 0, 0, 0, 0, 0, 0]}", "line 2"));
+  state.add(host::parse_live_line("{\"amplitudes\": [0.05]}", "line 3"));
+  const host::LiveState::Update u = state.take();
+  REQUIRE(u.codes);
+  REQUIRE(u.scales);
+  CHECK(u.frames == 2);
+  const double delivered_mA =
+      (*u.codes)[0] * caps.dac_step_nA * 1e-6 * u.scales->at(0) / device::kFullScale;
+  CHECK(delivered_mA == Approx(0.05).epsilon(0.01));
+  // Its amplitude is its largest current: above it is refused, naming the line.
+  CHECK(
+      message_of([&] { state.add(host::parse_live_line("{\"amplitudes\": [1.5]}", "line 4")); }) ==
+      "line 4: amplitude 1.5 mA for pattern 0 outside [0, 1] mA (the current of its weight-1 "
+      "electrode)");
+}
+
+TEST_CASE("frames that queue are folded: the last of each kind, a currents frame first",
+          "[host][live]") {
+  host::LiveState state(mix_of(stimulus(1.0)), StimulusLimits{}, device::Capabilities{});
+  for (int k = 0; k < 3000; ++k)
+    state.add(host::parse_live_line(
+        "{\"amplitudes\": [" + std::to_string(0.001 * (k % 1000)) + "]}", "line"));
+  state.add(host::parse_live_line("{\"amplitudes\": [0]}", "last"));
+  host::LiveState::Update u = state.take();
+  CHECK(u.frames == 3001);
+  CHECK_FALSE(u.codes);
+  CHECK(*u.scales == std::vector<std::uint16_t>{0});  // the fade's end, at once
+  CHECK(state.take().empty());
+  // An amplitude before a currents frame is superseded by it (new codes at full scale).
+  state.add(host::parse_live_line("{\"amplitudes\": [0.2]}", "a"));
+  state.add(host::parse_live_line("{\"currents_mA\": [0, 0, -0.2, 0.4, -0.2, 0, 0, 0]}", "c"));
+  u = state.take();
+  CHECK(u.codes);
+  CHECK_FALSE(u.scales);
+}
+
+TEST_CASE("a live frame is told by its one key, never by the text of the line", "[host][live]") {
+  const std::string two_keys =
+      "line 1: expected {\"currents_mA\": [...]} or {\"amplitudes\": "
+      "[...]}, one key, got 2";
+  CHECK(message_of([] { host::parse_live_line("{\"amplitudes\": [0.05], \"x\": 1}", "line 1"); }) ==
+        two_keys);
+  CHECK(message_of([] {
+          host::parse_live_line("{\"note\": \"amplitudes\", \"currents_mA\": [1, -1]}", "line 1");
+        }) == two_keys);
+  const host::LiveFrame f =
+      host::parse_live_line("{\"currents_mA\": [0.5, -0.5, 0, 0, 0, 0, 0, 0]}", "line 2");
+  CHECK(f.kind == host::LiveFrame::Kind::currents);
+  CHECK(message_of([] { host::parse_live_line("{\"amplitudes\": 0.5}", "line 3"); }) ==
+        "line 3: amplitudes must be a list of numbers");
+}
+
+TEST_CASE("a completion with fewer pulses than scheduled is a failure, naming both",
+          "[host][session]") {
+  // The device reports its stimulus complete having delivered 2 of every 3 pulses (the
+  // firmware's engine behind its schedule, before the overrun fault): exit 0 before.
+  LossyDevice lossy(3, false);
+  const std::string m =
+      message_of([&] { host::run_session(lossy, mix_of(stimulus(1.0, 30)), {}, nullptr); });
+  CHECK(m ==
+        "the device delivered 20 of the 30 pulses scheduled and reported the stimulus "
+        "complete: the stimulus was not delivered as asked (a device that cannot keep up "
+        "with its rate: docs/safety.md)");
+  CHECK(std::count(lossy.sent.begin(), lossy.sent.end(), device::Msg::stop) == 1);
+}
+
+TEST_CASE("a device that falls behind ends the output (overrun), and the host says so",
+          "[host][session][device]") {
+  LossyDevice lossy(10, true);
+  const std::string m =
+      message_of([&] { host::run_session(lossy, mix_of(stimulus(1.0, 200)), {}, nullptr); });
+  CHECK_THAT(m, Catch::Matchers::StartsWith(
+                    "device stopped the output: it could not deliver a pulse on time"));
+  CHECK_THAT(m, Catch::Matchers::Contains("of 200 pulses delivered"));
+}
+
+TEST_CASE("a stimulus above the device's throughput is refused before anything is sent",
+          "[host][session][device]") {
+  device::Capabilities caps;
+  caps.max_pulse_rate_hz = 500;
+  Mix m;
+  for (int k = 0; k < 3; ++k) {
+    Stimulus s = stimulus(0.5, 20);
+    s.shape.frequency_hz = 200;
+    s.phase_us = 1000 * k;
+    m.patterns.push_back(s);
+  }
+  LossyDevice device(1000000, false, caps);
+  CHECK(message_of([&] { host::run_session(device, m, {}, nullptr); }) ==
+        "the stimulus asks 600 pulses a second over its 3 patterns; the device delivers at "
+        "most 500 a second on time (its measured throughput): lower the rates or use fewer "
+        "patterns (docs/safety.md)");
+  CHECK(device.sent == std::vector<device::Msg>{device::Msg::identify});
+  m.patterns.pop_back();  // 400 a second: delivered
+  CHECK(host::run_session(device, m, {}, nullptr).pulses == 40);
+}
+
+TEST_CASE("the device refuses to start a table above its throughput", "[device]") {
+  device::Capabilities caps;
+  caps.max_pulse_rate_hz = 1500;
+  device::DeviceCore core(caps);
+  std::vector<std::uint8_t> cfg;
+  device::put_u32(cfg, 7);
+  device::put_u16(cfg, 2);
+  cfg.push_back(8);
+  device::put_u16(cfg, 100);
+  REQUIRE(device::send(core, 1, device::Msg::configure_table, cfg, 0) == device::Result::ok);
+  std::uint8_t seq = 2;
+  for (std::uint16_t i = 0; i < 2; ++i) {
+    device::PatternTiming t;
+    t.period_us = 1000;  // 1000 Hz each: 2000 a second
+    t.phase_us = 500u * i;
+    t.width_us = t.balance_width_us = 50;
+    t.max_pulses = 10;
+    std::vector<std::uint8_t> b;
+    device::put_u32(b, 7);
+    device::put_u16(b, i);
+    device::put_timing(b, t);
+    REQUIRE(device::send(core, seq++, device::Msg::set_pattern, b, 0) == device::Result::ok);
+    std::vector<std::uint8_t> c;
+    device::put_u32(c, 7);
+    device::put_u16(c, i);
+    const auto sparse = device::encode_sparse({100, -100, 0, 0, 0, 0, 0, 0});
+    c.insert(c.end(), sparse.begin(), sparse.end());
+    REQUIRE(device::send(core, seq++, device::Msg::set_codes, c, 0) == device::Result::ok);
+  }
+  std::vector<std::uint8_t> start;
+  device::put_u32(start, 7);
+  CHECK(device::send(core, seq++, device::Msg::start, start, 0) == device::Result::out_of_range);
+  CHECK(core.status().state != device::State::running);
+  CHECK(device::pulse_rate_mHz(nullptr, 0) == 0);
+}
