@@ -38,7 +38,7 @@ tp_cli_test(stimctl refuses-65-channels refuses 2 --stdin ${IN}/stimulus-65-chan
 foreach(script pipeline-emu mix-emu mix-refusals pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
                pty-live pty-lost-device list-ports pty-protocol pty-session pty-signal-before-start
                pty-device-bounds pty-live-limits pty-current-limit pty-replay-keepalive pty-rates
-               pty-mix pty-table256)
+               pty-mix pty-table256 pty-intent)
   tp_cli_test(stimctl ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(stimctl.${script} PROPERTIES TIMEOUT 120)
 endforeach()
@@ -50,3 +50,19 @@ tp_cli_test(stim-emu refuses-dac-step-overflow refuses 2 -- stim-emu --dac-bits 
 tp_cli_test(stimctl refuses-empty-duration refuses 2 --stdin ${S} -- stimctl --port emu --duration "")
 tp_cli_test(stimctl refuses-unwritable-latency-log refuses 2 --stdin /dev/null --
   stimctl --port emu --live --stimulus ${S} --latency-log /nonexistent/dir/log)
+
+# Issue 38: settings that were ignored are refused, naming them; a live frame is told by its
+# one key (an amplitude frame with another key, or "amplitudes" inside a string, is not one).
+tp_cli_test(stimctl refuses-emu-channels-with-a-port refuses 2 --stdin ${S}
+  --says "--emu-channels: only with --port emu" -- stimctl --port /dev/tp-no-such-port --emu-channels 16)
+tp_cli_test(stimctl refuses-latency-log-without-live refuses 2 --stdin ${S}
+  --says "--latency-log: only with --live" -- stimctl --port emu --latency-log /tmp/tp-latency.log)
+tp_cli_test(stimctl refuses-amplitude-frame-with-another-key refuses 2 --stdin ${IN}/live-amplitude-extra-key.jsonl
+  --says "input line 1: expected {\"currents_mA\": [...]} or {\"amplitudes\": [...]}, one key, got 2"
+  -- stimctl --port emu --live --stimulus ${S})
+tp_cli_test(stimctl refuses-amplitudes-in-a-string refuses 2 --stdin ${IN}/live-amplitudes-in-string.jsonl
+  --says "input line 1: expected {\"currents_mA\": [...]} or {\"amplitudes\": [...]}, one key, got 2"
+  -- stimctl --port emu --live --stimulus ${S})
+tp_cli_test(stimctl refuses-pattern-with-another-format refuses 2 --stdin ${IN}/mix-pattern-wrong-format.json
+  --says "pattern 1: 'format' \"tactile-primaries/weights/1\": a pattern is a stimulus" -- stimctl --port emu)
+tp_cli_test(stim-emu refuses-zero-pulse-rate refuses 2 --says "--max-pulse-rate" -- stim-emu --max-pulse-rate 0)
