@@ -92,8 +92,8 @@ done < "$t/blocks.txt"
 # The mix: RA at 30 Hz and SAI at 200 Hz, delivered for 2 s; then RA faded by five frames.
 jq -e '[.patterns[] | [.mode, .pulse.frequency_hz, .amplitude_mA]] == [["RA", 30, 0.8], ["SAI", 200, 1.2]]' \
   ra-sai-mix.json > /dev/null || fail "ra-sai-mix.json: $(head -c 300 ra-sai-mix.json)"
-grep -F "460 pulses on 8 channels of 2 patterns" "$t"/sh.*.err > /dev/null || fail "the mix: $(cat "$t"/sh.*.err)"
-grep -E "of 2 patterns, .*, 5 weight frames, .*; end of input; output stopped" "$t"/sh.*.err > /dev/null ||
+grep -F "460 of 460 pulses on 8 channels of 2 patterns" "$t"/sh.*.err > /dev/null || fail "the mix: $(cat "$t"/sh.*.err)"
+grep -E "of 2 patterns, .*, 5 live frames, .*; end of input; output stopped" "$t"/sh.*.err > /dev/null ||
   fail "the fade: $(cat "$t"/sh.*.err)"
 # The picture: the profile from the observer's hidden values, the delivered record, the plot.
 for p in RA:0.2:0.5 SAI:0.15:0.4 PC:0.25:0.6; do
