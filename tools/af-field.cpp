@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
                  "centres +-5 mm, step 0.1]")
       ->type_name("MIN:MAX:STEP");
   app.add_flag("--summary", summary, "Print each receptor's largest AF and the mode ratios (JSON)");
+  tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::Document doc = tp::cli::load_document(array, 1);
@@ -105,7 +106,7 @@ int main(int argc, char** argv) {
             "--plane-depth: " + doc.setup.conductor.model +
             " does not evaluate points off the fibres' plane; use point3d, rect3d or layered");
       tp::check_plane(doc.setup, field.conductor(), x, z, depth);  // before the first row
-      tp::write_af_plane(stdout, field, x, z, depth);
+      tp::write_af_plane(tp::cli::write_stdout, field, x, z, depth);
       return;
     }
     const tp::Axis x =
@@ -124,6 +125,6 @@ int main(int argc, char** argv) {
       tp::cli::write_stdout(tp::dump_json(tp::summary_to_json(doc.setup, currents_mA, s)));
       return;
     }
-    tp::write_af_grid(stdout, field, x, y);
+    tp::write_af_grid(tp::cli::write_stdout, field, x, y);
   });
 }

@@ -16,9 +16,11 @@
 #include "cli/array_options.hpp"
 #include "cli/entry.hpp"
 #include "cli/fibre_options.hpp"
+#include "cli/progress.hpp"
 #include "core/error.hpp"
 #include "fibre/population.hpp"
 #include "io/document.hpp"
+#include "io/files.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
 
@@ -100,6 +102,7 @@ int main(int argc, char** argv) {
                  "--strength-duration: main phase widths, us, 1 to 10000 "
                  "[20,50,100,200,500,1000,2000]")
       ->type_name("US1,US2,...");
+  tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::cli::ArrayOptions source = array;
@@ -146,15 +149,22 @@ int main(int argc, char** argv) {
       tp::fibre::PopulationOptions po;
       po.per_class = static_cast<std::size_t>(population);
       po.seed = seed;
-      std::FILE* curves = nullptr;
-      if (!recruitment.empty() && !(curves = std::fopen(recruitment.c_str(), "wx")))
-        tp::bad_input("--recruitment: cannot create '" + recruitment +
-                      "' (it exists, or the directory is not writable)");
+      tp::cli::ProgressLine progress("fiber-threshold");  // on a terminal only
+      if (progress.active())
+        po.progress = [&](std::size_t done, std::size_t total) {
+          progress.show("population " + std::to_string(done) + " of " + std::to_string(total) +
+                        " afferents");
+        };
+      // The curves: a temporary beside the file from now (an unwritable place refused before
+      // any work), renamed over it once the table too is written; else the file left as it was.
+      std::optional<tp::AtomicFile> curves;
+      if (!recruitment.empty()) curves.emplace(recruitment, "--recruitment");
       std::string table, csv;
-      try {
+      {
         const tp::fibre::Population pop =
             tp::fibre::sample_population(doc.setup, *doc.weights, *f.model, f.pulse, f.settings,
                                          tp::fibre::default_afferent_classes(), po);
+        progress.clear();
         table = tp::fibre::population_csv(pop);
         csv = tp::fibre::recruitment_csv(pop);
         std::string talk;
@@ -180,21 +190,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "fiber-threshold: %s, %s, %.3g cm2, seed %llu:%s\n", f.model->name(),
                      f.pulse.describe().c_str(), pop.area_cm2,
                      static_cast<unsigned long long>(seed), talk.c_str());
-      } catch (...) {
-        if (curves) {
-          std::fclose(curves);
-          std::remove(recruitment.c_str());
-        }
-        throw;
       }
-      if (curves) {
-        const bool ok = std::fwrite(csv.data(), 1, csv.size(), curves) == csv.size();
-        if (std::fclose(curves) != 0 || !ok) {
-          std::remove(recruitment.c_str());
-          tp::failure("--recruitment: cannot write '" + recruitment + "'");
-        }
-      }
+      if (curves) curves->write(csv);
       tp::cli::write_stdout(table);
+      if (curves) curves->commit();
       return;
     }
     if (sd) {
@@ -230,11 +229,17 @@ int main(int argc, char** argv) {
       const std::size_t nr = doc.setup.receptors.size();
       std::vector<std::vector<std::optional<double>>> th(nr);
       tp::fibre::PotentialCache cache;  // the same fibres for every width
+      tp::cli::ProgressLine progress("fiber-threshold");  // on a terminal only
+      std::size_t widths_done = 0;
       for (double w : ws) {
+        progress.show("strength-duration " + num(w) + " us, width " +
+                          std::to_string(++widths_done) + " of " + std::to_string(ws.size()),
+                      true);
         const auto rep = tp::fibre::compute_thresholds(doc.setup, *doc.weights, *f.model,
                                                        pulse_at(w), f.settings, &cache);
         for (std::size_t k = 0; k < nr; ++k) th[k].push_back(rep.receptors[k].threshold_mA);
       }
+      progress.clear();
       std::string out = "receptor,width_us,threshold_mA,charge_nC,rheobase_mA,chronaxie_us\n";
       std::string talk;
       for (std::size_t k = 0; k < nr; ++k) {

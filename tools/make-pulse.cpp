@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
   app.add_option("--format", format, "json (stimulus document) or csv (waveform corners) [json]")
       ->check(CLI::IsMember({"json", "csv"}));
   app.add_option("--csv-pulses", csv_pulses, "Pulses drawn by --format csv [3]")->type_name("N");
+  tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
     const tp::Document doc = tp::document_from_json(tp::read_json(input, "weights document"));
@@ -111,7 +112,7 @@ int main(int argc, char** argv) {
       std::vector<std::string> header{"t_us"};
       for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
         header.push_back("ch" + std::to_string(i) + "_mA");
-      tp::CsvWriter csv(stdout);
+      tp::CsvWriter csv(tp::cli::write_stdout);
       csv.header(header);
       for (const auto& row : tp::waveform_points(s, pulses)) csv.row(row);
       csv.flush();

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
                  "Each pattern's first pulse after the start, us, comma-separated, each below "
                  "its period [staggered: each after the previous patterns' pulses and gaps]")
       ->type_name("US,...");
+  tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
     if (inputs.size() > tp::device::kMaxPatterns)

@@ -13,6 +13,7 @@
 #include "cli/array_options.hpp"
 #include "cli/entry.hpp"
 #include "cli/fibre_options.hpp"
+#include "cli/progress.hpp"
 #include "core/error.hpp"
 #include "fibre/optimize.hpp"
 #include "io/document.hpp"
@@ -109,6 +110,7 @@ int main(int argc, char** argv) {
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");
+  tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::Document doc = tp::cli::load_document(array, 2);
@@ -194,7 +196,17 @@ int main(int argc, char** argv) {
       b.max_current_mA = focus.max_current_mA;
       b.neighbourhood = neighbourhood;
       b.threads = static_cast<unsigned>(app.count("--threads") ? fibre.threads : 0);
+      tp::cli::ProgressLine progress("optimize-weights");  // on a terminal only
+      if (progress.active())
+        b.progress = [&](const tp::BankProgress& p) {
+          progress.show(p.judged == 0 ? "bank " + std::to_string(p.solved) + " of " +
+                                            std::to_string(p.problems) + " problems"
+                                      : "bank " + std::to_string(p.judged) + " of " +
+                                            std::to_string(p.patterns) + " patterns judged",
+                        p.judged == 1);  // the second stage: shown as it starts
+        };
       const tp::Bank result = tp::optimize_bank(doc.setup, b);
+      progress.clear();
       const std::string text = tp::dump_json(tp::bank_to_json(doc, result, b));
       std::size_t infeasible = 0, broken = 0;
       for (const tp::BankPattern& p : result.patterns) {
@@ -278,9 +290,16 @@ int main(int argc, char** argv) {
       const tp::cli::FibreSetup f = tp::cli::apply_fibre_options(fibre, r.weights);
       tp::fibre::ThresholdSearchOptions so;
       so.max_evaluations = static_cast<std::size_t>(max_evaluations);
+      tp::cli::ProgressLine progress("optimize-weights");  // on a terminal only
+      if (progress.active())
+        so.progress = [&](std::size_t k) {
+          progress.show("threshold search " + std::to_string(k) + " of at most " +
+                        std::to_string(so.max_evaluations) + " whole searches");
+        };
       const std::size_t target = tp::receptor_index(doc.setup, modes[0]);
       const tp::fibre::ThresholdOptimum t = tp::fibre::optimize_threshold(
           doc.setup, target, r.weights, *f.model, f.pulse, f.settings, so);
+      progress.clear();
       tp::Document out = doc;
       out.weights = t.weights;
       std::vector<double> currents;

@@ -205,6 +205,7 @@ int main(int argc, char** argv) {
       app.add_option("--fps", fps_text,
                      "Frames per second (--sequence, --frames), 0.1 to 1000 [30]")
           ->type_name("FPS");
+  tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
     tp::RenderOptions o;
@@ -219,6 +220,12 @@ int main(int argc, char** argv) {
         tp::bad_input(opt->get_name() +
                       ": --frames plays the sequence's stimulus as it was made; give it to "
                       "--sequence");
+    // --frames streams: each frame goes to stdout when it is due, for stimctl --live; a file
+    // written whole at the end would hold them back until the stream is over.
+    if (!frames_for.empty() && app.count("--output") > 0)
+      tp::bad_input(
+          "--output: --frames writes live frames to stdout as they are due (for "
+          "stimctl --live), not a document; pipe them");
     if (!rates.empty()) tp::parse_rates(rates, o.rate_hz);
     const double fps = tp::parse_finite(fps_text, "--fps");
     if (!(fps >= 0.1 && fps <= 1000)) tp::bad_input("--fps: " + fps_text + " outside [0.1, 1000]");

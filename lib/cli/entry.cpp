@@ -138,7 +138,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
   }
 }
 
-void write_stdout(const std::string& text) {
+void write_stdout(std::string_view text) {
   if (g_output) {
     g_output->write(text);
     return;

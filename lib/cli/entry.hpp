@@ -12,6 +12,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -24,7 +25,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
 // Writes a string to stdout and flushes; an I/O failure is a runtime failure.  With
 // --output FILE (add_output_option), the text goes to FILE instead, which is written whole
 // when the program succeeds and left as it was when it fails (io/files.hpp).
-void write_stdout(const std::string& text);
+void write_stdout(std::string_view text);
 
 // Adds --output FILE to a program that writes one document.  The file is created (as a
 // temporary beside it) before the body runs, so that an unwritable place is refused first.

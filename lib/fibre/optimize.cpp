@@ -163,6 +163,7 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
   ThresholdOptimum out;
   out.start = compute_thresholds(setup, af, model, pulse, settings, &cache);
   out.evaluations = 1;
+  if (opt.progress) opt.progress(out.evaluations);
   const double f0 = threshold_objective(out.start, target, settings.max_mA);
   // The best weights a whole search has seen (z: the free weights).
   std::vector<double> best_z(af.begin(), af.end() - 1), best_w = af;
@@ -180,6 +181,7 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
     r = compute_thresholds(setup, w, model, pulse, near, &cache);
     r.settings.start_mA.clear();
     ++out.evaluations;
+    if (opt.progress) opt.progress(out.evaluations);
     const double f = threshold_objective(r, target, settings.max_mA);
     if (f < best_f) {
       best_f = f;

@@ -12,6 +12,7 @@
 // search found: never worse than the AF optimum it starts from.
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ namespace tp::fibre {
 struct ThresholdSearchOptions {
   std::size_t max_evaluations = 12;  // whole searches (each: every receptor's threshold)
   double initial_step = 0.25;        // the first simplex's size, in weight units
+  // Called after each whole search with the number made so far (at most max_evaluations):
+  // a program's progress line.  Empty: none.
+  std::function<void(std::size_t evaluations)> progress;
 };
 
 struct ThresholdOptimum {

@@ -123,6 +123,7 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
   std::mutex m;
   std::exception_ptr error;
   std::size_t error_index = jobs.size();
+  std::size_t done = 0;  // searches ended, for o.progress (under m)
   auto worker = [&] {
     for (;;) {
       const std::size_t i = next.fetch_add(1);
@@ -134,6 +135,10 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
                                jobs[i].settings, &cache);
         p.afferents[i].threshold_mA = t.threshold_mA;
         p.afferents[i].at_cut_end = t.threshold_mA && t.at_cut_end;
+        if (o.progress) {
+          std::lock_guard<std::mutex> lock(m);
+          o.progress(++done, jobs.size());
+        }
       } catch (...) {
         std::lock_guard<std::mutex> lock(m);
         if (i < error_index) {

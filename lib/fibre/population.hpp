@@ -9,6 +9,7 @@
 // thresholds.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ struct PopulationOptions {
   std::size_t per_class = 100;  // 1 to 10000
   std::uint64_t seed = 1;
   unsigned threads = 0;  // fibres searched at once; 0: every core
+  // Called as each afferent's search ends, with the number ended and the number in all,
+  // one call at a time (from the searching threads): a program's progress line.
+  std::function<void(std::size_t done, std::size_t total)> progress;
 };
 
 struct Afferent {

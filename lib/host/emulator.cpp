@@ -108,7 +108,15 @@ class LoopbackTransport final : public Transport {
 
  private:
   void advance() {
-    core_.advance(monotonic_us(), [this](const device::DeliveredPulse& p) { recorder_.record(p); });
+    try {
+      core_.advance(monotonic_us(),
+                    [this](const device::DeliveredPulse& p) { recorder_.record(p); });
+    } catch (const Error& e) {
+      // The record cannot be written (a full disk): the device's output stops at once, as
+      // stim-emu's does, and the message says so.
+      core_.link_lost();
+      failure(std::string(e.what()) + "; output stopped");
+    }
   }
   device::DeviceCore core_;
   PulseRecorder recorder_;

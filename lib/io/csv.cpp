@@ -9,16 +9,31 @@
 namespace tp {
 
 CsvWriter::CsvWriter(std::FILE* out, std::size_t buffer_bytes)
-    : out_(out), buf_(buffer_bytes < 4096 ? 4096 : buffer_bytes) {}
+    : CsvWriter(
+          [out](std::string_view s) {
+            if (std::fwrite(s.data(), 1, s.size(), out) != s.size() || std::fflush(out) != 0)
+              failure(std::string("write error: ") + std::strerror(errno));
+          },
+          buffer_bytes) {}
+
+CsvWriter::CsvWriter(ByteSink sink, std::size_t buffer_bytes)
+    : sink_(std::move(sink)), buf_(buffer_bytes < 4096 ? 4096 : buffer_bytes) {}
 
 CsvWriter::~CsvWriter() {
-  if (used_ > 0) std::fwrite(buf_.data(), 1, used_, out_);
+  try {
+    if (used_ > 0) sink_(std::string_view(buf_.data(), used_));
+  } catch (...) {  // reported by flush(), when it is called
+  }
+}
+
+void CsvWriter::put(std::string_view s) {
+  if (!s.empty()) sink_(s);
 }
 
 void CsvWriter::raw(std::string_view s) {
   if (used_ + s.size() > buf_.size()) flush();
   if (s.size() > buf_.size()) {
-    if (std::fwrite(s.data(), 1, s.size(), out_) != s.size()) failure("write error");
+    put(s);
     return;
   }
   std::memcpy(buf_.data() + used_, s.data(), s.size());
@@ -46,12 +61,9 @@ void CsvWriter::row(const double* values, std::size_t count) {
 }
 
 void CsvWriter::flush() {
-  if (used_ > 0 && std::fwrite(buf_.data(), 1, used_, out_) != used_) {
-    used_ = 0;
-    failure(std::string("write error: ") + std::strerror(errno));
-  }
-  used_ = 0;
-  if (std::fflush(out_) != 0) failure(std::string("write error: ") + std::strerror(errno));
+  const std::size_t n = used_;
+  used_ = 0;  // not written again by the destructor when the sink fails
+  put(std::string_view(buf_.data(), n));
 }
 
 }  // namespace tp

@@ -117,7 +117,7 @@ void AtomicFile::discard() noexcept {
   temp_.clear();
 }
 
-void AtomicFile::write(const std::string& text) {
+void AtomicFile::write(std::string_view text) {
   if (fd_ < 0) failure(what_ + ": '" + path_ + "' is already closed");
   if (!write_all(fd_, text.data(), text.size())) {
     const std::string why = reason();

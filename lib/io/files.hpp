@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace tp {
 
@@ -27,7 +28,7 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   // Appends; a failed write is a runtime failure naming the file and the reason.
-  void write(const std::string& text);
+  void write(std::string_view text);
   // Syncs, closes and renames the temporary over the file (each step checked).
   void commit();
   const std::string& path() const { return path_; }

@@ -41,7 +41,7 @@ namespace {
 
 // Rows (a, b, af_h, af_v) over the grid a (inner) by b (outer): values(a, b, af_h, af_v).
 template <class F>
-void write_map(std::FILE* out, const char* b_name, const Axis& a, const Axis& b, F&& values) {
+void write_map(const ByteSink& out, const char* b_name, const Axis& a, const Axis& b, F&& values) {
   CsvWriter csv(out, 1 << 20);
   csv.header({"x_mm", b_name, "af_h", "af_v"});
   const std::size_t na = a.count(), nb = b.count();
@@ -59,7 +59,7 @@ void write_map(std::FILE* out, const char* b_name, const Axis& a, const Axis& b,
 
 }  // namespace
 
-void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y) {
+void write_af_grid(const ByteSink& out, const Field& field, const Axis& x, const Axis& y) {
   validate_grid(x, y);
   const double k = fibre_factor_mm2_per_ms(
       Fibre{Orientation::horizontal, constants::reference_diameter_um, true});
@@ -78,7 +78,8 @@ void validate_plane(const Axis& x, const Axis& z, double y_mm) {
   check_points(x, z);
 }
 
-void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axis& z, double y_mm) {
+void write_af_plane(const ByteSink& out, const Field& field, const Axis& x, const Axis& z,
+                    double y_mm) {
   validate_plane(x, z, y_mm);
   const Fibre fibre{Orientation::horizontal, constants::reference_diameter_um, true};
   const FibreAxis along_x{}, vertical{true, 0.0, 0.0};

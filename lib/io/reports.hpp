@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "io/csv.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 #include "model/field.hpp"
@@ -13,14 +14,16 @@
 namespace tp {
 
 // Columns x_mm,y_mm,af_h,af_v: the AF of horizontal and vertical myelinated fibres of the
-// reference diameter, one row per grid point, y outer, x inner.  Rejects y <= 0.
+// reference diameter, one row per grid point, y outer, x inner.  Rejects y <= 0.  The rows
+// go to `out` about 1 MB at a time (a program's tp::cli::write_stdout).
 void validate_grid(const Axis& x, const Axis& y);
-void write_af_grid(std::FILE* out, const Field& field, const Axis& x, const Axis& y);
+void write_af_grid(const ByteSink& out, const Field& field, const Axis& x, const Axis& y);
 
 // Columns x_mm,z_mm,af_h,af_v: the AF over the plane at depth y_mm (3-D models), af_h of
 // horizontal fibres along x, af_v of vertical ones, z outer, x inner.
 void validate_plane(const Axis& x, const Axis& z, double y_mm);
-void write_af_plane(std::FILE* out, const Field& field, const Axis& x, const Axis& z, double y_mm);
+void write_af_plane(const ByteSink& out, const Field& field, const Axis& x, const Axis& z,
+                    double y_mm);
 
 // Bad input when a grid of `points` over `pads` electrodes would take more than 6.4e9 pad
 // evaluations (1e8 points of a 64-electrode array): hours of output.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <exception>
 #include <map>
+#include <mutex>
 #include <thread>
 #include <tuple>
 
@@ -186,6 +187,18 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
   const unsigned threads =
       opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
 
+  // How far it has come, for opt.progress: counted and told one thread at a time.
+  BankProgress progress;
+  progress.problems = problems.size();
+  progress.patterns = bank.patterns.size();
+  std::mutex progress_mutex;
+  auto advance = [&](std::size_t BankProgress::*counter) {
+    if (!opt.progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    ++(progress.*counter);
+    opt.progress(progress);
+  };
+
   // Solve each problem; one no weights satisfy is reported, not thrown.
   parallel_for(
       problems.size(), threads,
@@ -194,6 +207,7 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
         auto r = try_optimize_focus(pr.window.setup, pr.mode, pr.focus, pr.why);
         pr.feasible = r.has_value();
         if (r) pr.result = std::move(*r);
+        advance(&BankProgress::solved);
       },
       release_lp_thread);
 
@@ -215,6 +229,7 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
       FocusFailure why = pr.why;
       place(why.peak_x_mm, why.peak_z_mm);
       pat.reason = focus_failure_text(setup, pat.mode, f, why);
+      advance(&BankProgress::judged);
       return;
     }
     const ElectrodeArray& wa = w.setup.array;
@@ -242,6 +257,7 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt) {
         pat.result.least_norm = pr.result.least_norm;
       }
     }
+    advance(&BankProgress::judged);
   });
   return bank;
 }

@@ -12,12 +12,20 @@
 // then judged on the whole array (evaluate_focus): its ratio, peak and spill are those of
 // the pattern as printed.
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "opt/focus.hpp"
 
 namespace tp {
+
+// How far a bank has come: its distinct problems solved, then its patterns judged on the
+// whole array (BankOptions::progress).
+struct BankProgress {
+  std::size_t solved = 0, problems = 0;
+  std::size_t judged = 0, patterns = 0;
+};
 
 struct BankOptions {
   double radius_mm = 0.0;  // 0: one pitch
@@ -28,6 +36,9 @@ struct BankOptions {
   std::vector<std::pair<double, double>> at;
   int neighbourhood = 0;  // K (a grid; odd, 3 to 255); 0: every pad
   unsigned threads = 0;   // 0: every core
+  // Called as each problem is solved and each pattern judged, one call at a time (from the
+  // solving threads): a program's progress line.  Empty: none.
+  std::function<void(const BankProgress&)> progress;
 };
 
 struct BankPattern {

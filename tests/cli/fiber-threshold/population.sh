@@ -54,5 +54,5 @@ cmp -s g1.csv g2.csv || fail "2-D: not the same bytes twice"
 awk -F, 'NR > 1 && ($7 < -5.5 || $7 > 5.5) { exit 1 }' g1.csv || fail "2-D: a z outside the pads and margin"
 [[ $(wc -l < g1.csv) -eq 10 ]] || fail "2-D: $(wc -l < g1.csv) lines"
 echo "ok: 2-D: $(cat g.txt)"
-: > exists.csv
-refuses 2 --says "--recruitment: cannot create" -- fiber-threshold --config sai.json --population 3 --recruitment exists.csv
+refuses 2 --says "--recruitment: cannot write 'missing/r.csv': No such file or directory" \
+  -- fiber-threshold --config sai.json --population 3 --recruitment missing/r.csv
