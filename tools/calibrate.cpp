@@ -164,8 +164,7 @@ int main(int argc, char** argv) {
     if (!primaries.empty()) o.primaries = tp::parse_primaries(primaries, "--primaries");
     o.pads = pixels(bank, per_pixel, pixel);
     tp::Calibration cal(bank, o);  // checks every option
-    tp::LineFile log(log_path, "--log");
-    log.line(tp::calibration_log_header());
+    tp::check_writable(log_path, "--log");  // created once the device has passed its check
 
     const volatile std::sig_atomic_t* flag = tp::host::install_stop_handlers();
     tp::host::Answers answers(!responses.empty());
@@ -180,6 +179,8 @@ int main(int argc, char** argv) {
     const tp::device::Capabilities caps = tp::host::StimulatorClient(*transport).identify();
     cal.check_trials(
         [&](const tp::Mix& m) { tp::host::plan_session(caps, m, tp::host::SessionOptions{}); });
+    tp::LineFile log(log_path, "--log");
+    log.line(tp::calibration_log_header());
     answers.say("calibrate: " + cal.length_text() + "\n");
     while (!cal.done()) run_trial(cal, *transport, answers, log, flag, bank.columns);
     tp::host::arm_emergency_stop(-1);

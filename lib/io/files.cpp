@@ -193,6 +193,22 @@ void LineFile::close() {
   if (rc != 0) failure(what_ + ": cannot write '" + path_ + "': " + reason());
 }
 
+void check_writable(const std::string& path, const std::string& what) {
+  if (path.empty()) bad_input(what + ": empty file name");
+  const std::string target = resolved(path);
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) bad_input(what + ": '" + path + "' is a directory");
+    if (::access(target.c_str(), W_OK) != 0)
+      bad_input(what + ": cannot open '" + path + "': " + reason());
+    return;
+  }
+  const auto slash = target.rfind('/');
+  const std::string dir = slash == std::string::npos ? "." : target.substr(0, slash + 1);
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    bad_input(what + ": cannot open '" + path + "': " + reason());
+}
+
 void remove_temporaries() noexcept {
   for (auto& slot : g_temporaries) {
     const char* p = slot.load();

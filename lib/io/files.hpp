@@ -68,6 +68,11 @@ class LineFile {
   int fd_ = -1;
 };
 
+// Refuses (bad input naming `what`) a path that a LineFile or AtomicFile could not create:
+// a directory, or a place whose directory is missing or not writable.  Nothing is created,
+// so a run refused later leaves no file and a previous one as it was.
+void check_writable(const std::string& path, const std::string& what);
+
 // Removes every AtomicFile temporary still open; async-signal-safe (unlink only), for a
 // handler of a signal that ends the program.  The programs' entry point (cli::run) installs
 // such handlers for SIGHUP, SIGINT, SIGQUIT, SIGTERM and SIGPIPE; a program that turns

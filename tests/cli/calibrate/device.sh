@@ -13,7 +13,8 @@ refuses 2 --says "lower --ceiling to 0.499 mA or less" -- "${cal[@]}" --log b.cs
 grep -qF "the device's limit of 0.4998 mA" err || fail "the DAC's limit: $(cat err)"
 [[ $(lines rec.jsonl) -eq 0 ]] || fail "$(lines rec.jsonl) pulses delivered before the refusal"
 grep -q start events.txt && fail "the output was started: $(cat events.txt)"
-echo "ok: nothing delivered"
+[[ ! -e a.csv && ! -e b.csv ]] || fail "a refused session left its log: $(ls ./*.csv)"
+echo "ok: nothing delivered, no log left"
 # The ceiling it names: every trial within the device's limits (a numb observer climbs to it).
 yes n | head -1000 | "${cal[@]}" --log c.csv --ceiling 0.499 --primaries SAI > c.json 2> c.err \
   && fail "never felt: exit 0"
