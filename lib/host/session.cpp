@@ -172,7 +172,7 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
               " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
   const double max_s = opt.limits.max_duration_s;
   if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
-    bad_input("--duration: " + number_text(opt.duration_s) + " s outside (0, " +
+    bad_input("--duration: " + number_beside(opt.duration_s, 0, max_s) + " s outside (0, " +
               number_text(max_s) + "] s");
   if (interrupted()) {
     end_by_flag();
@@ -234,8 +234,8 @@ SessionReport run_session(Transport& transport, const Mix& m, const SessionOptio
                 " patterns; the device holds " + std::to_string(rep.caps.max_patterns));
     const double least_gap = std::max(rep.caps.min_gap_us, rep.caps.min_width_us);
     if (m.gap_us < least_gap)
-      bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
-                number_text(least_gap) + " us");
+      bad_input("gap_us: " + number_beside(m.gap_us, least_gap) +
+                " us, below the device's least gap of " + number_text(least_gap) + " us");
     device::ChannelLoad load;
     std::size_t entries = 0;
     for (const Stimulus& p : m.patterns) {

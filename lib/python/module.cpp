@@ -434,7 +434,7 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   opt.max_current_mA = doc.max_current_mA;
   opt.min_target_af = min_target_af;
   if (!(opt.min_target_af <= 1e4))
-    tp::bad_input("--min-target-af: " + tp::number_text(min_target_af) +
+    tp::bad_input("--min-target-af: " + tp::number_beside(min_target_af, 1e4) +
                   " V/ms outside [0, 10000] V/ms");
   if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
   opt.random_starts = random_starts;
@@ -461,7 +461,8 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   if (radius_mm) {
     focus.radius_mm = *radius_mm;
     if (!(focus.radius_mm > 0.0))
-      tp::bad_input("--radius: must be > 0 mm, got " + tp::number_text(*radius_mm));
+      tp::bad_input("--radius: must be > 0 mm (omit it for one pitch), got " +
+                    tp::number_text(*radius_mm));
   }
   if (spill) focus.spill = *spill;
   focus.max_current_mA = opt.max_current_mA;
@@ -807,8 +808,9 @@ class Stimulator {
   void set_duration(tp::host::SessionOptions& opt, std::optional<double> duration_s) {
     if (!duration_s) return;
     if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
-      tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
-                    tp::number_text(opt.limits.max_duration_s) + "] s");
+      tp::bad_input(
+          "--duration: " + tp::number_beside(*duration_s, 0.0, opt.limits.max_duration_s) +
+          " s outside (0, " + tp::number_text(opt.limits.max_duration_s) + "] s");
     opt.duration_s = *duration_s;
   }
 
