@@ -46,13 +46,18 @@ refuses 2 --says "--population: 0 outside [1, 10000]" -- fiber-threshold --confi
 refuses 2 --says "--seed, --recruitment: apply to --population only" -- fiber-threshold --config sai.json --seed 3
 refuses 2 --says "give one" -- fiber-threshold --config sai.json --population 3 --strength-duration
 # Over a 2-D array: placed in x and z over the pads and margin, a column z_mm; the same
-# bytes twice.
-fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,0 --population 3 > g1.csv 2> g.txt || fail "2-D: $(cat g.txt)"
-fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,0 --population 3 > g2.csv 2> g.txt || fail "2-D: $(cat g.txt)"
+# bytes twice.  Each afferent passes through its own place, so --at (one point for every
+# fibre) is refused with --population, not ignored.
+fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 > g1.csv 2> g.txt || fail "2-D: $(cat g.txt)"
+fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 > g2.csv 2> g.txt || fail "2-D: $(cat g.txt)"
 cmp -s g1.csv g2.csv || fail "2-D: not the same bytes twice"
 [[ $(head -1 g1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm?(,at_cut_end) ]] || fail "2-D header: $(head -1 g1.csv)"
 awk -F, 'NR > 1 && ($7 < -5.5 || $7 > 5.5) { exit 1 }' g1.csv || fail "2-D: a z outside the pads and margin"
 [[ $(wc -l < g1.csv) -eq 10 ]] || fail "2-D: $(wc -l < g1.csv) lines"
 echo "ok: 2-D: $(cat g.txt)"
+refuses 2 --says "--at: does not apply to --population" -- \
+  fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 --at 0,0
+refuses 2 --says "--at: does not apply to --population" -- \
+  fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 --at 100,100
 : > exists.csv
 refuses 2 --says "--recruitment: cannot create" -- fiber-threshold --config sai.json --population 3 --recruitment exists.csv
