@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <system_error>
 
@@ -184,12 +185,20 @@ std::string number_text(double value) {
 
 std::string number_beside(double value, double bound) {
   std::string text = number_text(value);
-  if (value == bound || !std::isfinite(value) || text != number_text(bound)) return text;
+  const std::string bound_text = number_text(bound);
+  if (value == bound || !std::isfinite(value) || !std::isfinite(bound)) return text;
+  // As many digits as it takes for the value to read differently from the bound as it is
+  // printed, and on the same side of it (0.80000000001 above 0.8, not equal to it; never
+  // 1.4282874546 beside a bound printed 1.428287455 that it exceeds).
+  const double printed_bound = std::strtod(bound_text.c_str(), nullptr);
+  auto reads_right = [&](const std::string& t) {
+    const double v = std::strtod(t.c_str(), nullptr);
+    return t != bound_text && (value > bound ? v > printed_bound : v < printed_bound);
+  };
   char buf[64];
-  for (int digits = 11; digits <= 17; ++digits) {
+  for (int digits = 11; digits <= 17 && !reads_right(text); ++digits) {
     const auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::general, digits);
     text.assign(buf, r.ptr);
-    if (text != number_text(bound)) break;
   }
   return text;
 }

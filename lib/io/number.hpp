@@ -41,10 +41,10 @@ std::size_t format_number(char* buf, double value);
 std::string number_text(double value);
 
 // A value refused beside its bound: number_text(value), or, where that reads the same as
-// number_text(bound) but the value differs, as many more significant digits (up to the 17
-// that tell any two doubles apart) as it takes to read differently: 0.80000000001 beside
-// 0.8, where number_text writes both as 0.8.  Every message that sets a value against the
-// limit it breaks writes the value this way.
+// number_text(bound) (or on the wrong side of it), as many more significant digits (up to
+// the 17 that tell any two doubles apart) as it takes to read differently and on the right
+// side: 0.80000000001 beside 0.8, where number_text writes both as 0.8.  Every message that
+// sets a value against the limit it breaks writes the value this way.
 std::string number_beside(double value, double bound);
 // The same beside the bound of [lo, hi] that it breaks (lo when below it, else hi).
 std::string number_beside(double value, double lo, double hi);

@@ -91,8 +91,12 @@ std::optional<double> finite_arg(std::optional<double> v, const std::string& fla
 }
 
 std::string range_message(const std::string& flag, long v, long lo, long hi) {
+  return flag + ": " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " +
+         std::to_string(hi) + "]";  // as tp::cli::add_integer says it
+}
+std::string cli11_range_message(const std::string& flag, long v, long lo, long hi) {
   return flag + ": Value " + std::to_string(v) + " not in range " + std::to_string(lo) + " to " +
-         std::to_string(hi);  // CLI11's words, as the programs say it
+         std::to_string(hi);  // CLI11's words, as stimctl says it
 }
 
 // A path: str or os.PathLike.
@@ -664,9 +668,9 @@ class Stimulator {
              std::string backend)
       : port_(path_arg(port)), baud_(baud), backend_(std::move(backend)) {
     if (!(baud >= 300 && baud <= 4000000))
-      tp::bad_input(range_message("--baud", baud, 300, 4000000));
+      tp::bad_input(cli11_range_message("--baud", baud, 300, 4000000));
     if (!(emu_channels >= 1 && emu_channels <= 64))
-      tp::bad_input(range_message("--emu-channels", emu_channels, 1, 64));
+      tp::bad_input(cli11_range_message("--emu-channels", emu_channels, 1, 64));
     if (backend_ != "auto" && backend_ != "libserialport" && backend_ != "posix")
       tp::bad_input("--backend: " + backend_ + " not in {auto,libserialport,posix}");
     if (port_ != "emu" && record)

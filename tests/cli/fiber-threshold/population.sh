@@ -9,6 +9,10 @@ ft=(fiber-threshold --config sai.json --population 15)
 cmp -s p1.csv p2.csv && cmp -s r1.csv r2.csv || fail "the same seed gave other bytes"
 "${ft[@]}" --seed 4 > p3.csv 2> /dev/null || fail "population, seed 4"
 cmp -s p1.csv p3.csv && fail "seeds 3 and 4 gave the same population"
+# Every seed from 0 to 2^64 - 1 is its own (beyond it, or below 0, refused: issue 38).
+fiber-threshold --config sai.json --population 1 --seed 18446744073709551615 > p5.csv 2> e5.txt ||
+  fail "the largest seed: $(cat e5.txt)"
+grep -F "seed 18446744073709551615:" e5.txt > /dev/null || fail "the largest seed: $(cat e5.txt)"
 # (A last column at_cut_end, 0 or 1, where any afferent fired first at a cut end of its fibre.)
 [[ $(head -1 p1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA?(,at_cut_end) ]] || fail "header: $(head -1 p1.csv)"
 if [[ $(head -1 p1.csv) == *,at_cut_end ]]; then
