@@ -998,8 +998,8 @@ PYBIND11_MODULE(_core, m) {
         (*bad_input_exc)(e.what());
       else
         (*failure_exc)(e.what());
-    } catch (const nlohmann::json::exception& e) {
-      (*bad_input_exc)(e.what());
+    } catch (const nlohmann::json::exception& e) {  // printable as tp::Error's are
+      (*bad_input_exc)(tp::printable(e.what()).c_str());
     }
   });
 
