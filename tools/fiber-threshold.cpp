@@ -18,6 +18,7 @@
 #include "cli/fibre_options.hpp"
 #include "cli/progress.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "fibre/population.hpp"
 #include "io/document.hpp"
 #include "io/files.hpp"
@@ -85,12 +86,16 @@ int main(int argc, char** argv) {
                  "2-D arrays: the point X,Z (mm) the fibres pass through [the document's "
                  "focus, optimize-weights --at]")
       ->type_name("X,Z");
-  app.add_option("--population", population,
-                 "N afferents of each class sampled over the array and its margin (diameters, "
-                 "depths and densities: docs/fibres.md), each its own threshold: CSV class,"
-                 "x_mm,offset_mm,depth_mm,diameter_um,threshold_mA, 1 to 10000")
-      ->type_name("N");
-  app.add_option("--seed", seed, "--population: the sampling's seed [1]")->type_name("S");
+  tp::cli::add_integer(
+      app, "--population", population,
+      "N afferents of each class sampled over the array and its margin (diameters, depths and "
+      "densities: docs/fibres.md), each its own threshold: CSV class,x_mm,offset_mm,depth_mm,"
+      "diameter_um,threshold_mA; 1 to 10000, and no more fibre simulation than the work bound "
+      "allows (refused before any work: about 7500 on the paper's 8-electrode array with a "
+      "200 us pulse, fewer with longer pulses, more electrodes or a finer --tolerance)",
+      1L, tp::fibre::kMaxPopulation);
+  tp::cli::add_seed(app, "--seed", seed,
+                    "--population: the sampling's seed, 0 to 18446744073709551615 (2^64 - 1) [1]");
   app.add_option("--recruitment", recruitment,
                  "--population: write the recruitment curves (each class's fraction recruited "
                  "against current, and each mode's selectivity index) as CSV to FILE")
@@ -140,8 +145,10 @@ int main(int argc, char** argv) {
       tp::bad_input("--population and --strength-duration: give one");
     if ((app.count("--seed") || !recruitment.empty()) && !app.count("--population"))
       tp::bad_input("--seed, --recruitment: apply to --population only");
-    if (app.count("--population") && !(population >= 1 && population <= 10000))
-      tp::bad_input("--population: " + std::to_string(population) + " outside [1, 10000]");
+    if (app.count("--population") && app.count("--at"))
+      tp::bad_input(
+          "--at: does not apply to --population (its afferents are sampled over the "
+          "whole array and its margin, each through its own place)");
     tp::cli::FibreSetup f = tp::cli::apply_fibre_options(fibre, *doc.weights);
     f.settings.through_mm = through;
 
@@ -202,7 +209,8 @@ int main(int argc, char** argv) {
                                    : tp::parse_list(widths, "--widths");
       for (double w : ws)
         if (!(w >= 1.0 && w <= 10000.0))
-          tp::bad_input("--widths: " + num(w) + " us outside [1, 10000] us");
+          tp::bad_input("--widths: " + tp::number_beside(w, 1.0, 10000.0) +
+                        " us outside [1, 10000] us");
       if (ws.size() > 64) tp::bad_input("--widths: at most 64 widths");
       std::sort(ws.begin(), ws.end());
       ws.erase(std::unique(ws.begin(), ws.end()), ws.end());
@@ -216,7 +224,8 @@ int main(int argc, char** argv) {
         const tp::fibre::PulseSpec p = pulse_at(w);
         if (!p.monophasic && !(p.balance_width_us >= 1.0 && p.balance_width_us <= 10000.0))
           tp::bad_input("--widths: " + num(w) + " us gives a balancing phase of " +
-                        num(p.balance_width_us) + " us, outside [1, 10000] us");
+                        tp::number_beside(p.balance_width_us, 1.0, 10000.0) +
+                        " us, outside [1, 10000] us");
       }
       {  // the whole table's work, bounded before any of it
         double work = 0.0;

@@ -15,6 +15,7 @@
 #include "cli/fibre_options.hpp"
 #include "cli/progress.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "fibre/optimize.hpp"
 #include "io/document.hpp"
 #include "io/reports.hpp"
@@ -57,14 +58,14 @@ int main(int argc, char** argv) {
                  "Trade selectivity for efficiency: the target's largest AF at the current limit "
                  "must reach this, V/ms [0: the paper's problem]")
       ->type_name("V/MS");
-  app.add_option("--pattern-starts", pattern_starts,
-                 "How many of the paper's patterns start the surrogate: anode, cathode, cathode "
-                 "with anodic neighbours, widened cathode [2]")
-      ->check(CLI::Range(0, 4))
+  tp::cli::add_integer(app, "--pattern-starts", pattern_starts,
+                       "How many of the paper's patterns start the surrogate: anode, cathode, "
+                       "cathode with anodic neighbours, widened cathode, 0 to 4 [2]",
+                       0, 4)
       ->type_name("K");
-  app.add_option("--random-starts", random_starts,
-                 "Random starts besides the paper's patterns and the LP seeds [0]")
-      ->check(CLI::Range(0, 1000))
+  tp::cli::add_integer(app, "--random-starts", random_starts,
+                       "Random starts besides the paper's patterns and the LP seeds, 0 to 1000 [0]",
+                       0, 1000)
       ->type_name("K");
   app.add_option("--format", format, "Output: json or csv [json]")
       ->check(CLI::IsMember({"json", "csv"}));
@@ -82,19 +83,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"af", "threshold"}));
   auto* fibre_group = app.add_option_group("threshold objective");
   tp::cli::add_fibre_options(*fibre_group, fibre, "--fibre-model");
-  fibre_group
-      ->add_option("--max-evaluations", max_evaluations,
-                   "Whole threshold searches, 10 to 10000 [12: about 3 s on 2 cores for "
-                   "the paper's array; more polish by Nelder-Mead on whole searches, about "
-                   "0.2 s each]")
-      ->check(CLI::Range(10, 10000))
-      ->type_name("N");
+  tp::cli::add_integer(*fibre_group, "--max-evaluations", max_evaluations,
+                       "Whole threshold searches, 10 to 10000 [12: about 3 s on 2 cores for the "
+                       "paper's array; more polish by Nelder-Mead on whole searches, about 0.2 s "
+                       "each]",
+                       10, 10000);
   app.add_option("--at", at,
                  "A pixel: the target's largest AF at this place on the skin, X (a 1-D array) or "
                  "X,Z (a 2-D array), mm, within the array's extent plus one pitch; the target's AF "
                  "beyond --radius stays at most --spill of its peak")
       ->type_name("X[,Z]");
-  app.add_option("--radius", radius, "A pixel's radius, mm [one pitch]")->type_name("MM");
+  app.add_option("--radius", radius,
+                 "A pixel's radius, mm, beyond a quarter pitch, at most 1000 [one pitch]")
+      ->type_name("MM");
   app.add_option("--spill", spill,
                  "A pixel's target's largest AF beyond the radius over its peak, in (0, 1] [0.3]")
       ->type_name("S");
@@ -102,11 +103,12 @@ int main(int argc, char** argv) {
                "A bank of pixels: every pad centre's (or every --at's, repeated) pattern of "
                "each mode, as one JSON document; symmetric and translated pixels derived, "
                "every pattern judged on the whole array");
-  app.add_option("--neighbourhood", neighbourhood,
-                 "With --bank on a grid: each pattern uses only the K x K pads centred on its "
-                 "focus's pad (shifted to stay inside the grid), K odd, 3 to 255 [every pad]")
-      ->type_name("K")
-      ->check(CLI::Range(3, 255));
+  tp::cli::add_integer(app, "--neighbourhood", neighbourhood,
+                       "With --bank on a grid: each pattern uses only the K x K pads centred on "
+                       "its focus's pad (shifted to stay inside the grid), K odd, 3 to 255 [every "
+                       "pad]",
+                       3, 255)
+      ->type_name("K");
   app.add_flag("--certify", certify,
                "Also solve the LP at every sampled target point and report the certified global "
                "optimum (slow: seconds)");
@@ -145,16 +147,17 @@ int main(int argc, char** argv) {
     for (std::size_t a = 0; !mode.empty();) {
       const std::size_t b = mode.find(',', a);
       modes.push_back(mode.substr(a, b == std::string::npos ? std::string::npos : b - a));
-      if (modes.back().empty()) tp::bad_input("--mode: empty name in '" + mode + "'");
+      if (modes.back().empty()) tp::bad_input("--mode: empty name in " + tp::quoted_text(mode));
       for (std::size_t k = 0; k + 1 < modes.size(); ++k)
-        if (modes[k] == modes.back()) tp::bad_input("--mode: " + modes.back() + " given twice");
+        if (modes[k] == modes.back())
+          tp::bad_input("--mode: " + tp::quoted_text(modes.back()) + " given twice");
       if (b == std::string::npos) break;
       a = b + 1;
     }
     for (const std::string& m : modes) tp::receptor_index(doc.setup, m);  // all before any work
-    if (modes.size() > 1 && format != "csv" && !bank)
-      tp::bad_input("--mode: several modes need --format csv (one row each)");
     const bool by_threshold = objective == "threshold";
+    if (modes.size() > 1 && format != "csv" && !bank && !by_threshold)  // threshold: below
+      tp::bad_input("--mode: several modes need --format csv (one row each)");
     for (const char* flag :
          {"--fibre-model", "--stimulus", "--width", "--interphase", "--balance-width",
           "--monophasic", "--offsets", "--tolerance", "--threads", "--max-evaluations"})
@@ -169,14 +172,15 @@ int main(int argc, char** argv) {
       const bool two_d = doc.setup.array.two_d();
       if (xz.size() != (two_d ? 2u : 1u))
         tp::bad_input("--at: expected " +
-                      std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got '" + p +
-                      "'");
+                      std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)") + ", got " +
+                      tp::quoted_text(p));
       places.emplace_back(xz[0], two_d ? xz[1] : 0.0);
     }
     tp::FocusOptions focus;
     if (!radius.empty()) {
       focus.radius_mm = tp::parse_finite(radius, "--radius");
-      if (!(focus.radius_mm > 0.0)) tp::bad_input("--radius: must be > 0 mm, got " + radius);
+      if (!(focus.radius_mm > 0.0))
+        tp::bad_input("--radius: must be > 0 mm (omit it for one pitch), got " + radius);
     }
     if (!spill.empty()) focus.spill = tp::parse_finite(spill, "--spill");
     focus.max_current_mA = opt.max_current_mA;

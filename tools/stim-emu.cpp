@@ -24,21 +24,22 @@ int main(int argc, char** argv) {
   std::string max_current = "2", drop = "0", corrupt = "0", stall_after, stall_ms = "0",
               disconnect_after, reply_delay_ms = "0";
   namespace hard = tp::device::hard;
-  app.add_option("--channels", channels, "Channels, 1 to 64 [8]")
-      ->check(CLI::Range(1, static_cast<int>(tp::device::kMaxChannels)));
+  tp::cli::add_integer(app, "--channels", channels, "Channels, 1 to 64 [8]", 1,
+                       static_cast<int>(tp::device::kMaxChannels));
   app.add_option("--max-current", max_current,
                  "Current limit per channel, mA; at most the device's compile-time bound of 2 "
                  "mA [2]")
       ->type_name("MA");
-  app.add_option("--dac-bits", dac_bits, "DAC resolution, signed bits, 4 to 16 [12]")
-      ->check(CLI::Range(4, 16));
-  app.add_option("--watchdog-ms", watchdog_ms,
-                 "Output stops this long after the session's last frame, 10 to 1000 ms [300]")
-      ->check(CLI::Range(int{hard::min_watchdog_ms}, int{hard::max_watchdog_ms}));
-  app.add_option("--max-pulse-rate", max_pulse_rate,
-                 "Pulses a second, over every pattern, the device reports it delivers on time "
-                 "(its throughput), 1 to 10000 [10000]")
-      ->check(CLI::Range(1, int{tp::device::hard::max_pulse_rate_hz}));
+  tp::cli::add_integer(app, "--dac-bits", dac_bits, "DAC resolution, signed bits, 4 to 16 [12]", 4,
+                       16);
+  tp::cli::add_integer(app, "--watchdog-ms", watchdog_ms,
+                       "Output stops this long after the session's last frame, 10 to 1000 ms [300]",
+                       int{hard::min_watchdog_ms}, int{hard::max_watchdog_ms})
+      ->type_name("MS");
+  tp::cli::add_integer(app, "--max-pulse-rate", max_pulse_rate,
+                       "Pulses a second, over every pattern, the device reports it delivers on "
+                       "time (its throughput), 1 to 10000 [10000]",
+                       1, int{tp::device::hard::max_pulse_rate_hz});
   app.add_option("--record", o.record_path, "Write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--apply-log", o.apply_log_path, "Write 'n t_ns' per applied weight frame")
@@ -58,7 +59,8 @@ int main(int argc, char** argv) {
   app.add_option("--reply-delay-ms", reply_delay_ms,
                  "Answer every request this much later, 0 to 1000 ms (a slow device) [0]")
       ->type_name("MS");
-  app.add_option("--seed", o.faults.seed, "Seed of the fault injection [1]");
+  tp::cli::add_seed(app, "--seed", o.faults.seed,
+                    "Seed of the fault injection, 0 to 18446744073709551615 (2^64 - 1) [1]");
   auto* forward =
       app.add_option("--forward", o.forward_socket,
                      "No built-in device: forward the line, with the same fault "
@@ -77,7 +79,8 @@ int main(int argc, char** argv) {
                     tp::number_text(hard_mA) + "] mA (the device's compile-time bound)");
     auto fraction = [](const std::string& t, const char* what) {
       const double v = tp::parse_finite(t, what);
-      if (v < 0 || v > 1) tp::bad_input(std::string(what) + ": must be in [0, 1]");
+      if (v < 0 || v > 1)
+        tp::bad_input(std::string(what) + ": " + tp::number_beside(v, 0, 1) + " outside [0, 1]");
       return v;
     };
     o.faults.drop = fraction(drop, "--drop");

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/number.hpp"
 #include "model/conductor.hpp"
 #include "model/ranges.hpp"
@@ -41,7 +42,7 @@ std::pair<std::string, std::string> split_x(const std::string& text, const std::
   const std::size_t at = text.find('x');
   if (at == std::string::npos || at == 0 || at + 1 == text.size() ||
       text.find('x', at + 1) != std::string::npos)
-    bad_input(flag + ": expected " + form + ", got '" + text + "'");
+    bad_input(flag + ": expected " + form + ", got " + quoted_text(text));
   return {text.substr(0, at), text.substr(at + 1)};
 }
 
@@ -112,7 +113,7 @@ void apply_model_options(Document& doc, const ModelOptions& o) {
   const std::string how = o.model.empty() ? "" : " (from " + o.flag + ")";
   const auto& known = conductor_models();
   if (std::find(known.begin(), known.end(), model) == known.end())
-    bad_input(o.flag + ": unknown conductor model '" + model + "' (expected " +
+    bad_input(o.flag + ": unknown conductor model " + quoted_text(model) + " (expected " +
               conductor_model_list() + ")");
   for (const std::string& key : doc.model_settings)
     check_setting_applies(model, key, "model." + key, how);

@@ -13,17 +13,20 @@
 #endif
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/files.hpp"
+#include "io/number.hpp"
 #include "version.hpp"
 
 namespace tp::cli {
 namespace {
 
-// One line: newlines inside a message become "; ".
+// One line, printable: a trailing newline goes; any other control character or byte that
+// is not UTF-8 (a newline, a NUL, a terminal's escape, from argv or a file) is escaped
+// (core/text.hpp), whoever made the message (tp::Error's are already, CLI11's are not).
 std::string one_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  for (std::size_t p; (p = s.find('\n')) != std::string::npos;) s.replace(p, 1, "; ");
-  return s;
+  return printable(s);
 }
 
 // --output: its path, and the file once the options are parsed.
@@ -37,20 +40,53 @@ int report(const std::string& program, const std::string& message, ExitCode code
   return static_cast<int>(code);
 }
 
+std::string option_name(const CLI::Option& opt) {
+  return !opt.get_lnames().empty()   ? "--" + opt.get_lnames().front()
+         : !opt.get_snames().empty() ? "-" + opt.get_snames().front()
+                                     : opt.get_name(true);
+}
+
+// Every option and positional of `app` and its option groups.
+void each_option(CLI::App& app, const std::function<void(CLI::Option&)>& f) {
+  for (CLI::Option* opt : app.get_options()) f(*opt);
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) each_option(*sub, f);
+}
+
+// An option that takes one value takes it once: given twice, it is refused (CLI11's Throw
+// policy, made explicit here so that no program can take the last silently), and the
+// message says so: "--at: given 2 times ('1,2', '3,4'); give it once".
+void refuse_repeats(CLI::App& app) {
+  each_option(app, [](CLI::Option& opt) {
+    if (opt.get_type_size_max() > 0 && opt.get_items_expected_max() == 1)
+      opt.multi_option_policy(CLI::MultiOptionPolicy::Throw);
+  });
+}
+
+std::string repeated_option_text(CLI::App& app) {
+  std::string text;
+  each_option(app, [&](CLI::Option& opt) {
+    if (!text.empty() || opt.get_type_size_max() == 0 || opt.get_items_expected_max() != 1 ||
+        opt.results().size() < 2)
+      return;
+    std::string values;
+    for (const std::string& v : opt.results())
+      values += (values.empty() ? "" : ", ") + quoted_text(v);
+    text = option_name(opt) + ": given " + std::to_string(opt.results().size()) + " times (" +
+           values + "); give it once";
+  });
+  return text;
+}
+
 // An option given with an empty value (--width '', --width=) is refused, naming it: an empty
 // string never means "not given".  Flags take no value and are skipped.
 void refuse_empty_values(const CLI::App& app) {
   for (const CLI::Option* opt : app.get_options()) {
     if (opt->get_type_size_max() == 0) continue;
     for (const std::string& value : opt->results())
-      if (value.empty()) {
-        const std::string name = !opt->get_lnames().empty()   ? "--" + opt->get_lnames().front()
-                                 : !opt->get_snames().empty() ? "-" + opt->get_snames().front()
-                                                              : opt->get_name(true);
-        bad_input(name + ": empty value");
-      }
+      if (value.empty()) bad_input(option_name(*opt) + ": empty value");
   }
-  for (const CLI::App* sub : app.get_subcommands()) refuse_empty_values(*sub);
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    refuse_empty_values(*sub);
 }
 
 // A signal that ends the program removes the temporaries of files not yet complete
@@ -102,6 +138,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
         arg.find('=') == arg.size() - 1)
       return report(program, arg.substr(0, arg.size() - 1) + ": empty value", ExitCode::bad_input);
   }
+  refuse_repeats(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -113,8 +150,14 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
   } catch (const CLI::CallForVersion& e) {
     std::cout << e.what() << "\n";
     return 0;
+  } catch (const CLI::ArgumentMismatch& e) {
+    const std::string repeated = repeated_option_text(app);
+    return report(program, repeated.empty() ? std::string(e.what()) + " (see --help)" : repeated,
+                  ExitCode::bad_input);
   } catch (const CLI::ParseError& e) {
     return report(program, std::string(e.what()) + " (see --help)", ExitCode::bad_input);
+  } catch (const Error& e) {  // an option's own parser (add_integer, add_seed)
+    return report(program, e.what(), e.code());
   }
   try {
     refuse_empty_values(app);
@@ -136,6 +179,46 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
   } catch (const std::exception& e) {
     return report(program, std::string("internal error: ") + e.what(), ExitCode::failure);
   }
+}
+
+namespace {
+
+template <class T>
+CLI::Option* add_integer_option(CLI::App& app, const std::string& name, T& target,
+                                const std::string& help, T lo, T hi) {
+  return app
+      .add_option_function<std::string>(
+          name,
+          [&target, name, lo, hi](const std::string& text) {
+            if (text.empty()) return;  // refused as an empty value after parsing
+            target = static_cast<T>(parse_integer(text, name, lo, hi));
+          },
+          help)
+      ->type_name("N");
+}
+
+}  // namespace
+
+CLI::Option* add_integer(CLI::App& app, const std::string& name, int& target,
+                         const std::string& help, int lo, int hi) {
+  return add_integer_option(app, name, target, help, lo, hi);
+}
+
+CLI::Option* add_integer(CLI::App& app, const std::string& name, long& target,
+                         const std::string& help, long lo, long hi) {
+  return add_integer_option(app, name, target, help, lo, hi);
+}
+
+CLI::Option* add_seed(CLI::App& app, const std::string& name, std::uint64_t& target,
+                      const std::string& help) {
+  return app
+      .add_option_function<std::string>(
+          name,
+          [&target, name](const std::string& text) {
+            if (!text.empty()) target = parse_unsigned(text, name);
+          },
+          help)
+      ->type_name("S");
 }
 
 void write_stdout(std::string_view text) {

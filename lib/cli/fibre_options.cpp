@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "io/number.hpp"
 
@@ -36,24 +37,21 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
                          "Main phase only (for analysis: not charge-balanced, so never delivered)");
   st->excludes(w)->excludes(g)->excludes(b)->excludes(m);
   m->excludes(g)->excludes(b);
-  app.add_option("--offsets", o.offsets,
-                 "Horizontal fibres: node alignments tried, spread over one internode, 1 to 64 "
-                 "[8]")
-      ->check(CLI::Range(1, 64))
+  add_integer(app, "--offsets", o.offsets,
+              "Horizontal fibres: node alignments tried, spread over one internode, 1 to 64 [8]", 1,
+              64)
       ->type_name("K");
   app.add_option("--tolerance", o.tolerance,
                  "Relative resolution of the thresholds, 1e-4 to 0.1 [0.001]")
       ->type_name("REL");
-  app.add_option("--threads", o.threads, "Threads, 1 to 256 [every core]")
-      ->check(CLI::Range(1, 256))
-      ->type_name("N");
+  add_integer(app, "--threads", o.threads, "Threads, 1 to 256 [every core]", 1, 256);
 }
 
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights) {
   FibreSetup f;
   const auto& known = fibre::fibre_models();
   if (std::find(known.begin(), known.end(), o.model) == known.end())
-    bad_input(o.model_flag + ": unknown fibre model '" + o.model + "' (mrg or senn)");
+    bad_input(o.model_flag + ": unknown fibre model " + quoted_text(o.model) + " (mrg or senn)");
   f.model = fibre::make_fibre_model(o.model);
   f.settings.geometry = fibre::geometry_from_string(o.geometry);
   if (!o.stimulus.empty()) {

@@ -8,13 +8,18 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/text.hpp"
+
 namespace tp {
 
 enum class ExitCode : int { ok = 0, failure = 1, bad_input = 2 };
 
+// The message is kept printable (core/text.hpp): user text quoted in it can carry no
+// control character and no invalid UTF-8 to a terminal or to Python.
 class Error : public std::runtime_error {
  public:
-  Error(ExitCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  Error(ExitCode code, const std::string& message)
+      : std::runtime_error(printable(message)), code_(code) {}
   ExitCode code() const noexcept { return code_; }
 
  private:

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/number.hpp"
 
 namespace tp::fibre {
@@ -17,7 +18,7 @@ const char* to_string(Geometry g) {
 Geometry geometry_from_string(const std::string& name) {
   if (name == "straight") return Geometry::straight;
   if (name == "afferent") return Geometry::afferent;
-  bad_input("--geometry: unknown fibre geometry '" + name + "' (straight or afferent)");
+  bad_input("--geometry: unknown fibre geometry " + quoted_text(name) + " (straight or afferent)");
 }
 
 Axon afferent_axon(const FibreModel& model, double d, double drop_mm, int direction, double stem_mm,

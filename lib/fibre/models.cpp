@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/number.hpp"
 
 namespace tp::fibre {
@@ -69,9 +70,9 @@ class Mrg final : public FibreModel {
     const MrgGeometry g = mrg_geometry(d);
     for (double L : internodes_um)
       if (!(L >= kMinInternodeUm && L <= g.internode_um))
-        bad_input("mrg: an internode of " + number_text(L) + " um at " + number_text(d) +
-                  " um (from " + number_text(kMinInternodeUm) + " um to the model's " +
-                  number_text(g.internode_um) + " um)");
+        bad_input("mrg: an internode of " + number_beside(L, kMinInternodeUm, g.internode_um) +
+                  " um at " + number_text(d) + " um (from " + number_text(kMinInternodeUm) +
+                  " um to the model's " + number_text(g.internode_um) + " um)");
     const std::size_t nodes = internodes_um.size() + 1;
     Axon a;
     a.model = "mrg";
@@ -182,8 +183,9 @@ class Senn final : public FibreModel {
             "--geometry straight");
     const std::size_t nodes = internodes_um.size() + 1;
     if (!(d >= kSennMinDiameter && d <= kSennMaxDiameter))
-      bad_input("senn: fibre diameter " + number_text(d) + " um outside the model's [" +
-                number_text(kSennMinDiameter) + ", " + number_text(kSennMaxDiameter) + "] um");
+      bad_input("senn: fibre diameter " + number_beside(d, kSennMinDiameter, kSennMaxDiameter) +
+                " um outside the model's [" + number_text(kSennMinDiameter) + ", " +
+                number_text(kSennMaxDiameter) + "] um");
     Axon a;
     a.model = "senn";
     a.diameter_um = d;
@@ -220,8 +222,9 @@ std::unique_ptr<FibreModel> make_senn(const SennParams& params) {
 
 MrgGeometry mrg_geometry(double d) {
   if (!(d >= kMrgMinDiameter && d <= kMrgMaxDiameter))
-    bad_input("mrg: fibre diameter " + number_text(d) + " um outside the model's [" +
-              number_text(kMrgMinDiameter) + ", " + number_text(kMrgMaxDiameter) + "] um");
+    bad_input("mrg: fibre diameter " + number_beside(d, kMrgMinDiameter, kMrgMaxDiameter) +
+              " um outside the model's [" + number_text(kMrgMinDiameter) + ", " +
+              number_text(kMrgMaxDiameter) + "] um");
   for (const MrgGeometry& g : kMrgTable)
     if (g.fibre_um == d) return g;
   // The interpolation of ASCENT and PyFibers (docs/fibres.md): quadratic fits of the table
@@ -247,7 +250,7 @@ bool mrg_tabulated(double d) {
 std::unique_ptr<FibreModel> make_fibre_model(const std::string& name) {
   if (name == "mrg") return std::make_unique<Mrg>();
   if (name == "senn") return std::make_unique<Senn>(SennParams{});
-  bad_input("--model: unknown fibre model '" + name + "' (mrg or senn)");
+  bad_input("--model: unknown fibre model " + quoted_text(name) + " (mrg or senn)");
 }
 
 const std::vector<std::string>& fibre_models() {

@@ -37,8 +37,9 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
                              const ThresholdSettings& settings,
                              const std::vector<AfferentClass>& classes,
                              const PopulationOptions& o) {
-  if (!(o.per_class >= 1 && o.per_class <= 10000))
-    bad_input("--population: " + std::to_string(o.per_class) + " outside [1, 10000]");
+  if (!(o.per_class >= 1 && o.per_class <= static_cast<std::size_t>(kMaxPopulation)))
+    bad_input("--population: " + std::to_string(o.per_class) + " outside [1, " +
+              std::to_string(kMaxPopulation) + "]");
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const double margin = setup.lateral_margin_mm;
   const double x0 = setup.array.x_min_mm() - margin, x1 = setup.array.x_max_mm() + margin;
@@ -83,7 +84,8 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
       j.receptor.depth_min_mm = a.depth_mm;
       if (vertical) {
         if (!(a.depth_mm < base->depth_max_mm))
-          bad_input("--population: class " + c.receptor + ": a top at " + number_text(a.depth_mm) +
+          bad_input("--population: class " + c.receptor + ": a top at " +
+                    number_beside(a.depth_mm, base->depth_max_mm) +
                     " mm, not above the fibre's bottom (" + number_text(base->depth_max_mm) +
                     " mm)");
         a.x_mm = x0 + (x1 - x0) * place;

@@ -36,8 +36,12 @@ struct AfferentClass {
 //    gives "2.0 ~", from 2.0 down; 3.0 is our assumption, within the subcutis).
 std::vector<AfferentClass> default_afferent_classes();
 
+// The most afferents of a class (fiber-threshold --population); the work bound
+// (kMaxThresholdWork) may refuse fewer.
+inline constexpr long kMaxPopulation = 10000;
+
 struct PopulationOptions {
-  std::size_t per_class = 100;  // 1 to 10000
+  std::size_t per_class = 100;  // 1 to kMaxPopulation
   std::uint64_t seed = 1;
   unsigned threads = 0;  // fibres searched at once; 0: every core
   // Called as each afferent's search ends, with the number ended and the number in all,

@@ -40,8 +40,8 @@ PulseSpec pulse_of(const PulseShape& shape) {
 void check_pulse(const PulseSpec& p) {
   auto in = [](double v, double lo, double hi, const char* what) {
     if (!(v >= lo && v <= hi))
-      bad_input(std::string(what) + ": " + number_text(v) + " us outside [" + number_text(lo) +
-                ", " + number_text(hi) + "] us");
+      bad_input(std::string(what) + ": " + number_beside(v, lo, hi) + " us outside [" +
+                number_text(lo) + ", " + number_text(hi) + "] us");
   };
   in(p.width_us, 1.0, 10000.0, "--width");
   if (p.monophasic) return;

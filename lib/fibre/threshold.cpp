@@ -544,7 +544,8 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
   if (!r.fibre.myelinated)
     bad_input("receptor " + r.name + ": the fibre models are myelinated (myelinated: false)");
   if (d < model.min_diameter_um() || d > model.max_diameter_um())
-    bad_input("receptor " + r.name + ": diameter " + number_text(d) + " um outside " +
+    bad_input("receptor " + r.name + ": diameter " +
+              number_beside(d, model.min_diameter_um(), model.max_diameter_um()) + " um outside " +
               model.name() + "'s range [" + number_text(model.min_diameter_um()) + ", " +
               number_text(model.max_diameter_um()) + "] um");
   const double L_mm = model.internode_um(d) * 1e-3;
@@ -588,11 +589,11 @@ std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Condu
     }
     const double distance = std::hypot(gap, dz);
     if (!(distance >= L_mm))
-      bad_input("model.source_depth_mm: " + number_text(src) + " mm is " + number_text(distance) +
-                " mm from receptor " + r.name + "'s " + (vertical ? "vertical" : "horizontal") +
-                " fibre (depths " + number_text(top) + " to " + number_text(bottom) +
-                " mm), less than one internode (" + number_text(L_mm) +
-                " mm): the source would be on or too near its path");
+      bad_input("model.source_depth_mm: " + number_text(src) + " mm is " +
+                number_beside(distance, L_mm) + " mm from receptor " + r.name + "'s " +
+                (vertical ? "vertical" : "horizontal") + " fibre (depths " + number_text(top) +
+                " to " + number_text(bottom) + " mm), less than one internode (" +
+                number_text(L_mm) + " mm): the source would be on or too near its path");
   }
   // Bounded work and memory: a fibre of at most kMaxNodes nodes, and the unit potentials of
   // all its placements (compartments x electrodes x placements) at most kMaxPotentials.

@@ -126,8 +126,8 @@ void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
               std::to_string(caps.max_patterns));
   const double least_gap = std::max(caps.min_gap_us, caps.min_width_us);
   if (m.gap_us < least_gap)
-    bad_input("gap_us: " + number_text(m.gap_us) + " us, below the device's least gap of " +
-              number_text(least_gap) + " us");
+    bad_input("gap_us: " + number_beside(m.gap_us, least_gap) +
+              " us, below the device's least gap of " + number_text(least_gap) + " us");
   device::ChannelLoad load;
   std::size_t entries = 0;
   plan.pulses = 0;
@@ -235,7 +235,7 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
               " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
   const double max_s = opt.limits.max_duration_s;
   if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
-    bad_input("--duration: " + number_text(opt.duration_s) + " s outside (0, " +
+    bad_input("--duration: " + number_beside(opt.duration_s, 0, max_s) + " s outside (0, " +
               number_text(max_s) + "] s");
   check_device(caps);
   if (s.currents_mA.size() > caps.channels)
@@ -347,7 +347,7 @@ bool SessionRun::prepare() {
               " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
   const double max_s = opt_.limits.max_duration_s;
   if (opt_.duration_s >= 0 && !(opt_.duration_s > 0 && opt_.duration_s <= max_s))
-    bad_input("--duration: " + number_text(opt_.duration_s) + " s outside (0, " +
+    bad_input("--duration: " + number_beside(opt_.duration_s, 0, max_s) + " s outside (0, " +
               number_text(max_s) + "] s");
   if (stop_asked()) {
     end_by_stop();

@@ -228,15 +228,17 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
     // Range first, then the conversion: lround of a huge or non-finite value is undefined.
     if (!(std::fabs(exact) <= static_cast<double>(max_code) + 0.5) ||
         std::labs(std::lround(exact)) > max_code)
-      bad_input("current " + number_text(c) + " mA exceeds the device's limit of " +
+      bad_input("current " +
+                number_beside(c, (c < 0 ? -1.0 : 1.0) * static_cast<double>(max_code) * step_mA) +
+                " mA exceeds the device's limit of " +
                 number_text(static_cast<double>(max_code) * step_mA) + " mA (" +
                 std::to_string(max_code) + " DAC steps of " + std::to_string(caps.dac_step_nA) +
                 " nA)");
     // Against the limit in force itself: the device's largest code (which may lie a hair
     // below it, 2047 x 977 nA = 1.999919 mA) caps the code below, it does not refuse.
     if (!(std::fabs(c) <= limit_mA + 1e-12))
-      bad_input("current " + number_text(c) + " mA exceeds the limit of " + number_text(limit_mA) +
-                " mA");
+      bad_input("current " + number_beside(c, c < 0 ? -limit_mA : limit_mA) +
+                " mA exceeds the limit of " + number_text(limit_mA) + " mA");
     // The nearest code, or the next one toward zero where the nearest would cross the
     // limit: no code is ever above the limit.
     long code = std::lround(exact);

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/number.hpp"
 #include "model/constants.hpp"
 #include "model/ranges.hpp"
@@ -14,7 +15,7 @@ namespace {
 
 void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where) {
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (!known.count(it.key())) bad_input(where + ": unknown key '" + it.key() + "'");
+    if (!known.count(it.key())) bad_input(where + ": unknown key " + quoted_text(it.key()));
 }
 
 std::vector<double> finite_list(const Json& j, const std::string& what) {
@@ -289,7 +290,7 @@ std::optional<std::array<double, 2>> fibre_point(const Document& doc,
   if (at) {
     if (!doc.setup.array.two_d())
       bad_input("--at: applies to 2-D arrays only (a 1-D array's fibres span it)");
-    if (at->size() != 2) bad_input("--at: expected X,Z (mm), got '" + at_text + "'");
+    if (at->size() != 2) bad_input("--at: expected X,Z (mm), got " + quoted_text(at_text));
     return std::array<double, 2>{(*at)[0], (*at)[1]};
   }
   if (!doc.setup.array.two_d() || !doc.extra.contains("focus")) return std::nullopt;

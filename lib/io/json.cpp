@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 
@@ -42,7 +43,7 @@ std::string read_capped(int fd, const std::string& what, const std::string& name
 }  // namespace
 
 std::string read_input(const std::string& path, const std::string& what, const std::string& kind) {
-  const std::string name = path == "-" ? "stdin" : "'" + path + "'";
+  const std::string name = path == "-" ? "stdin" : quoted_text(path);
   std::string text;
   if (path == "-") {
     // stdin can be read once: a second reader would find it empty, and say so wrongly.
@@ -71,7 +72,7 @@ std::string read_input(const std::string& path, const std::string& what, const s
 }
 
 Json read_json(const std::string& path, const std::string& what) {
-  const std::string name = path == "-" ? "stdin" : "'" + path + "'";
+  const std::string name = path == "-" ? "stdin" : quoted_text(path);
   const std::string text = read_input(path, what, "a JSON file");
   return parse_json_text(text, what, name);
 }

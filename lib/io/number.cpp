@@ -2,17 +2,27 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <system_error>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 
-double parse_finite(std::string_view text, const std::string& what) {
-  // Trim surrounding blanks so "1, 2" works in lists.
+namespace {
+
+std::string_view trimmed(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
   while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
+  return text;
+}
+
+}  // namespace
+
+double parse_finite(std::string_view text, const std::string& what) {
+  text = trimmed(text);  // surrounding blanks, so that "1, 2" works in lists
   if (text.empty()) bad_input(what + ": empty number");
   std::string_view body = text;
   if (body.front() == '+') body.remove_prefix(1);  // from_chars refuses a leading '+'
@@ -20,18 +30,46 @@ double parse_finite(std::string_view text, const std::string& what) {
   const char* end = body.data() + body.size();
   auto [ptr, ec] = std::from_chars(body.data(), end, value);
   if (ec == std::errc::result_out_of_range)
-    bad_input(what + ": number out of range '" + std::string(text) + "'");
-  if (ec != std::errc() || ptr != end)
-    bad_input(what + ": not a number '" + std::string(text) + "'");
-  if (!std::isfinite(value)) bad_input(what + ": non-finite number '" + std::string(text) + "'");
+    bad_input(what + ": number out of range " + quoted_text(text));
+  if (ec != std::errc() || ptr != end) bad_input(what + ": not a number " + quoted_text(text));
+  if (!std::isfinite(value)) bad_input(what + ": non-finite number " + quoted_text(text));
   return value;
 }
 
 long parse_integer(std::string_view text, const std::string& what) {
   const double v = parse_finite(text, what);
-  if (v != std::floor(v)) bad_input(what + ": not a whole number '" + std::string(text) + "'");
-  if (std::fabs(v) > 1e9) bad_input(what + ": out of range '" + std::string(text) + "'");
+  if (v != std::floor(v)) bad_input(what + ": not a whole number " + quoted_text(trimmed(text)));
+  if (std::fabs(v) > 1e9) bad_input(what + ": out of range " + quoted_text(trimmed(text)));
   return static_cast<long>(v);
+}
+
+long long parse_integer(std::string_view text, const std::string& what, long long lo,
+                        long long hi) {
+  // The bounds are within 2^53, where doubles hold every whole number: the comparison is
+  // exact, and a text far beyond them (99999999999999999999) is named as it was given.
+  const double v = parse_finite(text, what);
+  if (v != std::floor(v)) bad_input(what + ": not a whole number " + quoted_text(trimmed(text)));
+  if (v < static_cast<double>(lo) || v > static_cast<double>(hi))
+    bad_input(what + ": " + printable(trimmed(text)) + " outside [" + std::to_string(lo) + ", " +
+              std::to_string(hi) + "]");
+  return static_cast<long long>(v);
+}
+
+unsigned long long parse_unsigned(std::string_view text, const std::string& what) {
+  static const std::string range = " outside [0, 18446744073709551615]";
+  const std::string_view t = trimmed(text);
+  if (t.empty()) bad_input(what + ": empty number");
+  const std::string_view body = t.front() == '+' ? t.substr(1) : t;
+  const bool digits = !body.empty() && body.find_first_not_of("0123456789") == body.npos;
+  if (digits) {
+    unsigned long long v = 0;
+    const auto [ptr, ec] = std::from_chars(body.data(), body.data() + body.size(), v);
+    if (ec == std::errc::result_out_of_range) bad_input(what + ": " + printable(t) + range);
+    if (ec == std::errc() && ptr == body.data() + body.size()) return v;
+  }
+  const double v = parse_finite(t, what);  // junk: "not a number"
+  if (v < 0 || v >= 18446744073709551616.0) bad_input(what + ": " + printable(t) + range);
+  bad_input(what + ": not a whole number in decimal digits " + quoted_text(t));
 }
 
 std::vector<double> parse_list(std::string_view text, const std::string& what) {
@@ -59,7 +97,7 @@ Axis parse_axis(std::string_view text, const std::string& what) {
   const std::size_t b = a == std::string_view::npos ? a : text.find(':', a + 1);
   if (a == std::string_view::npos || b == std::string_view::npos ||
       text.find(':', b + 1) != std::string_view::npos)
-    bad_input(what + ": expected MIN:MAX:STEP, got '" + std::string(text) + "'");
+    bad_input(what + ": expected MIN:MAX:STEP, got " + quoted_text(text));
   Axis axis;
   axis.min = parse_finite(text.substr(0, a), what + " MIN");
   axis.max = parse_finite(text.substr(a + 1, b - a - 1), what + " MAX");
@@ -143,6 +181,30 @@ std::size_t format_number(char* buf, double value) {
 std::string number_text(double value) {
   char buf[32];
   return std::string(buf, format_number(buf, value));
+}
+
+std::string number_beside(double value, double bound) {
+  std::string text = number_text(value);
+  const std::string bound_text = number_text(bound);
+  if (value == bound || !std::isfinite(value) || !std::isfinite(bound)) return text;
+  // As many digits as it takes for the value to read differently from the bound as it is
+  // printed, and on the same side of it (0.80000000001 above 0.8, not equal to it; never
+  // 1.4282874546 beside a bound printed 1.428287455 that it exceeds).
+  const double printed_bound = std::strtod(bound_text.c_str(), nullptr);
+  auto reads_right = [&](const std::string& t) {
+    const double v = std::strtod(t.c_str(), nullptr);
+    return t != bound_text && (value > bound ? v > printed_bound : v < printed_bound);
+  };
+  char buf[64];
+  for (int digits = 11; digits <= 17 && !reads_right(text); ++digits) {
+    const auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::general, digits);
+    text.assign(buf, r.ptr);
+  }
+  return text;
+}
+
+std::string number_beside(double value, double lo, double hi) {
+  return number_beside(value, value < lo ? lo : hi);
 }
 
 }  // namespace tp

@@ -3,6 +3,7 @@
 #include "model/conductor.hpp"
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "model/constants.hpp"
 
 namespace tp {
@@ -49,8 +50,8 @@ std::unique_ptr<Conductor> make_conductor(const ConductorParams& params,
   if (params.model == "layered") {
     return make_layered(array, effective_skin(params).layers, params.plane_z_mm);
   }
-  bad_input("unknown conductor model '" + params.model + "' (expected " + conductor_model_list() +
-            ")");
+  bad_input("unknown conductor model " + quoted_text(params.model) + " (expected " +
+            conductor_model_list() + ")");
 }
 
 }  // namespace tp

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/number.hpp"
 #include "model/lattice.hpp"
 #include "model/ranges.hpp"
@@ -21,8 +22,9 @@ void check_model_depth(const Setup& setup, double depth_mm, const std::string& w
   if (setup.conductor.model != "layered") return;
   const Skin& skin = effective_skin(setup.conductor);
   if (depth_mm > skin.valid_to_mm)
-    bad_input(what + " " + number_text(depth_mm) + " mm is below the skin model's validity (" +
-              skin.name + ": to " + number_text(skin.valid_to_mm) + " mm, valid_to_mm)");
+    bad_input(what + " " + number_beside(depth_mm, skin.valid_to_mm) +
+              " mm is below the skin model's validity (" + skin.name + ": to " +
+              number_text(skin.valid_to_mm) + " mm, valid_to_mm)");
 }
 
 namespace {
@@ -58,7 +60,8 @@ void validate_setup(const Setup& setup) {
       const double distance_mm = setup.array.two_d() ? gap : std::hypot(gap, c.plane_z_mm);
       if (distance_mm < kNearest_mm * (1.0 - kRounding))
         bad_input("model.source_depth_mm: " + number_text(d) + " mm is " +
-                  number_text(distance_mm) + " mm from receptor " + r.name + "'s fibres (" +
+                  number_beside(distance_mm, kNearest_mm) + " mm from receptor " + r.name +
+                  "'s fibres (" +
                   (r.depth_max_mm > r.depth_min_mm ? "depths " + number_text(r.depth_min_mm) +
                                                          " to " + number_text(r.depth_max_mm)
                                                    : "depth " + number_text(r.depth_min_mm)) +
@@ -117,7 +120,7 @@ void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, c
         if (xi >= xe + half_mm) break;
         if (std::fabs(xi - xe) < half_mm)
           bad_input("grid point (" + number_text(xi) + ", " + number_text(yj) + ") mm is " +
-                    number_text(std::sqrt((xi - xe) * (xi - xe) + off2)) +
+                    number_beside(std::sqrt((xi - xe) * (xi - xe) + off2), kNearest_mm) +
                     " mm from a point source (model.source_depth_mm " + number_text(d) +
                     " mm under the electrode at " + number_text(xe) +
                     " mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
@@ -149,7 +152,7 @@ void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, 
     const double dist = std::sqrt((xi - xe) * (xi - xe) + dy * dy + (zi - ze) * (zi - ze));
     if (dist < near_mm)
       bad_input("grid point (" + number_text(xi) + ", " + number_text(zi) + ") mm at depth " +
-                number_text(y_mm) + " mm is " + number_text(dist) +
+                number_text(y_mm) + " mm is " + number_beside(dist, kNearest_mm) +
                 " mm from a point source (model.source_depth_mm " + number_text(c.source_depth_mm) +
                 " mm under the pad at (" + number_text(xe) + ", " + number_text(ze) +
                 ") mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
@@ -472,7 +475,7 @@ std::size_t receptor_index(const Setup& setup, const std::string& mode) {
     if (setup.receptors[r].name == mode) return r;
   std::string names;
   for (const auto& r : setup.receptors) names += (names.empty() ? "" : ", ") + r.name;
-  bad_input("unknown mode '" + mode + "' (expected one of " + names + ")");
+  bad_input("unknown mode " + quoted_text(mode) + " (expected one of " + names + ")");
 }
 
 std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>& peaks,
@@ -485,7 +488,7 @@ std::optional<double> mode_ratio(const std::vector<std::pair<std::string, Peak>>
     else
       off = std::max(off, p.af);
   }
-  if (!target) bad_input("unknown mode '" + mode + "'");
+  if (!target) bad_input("unknown mode " + quoted_text(mode));
   if (!(target->af > 0.0) || peaks.size() < 2) return std::nullopt;
   return off / target->af;
 }

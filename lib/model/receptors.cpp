@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/json.hpp"
 #include "model/ranges.hpp"
 
@@ -21,7 +22,7 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
   static const std::set<std::string> known = {
       "name", "orientation", "depth_mm", "diameter_um", "myelinated", "azimuth_deg", "note"};
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (!known.count(it.key())) bad_input(where + ": unknown key '" + it.key() + "'");
+    if (!known.count(it.key())) bad_input(where + ": unknown key " + quoted_text(it.key()));
   Receptor r;
   if (!j.contains("name") || !j["name"].is_string() || j["name"].get<std::string>().empty())
     bad_input(where + ": 'name' must be a non-empty string");
@@ -41,7 +42,7 @@ Receptor receptor_from_json(const nlohmann::ordered_json& j, std::size_t index) 
   else if (o == "vertical")
     r.fibre.orientation = Orientation::vertical;
   else
-    bad_input(at + ": 'orientation' must be \"horizontal\" or \"vertical\", got '" + o + "'");
+    bad_input(at + ": 'orientation' must be \"horizontal\" or \"vertical\", got " + quoted_text(o));
 
   if (!j.contains("depth_mm")) bad_input(at + ": missing 'depth_mm'");
   const auto& d = j["depth_mm"];
@@ -99,7 +100,7 @@ std::vector<Receptor> receptors_from_json(const nlohmann::ordered_json& j) {
   for (std::size_t i = 0; i < list->size(); ++i) {
     out.push_back(receptor_from_json((*list)[i], i));
     if (!names.insert(out.back().name).second)
-      bad_input("receptors: duplicate name '" + out.back().name + "'");
+      bad_input("receptors: duplicate name " + quoted_text(out.back().name));
   }
   return out;
 }

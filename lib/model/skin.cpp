@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 #include "model/ranges.hpp"
@@ -21,7 +22,7 @@ constexpr const char* kSkinFormat = "tactile-primaries/skin/1";
 
 void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where) {
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (!known.count(it.key())) bad_input(where + ": unknown key '" + it.key() + "'");
+    if (!known.count(it.key())) bad_input(where + ": unknown key " + quoted_text(it.key()));
 }
 
 }  // namespace
@@ -82,8 +83,9 @@ Skin skin_from_json(const Json& j, const std::string& where) {
     s.layer_names.push_back(name);
   }
   if (depth > ranges::depth_mm.hi)
-    bad_input(where + ": the layers above the last reach " + number_text(depth) +
-              " mm, deeper than " + number_text(ranges::depth_mm.hi) + " mm");
+    bad_input(where + ": the layers above the last reach " +
+              number_beside(depth, ranges::depth_mm.hi) + " mm, deeper than " +
+              number_text(ranges::depth_mm.hi) + " mm");
   return s;
 }
 
@@ -118,7 +120,8 @@ const Skin& builtin_skin(const std::string& name) {
   }();
   const auto it = skins.find(name);
   if (it == skins.end())
-    bad_input("skin '" + name + "': not a built-in skin (fingertip or fingertip-dry) or a file");
+    bad_input("skin " + quoted_text(name) +
+              ": not a built-in skin (fingertip or fingertip-dry) or a file");
   return it->second;
 }
 
@@ -128,8 +131,8 @@ Skin load_skin(const std::string& spec, const std::string& what) {
   if (spec.empty()) bad_input(what + ": empty");
   // A bare word that names no file is a mistyped built-in name more often than a path.
   if (spec != "-" && spec.find('/') == std::string::npos && !std::filesystem::exists(spec))
-    bad_input(what + ": '" + spec +
-              "' is neither a built-in skin (fingertip, fingertip-dry) nor a file");
+    bad_input(what + ": " + quoted_text(spec) +
+              " is neither a built-in skin (fingertip, fingertip-dry) nor a file");
   Skin s = skin_from_json(read_json(spec, what), what + " " + spec);
   if (s.name.empty()) s.name = spec;
   return s;

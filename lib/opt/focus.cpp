@@ -334,12 +334,13 @@ void check_focus(const Setup& s, const FocusOptions& o) {
                    : "") +
               " mm)");
   if (!(o.spill > 0.0 && o.spill <= 1.0))
-    bad_input("--spill: " + number_text(o.spill) + " outside (0, 1]");
+    bad_input("--spill: " + number_beside(o.spill, 0.0, 1.0) + " outside (0, 1]");
   if (!(o.radius_mm >= 0.0 && o.radius_mm <= 1000.0))
-    bad_input("--radius: " + number_text(o.radius_mm) + " mm outside (0, 1000] mm (0: one pitch)");
+    bad_input("--radius: " + number_beside(o.radius_mm, 0.0, 1000.0) + " mm outside (0, 1000] mm");
   if (o.radius_mm > 0.0 && !(o.radius_mm > p / 4))
-    bad_input("--radius: " + number_text(o.radius_mm) + " mm is not beyond a quarter pitch (" +
-              number_text(p / 4) + " mm), where the target's peak may lie");
+    bad_input("--radius: " + number_beside(o.radius_mm, p / 4) +
+              " mm is not beyond a quarter pitch (" + number_text(p / 4) +
+              " mm), where the target's peak may lie");
 }
 
 std::string focus_failure_text(const Setup& setup, const std::string& mode, const FocusOptions& opt,

@@ -13,7 +13,8 @@ namespace tp {
 void check_calibration_options(const CalibrationOptions& o, const PixelBank& bank) {
   check_staircase_options(o.staircase);
   if (!(o.trial_s >= 0.05 && o.trial_s <= 10))
-    bad_input("--trial-duration: " + number_text(o.trial_s) + " s outside [0.05, 10] s");
+    bad_input("--trial-duration: " + number_beside(o.trial_s, 0.05, 10) +
+              " s outside [0.05, 10] s");
   RenderOptions r;  // the rates and widths as render-tactile checks them
   r.rate_hz = o.rate_hz;
   r.width_us = o.width_us;
@@ -30,7 +31,7 @@ void check_calibration_options(const CalibrationOptions& o, const PixelBank& ban
   for (const int p : o.primaries)
     if (p < 0 || p > 2) bad_input("--primaries: not a primary");
   if (o.staircase.ceiling_mA > bank.doc.max_current_mA)
-    bad_input("--ceiling: " + number_text(o.staircase.ceiling_mA) +
+    bad_input("--ceiling: " + number_beside(o.staircase.ceiling_mA, bank.doc.max_current_mA) +
               " mA is above the bank's current limit, " + number_text(bank.doc.max_current_mA) +
               " mA");
 }

@@ -13,8 +13,8 @@ namespace {
 void in_range(double v, double lo, double hi, bool lo_open, const std::string& what) {
   const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
   if (!ok)
-    bad_input(what + " " + number_text(v) + " outside " + (lo_open ? "(" : "[") + number_text(lo) +
-              ", " + number_text(hi) + "]");
+    bad_input(what + " " + number_beside(v, lo, hi) + " outside " + (lo_open ? "(" : "[") +
+              number_text(lo) + ", " + number_text(hi) + "]");
 }
 
 }  // namespace

@@ -31,8 +31,8 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
     amp = *r.amplitude_mA;
   }
   if (!(amp > 0.0 && amp <= StimulusLimits{}.max_current_mA))
-    bad_input("--amplitude: " + number_text(amp) + " mA outside (0, " +
-              number_text(StimulusLimits{}.max_current_mA) + "] mA");
+    bad_input("--amplitude: " + number_beside(amp, 0, StimulusLimits{}.max_current_mA) +
+              " mA outside (0, " + number_text(StimulusLimits{}.max_current_mA) + "] mA");
   for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
   s.amplitude_mA = amp;
   s.max_current_mA = doc.max_current_mA;
@@ -50,7 +50,7 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
     const double d = r.duration_s ? *r.duration_s : 1.0;
     // The range first, then the conversion: nothing wraps.
     if (!(d > 0.0 && d <= limits.max_duration_s))
-      bad_input("--duration: " + number_text(d) + " s outside (0, " +
+      bad_input("--duration: " + number_beside(d, 0, limits.max_duration_s) + " s outside (0, " +
                 number_text(limits.max_duration_s) + "] s");
     if (!(d * s.shape.frequency_hz <= 1e9)) bad_input("--duration: too many pulses");
     s.count = std::lround(d * s.shape.frequency_hz);

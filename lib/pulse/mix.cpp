@@ -12,7 +12,8 @@ namespace {
 
 std::uint32_t whole_us(double v, double max, const std::string& what) {
   if (!(v >= 0.0 && v <= max))
-    bad_input(what + " " + number_text(v) + " us outside [0, " + number_text(max) + "] us");
+    bad_input(what + " " + number_beside(v, 0, max) + " us outside [0, " + number_text(max) +
+              "] us");
   const double r = std::round(v);
   if (std::fabs(v - r) > 1e-6)
     bad_input(what + ": the device takes whole microseconds, got " + number_text(v));
@@ -105,18 +106,21 @@ void check_mix(const Mix& m, const StimulusLimits& lim) {
   if (!m.table()) return;
   if (!(m.gap_us >= lim.min_gap_us && m.gap_us <= lim.max_slip_us) ||
       std::fabs(m.gap_us - std::round(m.gap_us)) > 1e-6)
-    bad_input("gap_us: " + number_text(m.gap_us) + " us; whole microseconds in [" +
-              number_text(lim.min_gap_us) + ", " + number_text(lim.max_slip_us) + "] us");
+    bad_input("gap_us: " + number_beside(m.gap_us, lim.min_gap_us, lim.max_slip_us) +
+              " us; whole microseconds in [" + number_text(lim.min_gap_us) + ", " +
+              number_text(lim.max_slip_us) + "] us");
   const MixFigures f = mix_figures(m, lim.max_slip_us);
   for (std::size_t i = 0; i < channels; ++i) {
     if (f.rms_current_mA[i] > lim.max_rms_current_mA * (1 + 1e-12))
       bad_input("electrode " + std::to_string(i) + ": RMS current " +
-                number_text(f.rms_current_mA[i]) + " mA summed over the patterns, above the " +
-                "limit of " + number_text(lim.max_rms_current_mA) + " mA (docs/safety.md)");
+                number_beside(f.rms_current_mA[i], lim.max_rms_current_mA) +
+                " mA summed over the patterns, above the " + "limit of " +
+                number_text(lim.max_rms_current_mA) + " mA (docs/safety.md)");
     if (f.mean_current_mA[i] > lim.max_mean_current_mA * (1 + 1e-12))
       bad_input("electrode " + std::to_string(i) + ": mean current " +
-                number_text(f.mean_current_mA[i]) + " mA summed over the patterns, above the " +
-                "limit of " + number_text(lim.max_mean_current_mA) + " mA (docs/safety.md)");
+                number_beside(f.mean_current_mA[i], lim.max_mean_current_mA) +
+                " mA summed over the patterns, above the " + "limit of " +
+                number_text(lim.max_mean_current_mA) + " mA (docs/safety.md)");
   }
   if (f.utilisation > 1.0)
     bad_input("the patterns' pulses and gaps need " +
@@ -215,8 +219,8 @@ std::vector<std::uint16_t> amplitude_scales(const std::vector<double>& a, const 
     const double v = a[p];
     const double top = pattern_amplitude_mA(m.patterns[p]);
     if (!(v >= 0 && v <= top * (1 + 1e-12)))
-      bad_input(where + ": amplitude " + number_text(v) + " mA for pattern " + std::to_string(p) +
-                " outside [0, " + number_text(top) +
+      bad_input(where + ": amplitude " + number_beside(v, 0, top) + " mA for pattern " +
+                std::to_string(p) + " outside [0, " + number_text(top) +
                 "] mA (the current of its weight-1 electrode)");
     const double scale = top > 0 ? std::floor(std::min(1.0, v / top) * device::kFullScale) : 0.0;
     scales.push_back(static_cast<std::uint16_t>(scale));

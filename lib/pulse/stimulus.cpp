@@ -19,28 +19,29 @@ void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
   auto range = [](double v, double lo, double hi, const std::string& what,
                   const std::string& unit) {
     if (!std::isfinite(v) || v < lo || v > hi)
-      bad_input(what + " " + number_text(v) + " " + unit + " outside [" + number_text(lo) + ", " +
-                number_text(hi) + "] " + unit);
+      bad_input(what + " " + number_beside(v, lo, hi) + " " + unit + " outside [" +
+                number_text(lo) + ", " + number_text(hi) + "] " + unit);
   };
   range(p.width_us, lim.min_width_us, lim.max_width_us, "pulse width", "us");
   range(p.balance_width_us, p.width_us, lim.max_balance_width_us, "balance width", "us");
   range(p.interphase_us, 0.0, lim.max_width_us, "interphase gap", "us");
   range(p.frequency_hz, lim.min_frequency_hz, lim.max_frequency_hz, "frequency", "Hz");
   if (p.length_us() >= p.period_us())
-    bad_input("pulse of " + number_text(p.length_us()) + " us does not fit its period of " +
-              number_text(p.period_us()) + " us");
+    bad_input("pulse of " + number_beside(p.length_us(), p.period_us()) +
+              " us does not fit its period of " + number_text(p.period_us()) + " us");
   if (s.count < 1) bad_input("stimulus: pulse count must be >= 1");
   if (s.duration_s() > lim.max_duration_s)
-    bad_input("duration " + number_text(s.duration_s()) + " s above the limit of " +
-              number_text(lim.max_duration_s) + " s");
+    bad_input("duration " + number_beside(s.duration_s(), lim.max_duration_s) +
+              " s above the limit of " + number_text(lim.max_duration_s) + " s");
   const double limit = std::min(lim.max_current_mA, s.max_current_mA);
   double sum = 0.0;
   for (std::size_t i = 0; i < s.currents_mA.size(); ++i) {
     const double c = s.currents_mA[i];
     if (!std::isfinite(c)) bad_input("channel " + std::to_string(i) + ": non-finite current");
     if (std::fabs(c) > limit + 1e-12)
-      bad_input("channel " + std::to_string(i) + ": current " + number_text(c) +
-                " mA exceeds the limit of " + number_text(limit) + " mA");
+      bad_input("channel " + std::to_string(i) + ": current " +
+                number_beside(c, c < 0 ? -limit : limit) + " mA exceeds the limit of " +
+                number_text(limit) + " mA");
     sum += c;
   }
   // Every phase is the same shape times each channel's current, so the instantaneous sum
@@ -53,10 +54,11 @@ void check_stimulus(const Stimulus& s, const StimulusLimits& lim) {
   for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
     if (f.rms_current_mA[i] > lim.max_rms_current_mA * (1 + 1e-12))
       bad_input("channel " + std::to_string(i) + ": RMS current " +
-                number_text(f.rms_current_mA[i]) + " mA above the limit of " +
-                number_text(lim.max_rms_current_mA) + " mA (docs/safety.md)");
+                number_beside(f.rms_current_mA[i], lim.max_rms_current_mA) +
+                " mA above the limit of " + number_text(lim.max_rms_current_mA) +
+                " mA (docs/safety.md)");
   if (f.max_mean_current_mA > lim.max_mean_current_mA * (1 + 1e-12))
-    bad_input("mean current " + number_text(f.max_mean_current_mA) +
+    bad_input("mean current " + number_beside(f.max_mean_current_mA, lim.max_mean_current_mA) +
               " mA (charge per second, both phases) above the limit of " +
               number_text(lim.max_mean_current_mA) + " mA (docs/safety.md)");
   if (f.shannon_k > lim.shannon_k)
@@ -148,17 +150,21 @@ Stimulus stimulus_from_json(const Json& j) {
   s.shape.frequency_hz = field("frequency_hz");
   if (!j.contains("count")) bad_input("stimulus: missing 'count'");
   s.count = json_int(j["count"], "count");
-  if (j.contains("max_current_mA"))
+  if (j.contains("max_current_mA")) {  // the weights document's limit, in its range
     s.max_current_mA = json_finite(j["max_current_mA"], "max_current_mA");
+    ranges::check(s.max_current_mA, ranges::max_current_mA, "max_current_mA");
+  }
   if (j.contains("amplitude_mA")) {
     s.amplitude_mA = json_finite(j["amplitude_mA"], "amplitude_mA");
     if (!(s.amplitude_mA > 0 && s.amplitude_mA <= StimulusLimits{}.max_current_mA))
-      bad_input("amplitude_mA: " + number_text(s.amplitude_mA) + " mA outside (0, 2] mA");
+      bad_input(
+          "amplitude_mA: " + number_beside(s.amplitude_mA, 0, StimulusLimits{}.max_current_mA) +
+          " mA outside (0, 2] mA");
   }
   if (j.contains("electrode_area_mm2"))
     s.electrode_area_mm2 = json_finite(j["electrode_area_mm2"], "electrode_area_mm2");
   if (!(s.electrode_area_mm2 >= 1e-4 && s.electrode_area_mm2 <= 1e4))
-    bad_input("electrode_area_mm2: " + number_text(s.electrode_area_mm2) +
+    bad_input("electrode_area_mm2: " + number_beside(s.electrode_area_mm2, 1e-4, 1e4) +
               " mm2 outside [0.0001, 10000] mm2");
   static const std::set<std::string> own = {
       "format", "channels",   "currents_mA",        "max_current_mA", "pulse",

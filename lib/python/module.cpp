@@ -92,8 +92,12 @@ std::optional<double> finite_arg(std::optional<double> v, const std::string& fla
 }
 
 std::string range_message(const std::string& flag, long v, long lo, long hi) {
+  return flag + ": " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " +
+         std::to_string(hi) + "]";  // as tp::cli::add_integer says it
+}
+std::string cli11_range_message(const std::string& flag, long v, long lo, long hi) {
   return flag + ": Value " + std::to_string(v) + " not in range " + std::to_string(lo) + " to " +
-         std::to_string(hi);  // CLI11's words, as the programs say it
+         std::to_string(hi);  // CLI11's words, as stimctl says it
 }
 
 // A path: str or os.PathLike.
@@ -435,7 +439,7 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   opt.max_current_mA = doc.max_current_mA;
   opt.min_target_af = min_target_af;
   if (!(opt.min_target_af <= 1e4))
-    tp::bad_input("--min-target-af: " + tp::number_text(min_target_af) +
+    tp::bad_input("--min-target-af: " + tp::number_beside(min_target_af, 1e4) +
                   " V/ms outside [0, 10000] V/ms");
   if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
   opt.random_starts = random_starts;
@@ -462,7 +466,8 @@ PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode
   if (radius_mm) {
     focus.radius_mm = *radius_mm;
     if (!(focus.radius_mm > 0.0))
-      tp::bad_input("--radius: must be > 0 mm, got " + tp::number_text(*radius_mm));
+      tp::bad_input("--radius: must be > 0 mm (omit it for one pitch), got " +
+                    tp::number_text(*radius_mm));
   }
   if (spill) focus.spill = *spill;
   focus.max_current_mA = opt.max_current_mA;
@@ -666,9 +671,9 @@ class Stimulator {
              std::string backend)
       : port_(path_arg(port)), baud_(baud), backend_(std::move(backend)) {
     if (!(baud >= 300 && baud <= 4000000))
-      tp::bad_input(range_message("--baud", baud, 300, 4000000));
+      tp::bad_input(cli11_range_message("--baud", baud, 300, 4000000));
     if (!(emu_channels >= 1 && emu_channels <= 64))
-      tp::bad_input(range_message("--emu-channels", emu_channels, 1, 64));
+      tp::bad_input(cli11_range_message("--emu-channels", emu_channels, 1, 64));
     if (backend_ != "auto" && backend_ != "libserialport" && backend_ != "posix")
       tp::bad_input("--backend: " + backend_ + " not in {auto,libserialport,posix}");
     if (port_ != "emu" && record)
@@ -779,8 +784,9 @@ class Stimulator {
   void set_duration(tp::host::SessionOptions& opt, std::optional<double> duration_s) {
     if (!duration_s) return;
     if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
-      tp::bad_input("--duration: " + tp::number_text(*duration_s) + " s outside (0, " +
-                    tp::number_text(opt.limits.max_duration_s) + "] s");
+      tp::bad_input(
+          "--duration: " + tp::number_beside(*duration_s, 0.0, opt.limits.max_duration_s) +
+          " s outside (0, " + tp::number_text(opt.limits.max_duration_s) + "] s");
     opt.duration_s = *duration_s;
   }
 
@@ -959,8 +965,8 @@ PYBIND11_MODULE(_core, m) {
         (*bad_input_exc)(e.what());
       else
         (*failure_exc)(e.what());
-    } catch (const nlohmann::json::exception& e) {
-      (*bad_input_exc)(e.what());
+    } catch (const nlohmann::json::exception& e) {  // printable as tp::Error's are
+      (*bad_input_exc)(tp::printable(e.what()).c_str());
     }
   });
 

@@ -11,7 +11,8 @@ namespace tp {
 
 ModelProfile model_profile(const PixelBank& bank, const ModelProfileOptions& o) {
   if (!(o.comfort_factor >= 1.1 && o.comfort_factor <= 10))
-    bad_input("--comfort-factor: " + number_text(o.comfort_factor) + " outside [1.1, 10]");
+    bad_input("--comfort-factor: " + number_beside(o.comfort_factor, 1.1, 10) +
+              " outside [1.1, 10]");
   const std::unique_ptr<fibre::FibreModel> model = fibre::make_fibre_model(o.fibre_model);
   const ElectrodeArray& array = bank.doc.setup.array;
   const std::size_t centre = array.centre_index();

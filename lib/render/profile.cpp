@@ -30,7 +30,8 @@ double Profile::current_mA(int p, long pad, double v) const {
 
 double profile_amplitude_mA(const Profile& p, const std::string& mode, double v,
                             const std::string& what) {
-  if (!(v > 0 && v <= 1)) bad_input(what + ": intensity " + number_text(v) + " outside (0, 1]");
+  if (!(v > 0 && v <= 1))
+    bad_input(what + ": intensity " + number_beside(v, 0, 1) + " outside (0, 1]");
   const int k = primary_index(mode, what + ": the stimulus's mode");
   if (!p.primary[static_cast<std::size_t>(k)])
     bad_input(what + ": the profile has no range for " + mode);
@@ -53,14 +54,14 @@ PrimaryRange range_from_json(const Json& j, const std::string& where, double max
   r.threshold_mA = json_finite(j["threshold_mA"], where + ".threshold_mA");
   r.comfort_mA = json_finite(j["comfort_mA"], where + ".comfort_mA");
   if (!(r.threshold_mA >= kMinProfile_mA && r.threshold_mA <= max_mA))
-    bad_input(where + ".threshold_mA: " + number_text(r.threshold_mA) + " mA outside [" +
-              number_text(kMinProfile_mA) + ", " + number_text(max_mA) + "] mA");
+    bad_input(where + ".threshold_mA: " + number_beside(r.threshold_mA, kMinProfile_mA, max_mA) +
+              " mA outside [" + number_text(kMinProfile_mA) + ", " + number_text(max_mA) + "] mA");
   if (r.comfort_mA > max_mA)
-    bad_input(where + ".comfort_mA: " + number_text(r.comfort_mA) +
+    bad_input(where + ".comfort_mA: " + number_beside(r.comfort_mA, max_mA) +
               " mA is above the current limit, " + number_text(max_mA) + " mA");
   if (r.comfort_mA < r.threshold_mA)
-    bad_input(where + ".comfort_mA: " + number_text(r.comfort_mA) + " mA is below its threshold, " +
-              number_text(r.threshold_mA) + " mA");
+    bad_input(where + ".comfort_mA: " + number_beside(r.comfort_mA, r.threshold_mA) +
+              " mA is below its threshold, " + number_text(r.threshold_mA) + " mA");
   if (j.contains("trials")) {
     r.trials = json_int(j["trials"], where + ".trials");
     if (r.trials < 0) bad_input(where + ".trials: negative");

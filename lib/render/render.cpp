@@ -134,23 +134,25 @@ void check_render_options(const RenderOptions& o) {
   const StimulusLimits& l = o.limits;
   for (std::size_t p = 0; p < 3; ++p)
     if (!(o.rate_hz[p] >= l.min_frequency_hz && o.rate_hz[p] <= l.max_frequency_hz))
-      bad_input(std::string("--rates: ") + kPrimaries[p] + " " + number_text(o.rate_hz[p]) +
+      bad_input(std::string("--rates: ") + kPrimaries[p] + " " +
+                number_beside(o.rate_hz[p], l.min_frequency_hz, l.max_frequency_hz) +
                 " Hz outside [" + number_text(l.min_frequency_hz) + ", " +
                 number_text(l.max_frequency_hz) + "] Hz");
   auto whole = [](double v, double lo, double hi, const char* name) {
     if (!(v >= lo && v <= hi && v == std::floor(v)))
-      bad_input(std::string(name) + ": " + number_text(v) + " us is not a whole number in [" +
-                number_text(lo) + ", " + number_text(hi) + "] us");
+      bad_input(std::string(name) + ": " + number_beside(v, lo, hi) +
+                " us is not a whole number in [" + number_text(lo) + ", " + number_text(hi) +
+                "] us");
   };
   whole(o.width_us, l.min_width_us, l.max_width_us, "--width");
   whole(o.interphase_us, 0, 1000, "--interphase");
   whole(o.balance_width_us, o.width_us, l.max_balance_width_us, "--balance-width");
   whole(o.gap_us, l.min_gap_us, l.max_slip_us, "--gap");
   if (!(o.crosstalk >= 0 && o.crosstalk <= 1))
-    bad_input("--crosstalk: " + number_text(o.crosstalk) + " outside [0, 1]");
+    bad_input("--crosstalk: " + number_beside(o.crosstalk, 0, 1) + " outside [0, 1]");
   if (!(o.duration_s > 0 && o.duration_s <= l.max_duration_s))
-    bad_input("--duration: " + number_text(o.duration_s) + " s outside (0, " +
-              number_text(l.max_duration_s) + "] s");
+    bad_input("--duration: " + number_beside(o.duration_s, 0, l.max_duration_s) +
+              " s outside (0, " + number_text(l.max_duration_s) + "] s");
 }
 
 namespace {
@@ -459,7 +461,8 @@ std::vector<LitPattern> lit_patterns(const PixelBank& bank, const Profile& profi
       l.intensity = v;
       l.current_mA = profile.current_mA(p, l.pad, v);
       if (l.current_mA > o.limits.max_current_mA)
-        bad_input(where + " at " + number_text(l.current_mA) + " mA, above the current limit");
+        bad_input(where + " at " + number_beside(l.current_mA, o.limits.max_current_mA) +
+                  " mA, above the current limit");
       lit.push_back(l);
     }
   return lit;

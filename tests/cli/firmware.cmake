@@ -1,17 +1,17 @@
 # The firmware (firmware/stm32f4): its configuration block, its emulator's refusals, and
 # the pty suite of tests/cli/stimctl against it in QEMU.
 set(FW_SCRIPTS ${PROJECT_SOURCE_DIR}/scripts)
-tp_cli_test(firmware-config refuses-9-channels refuses 2 -- ${FW_SCRIPTS}/firmware-config --channels 9)
-tp_cli_test(firmware-config refuses-13-bits refuses 2 -- ${FW_SCRIPTS}/firmware-config --dac-bits 13)
-tp_cli_test(firmware-config refuses-over-current refuses 2 -- ${FW_SCRIPTS}/firmware-config --max-current 2.001)
-tp_cli_test(firmware-config refuses-zero-current refuses 2 -- ${FW_SCRIPTS}/firmware-config --max-current 0.0001)
-tp_cli_test(firmware-config refuses-not-a-number refuses 2 -- ${FW_SCRIPTS}/firmware-config --max-current 1e3)
-tp_cli_test(firmware-config refuses-long-watchdog refuses 2 -- ${FW_SCRIPTS}/firmware-config --watchdog-ms 1001)
-tp_cli_test(firmware-config refuses-unknown-option refuses 2 -- ${FW_SCRIPTS}/firmware-config --seed 3)
+tp_cli_test(firmware-config refuses-9-channels refuses 2 --says "--channels: 9 outside 1 to 8" -- ${FW_SCRIPTS}/firmware-config --channels 9)
+tp_cli_test(firmware-config refuses-13-bits refuses 2 --says "--dac-bits: 13 is not 12, 14 or 16" -- ${FW_SCRIPTS}/firmware-config --dac-bits 13)
+tp_cli_test(firmware-config refuses-over-current refuses 2 --says "--max-current: 2.001 mA outside [0.001, 2] mA" -- ${FW_SCRIPTS}/firmware-config --max-current 2.001)
+tp_cli_test(firmware-config refuses-zero-current refuses 2 --says "--max-current: 0.0001 mA outside [0.001, 2] mA" -- ${FW_SCRIPTS}/firmware-config --max-current 0.0001)
+tp_cli_test(firmware-config refuses-not-a-number refuses 2 --says "--max-current: '1e3' is not a number of mA" -- ${FW_SCRIPTS}/firmware-config --max-current 1e3)
+tp_cli_test(firmware-config refuses-long-watchdog refuses 2 --says "--watchdog-ms: 1001 outside 10 to 1000 ms" -- ${FW_SCRIPTS}/firmware-config --watchdog-ms 1001)
+tp_cli_test(firmware-config refuses-unknown-option refuses 2 --says "unknown option '--seed'" -- ${FW_SCRIPTS}/firmware-config --seed 3)
 tp_cli_test(firmware-config bytes script ${CMAKE_CURRENT_SOURCE_DIR}/firmware/config-bytes.sh)
-tp_cli_test(firmware-emu refuses-unknown-option refuses 2 -- ${FW_SCRIPTS}/firmware-emu --port x)
-tp_cli_test(firmware-emu refuses-missing-firmware refuses 2 -- ${FW_SCRIPTS}/firmware-emu --firmware /nonexistent.elf)
-tp_cli_test(stim-emu refuses-forward-with-device-options refuses 2 -- stim-emu --forward /tmp/x.sock --channels 4)
+tp_cli_test(firmware-emu refuses-unknown-option refuses 2 --says "unknown option '--port'" -- ${FW_SCRIPTS}/firmware-emu --port x)
+tp_cli_test(firmware-emu refuses-missing-firmware refuses 2 --says "no firmware at /nonexistent.elf" -- ${FW_SCRIPTS}/firmware-emu --firmware /nonexistent.elf)
+tp_cli_test(stim-emu refuses-forward-with-device-options refuses 2 --says "--channels excludes --forward" -- stim-emu --forward /tmp/x.sock --channels 4)
 
 # The same pty suite against the firmware, booted in QEMU (scripts/firmware-emu), plus the
 # monitor's timing checks.  They run alone (RUN_SERIAL): the emulated board keeps to real

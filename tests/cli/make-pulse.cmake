@@ -1,22 +1,22 @@
 tp_cli_smoke(make-pulse)
 set(W ${CMAKE_CURRENT_SOURCE_DIR}/inputs/sai-weights.json)
 
-tp_cli_test(make-pulse refuses-missing-amplitude refuses 2 --stdin ${W} -- make-pulse)
-tp_cli_test(make-pulse refuses-amplitude-above-limit refuses 2 --stdin ${W} -- make-pulse --amplitude 2.5)
+tp_cli_test(make-pulse refuses-missing-amplitude refuses 2 --stdin ${W} --says "give --amplitude MA, or --intensity V with --profile" -- make-pulse)
+tp_cli_test(make-pulse refuses-amplitude-above-limit refuses 2 --stdin ${W} --says "--amplitude: 2.5 mA outside (0, 2" -- make-pulse --amplitude 2.5)
 tp_cli_test(make-pulse refuses-unbalanced-weights refuses 2
-  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/unbalanced-weights.json -- make-pulse --amplitude 1)
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/unbalanced-weights.json --says "channel currents sum to 0.1 mA, not 0" -- make-pulse --amplitude 1)
 tp_cli_test(make-pulse refuses-no-weights refuses 2
-  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/no-weights.json -- make-pulse --amplitude 1)
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/no-weights.json --says "weights document: no 'weights'" -- make-pulse --amplitude 1)
 tp_cli_test(make-pulse refuses-malformed-json refuses 2
-  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/malformed.json -- make-pulse --amplitude 1)
-tp_cli_test(make-pulse refuses-narrow-pulse refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --width 5)
-tp_cli_test(make-pulse refuses-high-rate refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --frequency 5000)
-tp_cli_test(make-pulse refuses-zero-rate refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --frequency 0)
-tp_cli_test(make-pulse refuses-short-balance refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --balance-width 100)
-tp_cli_test(make-pulse refuses-pulse-longer-than-period refuses 2 --stdin ${W} --
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/malformed.json --says "weights document: malformed JSON in stdin: parse error" -- make-pulse --amplitude 1)
+tp_cli_test(make-pulse refuses-narrow-pulse refuses 2 --stdin ${W} --says "pulse width 5 us outside [10, 1000] us" -- make-pulse --amplitude 1 --width 5)
+tp_cli_test(make-pulse refuses-high-rate refuses 2 --stdin ${W} --says "frequency 5000 Hz outside [0.1, 1000] Hz" -- make-pulse --amplitude 1 --frequency 5000)
+tp_cli_test(make-pulse refuses-zero-rate refuses 2 --stdin ${W} --says "--frequency: must be > 0 Hz" -- make-pulse --amplitude 1 --frequency 0)
+tp_cli_test(make-pulse refuses-short-balance refuses 2 --stdin ${W} --says "balance width 100 us outside [200, 8000] us" -- make-pulse --amplitude 1 --balance-width 100)
+tp_cli_test(make-pulse refuses-pulse-longer-than-period refuses 2 --stdin ${W} --says "pulse of 9000 us does not fit its period of 5000 us" --
   make-pulse --amplitude 1 --width 1000 --balance-width 8000 --frequency 200)
-tp_cli_test(make-pulse refuses-duration-and-count refuses 2 --stdin ${W} -- make-pulse --amplitude 1 --duration 1 --count 3)
-tp_cli_test(make-pulse refuses-nan-amplitude refuses 2 --stdin ${W} -- make-pulse --amplitude nan)
+tp_cli_test(make-pulse refuses-duration-and-count refuses 2 --stdin ${W} --says "--duration excludes --count" -- make-pulse --amplitude 1 --duration 1 --count 3)
+tp_cli_test(make-pulse refuses-nan-amplitude refuses 2 --stdin ${W} --says "--amplitude: non-finite number 'nan'" -- make-pulse --amplitude nan)
 
 tp_cli_test(make-pulse golden-json golden make-pulse/sai-1mA-200Hz.json --stdin ${W} --
   make-pulse --amplitude 1 --frequency 200 --duration 1)
@@ -25,8 +25,8 @@ tp_cli_test(make-pulse golden-asymmetric-csv golden make-pulse/sai-asymmetric.cs
 tp_cli_test(make-pulse plot script ${CMAKE_CURRENT_SOURCE_DIR}/make-pulse/plot.sh)
 
 # A stimulator drives at most 64 channels: a 2-D design with more pads is refused.
-tp_cli_test(make-pulse refuses-more-than-64-pads refuses 2 --says "at most 64"
-  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/grid-9x8.json -- make-pulse --amplitude 1)
+tp_cli_test(make-pulse refuses-more-than-64-pads refuses 2
+  --stdin ${CMAKE_CURRENT_SOURCE_DIR}/inputs/grid-9x8.json --says "a 9 x 8 grid of pads, 72 channels" -- make-pulse --amplitude 1)
 # docs/safety.md's bounds on a single stimulus, each alone: Shannon's k (2 mA for 1000 us on
 # 5 mm2: k = 1.90 > 1.85; 800 us, k = 1.71, passes: stimctl.mix-emu's heavy pattern), and the
 # mean current (1.2 mA, 340 + 340 us at 1 kHz: 0.816 mA mean, above 0.8, while its RMS,

@@ -63,7 +63,7 @@ def test_af_field_refuses_points_and_shapes(sai_doc):
 
 
 def test_flag_level_checks_say_what_the_programs_say(sai_doc, sai_json):
-    # CLI11's words, without its "(see --help)".
+    # The programs' words (CLI11's without its "(see --help)").
     for call, args in (
         (lambda: tp.fiber_threshold(sai_doc, offsets=0), ("fiber-threshold", "--offsets", "0")),
         (lambda: tp.fiber_threshold(sai_doc, threads=300), ("fiber-threshold", "--threads", "300")),
@@ -106,3 +106,15 @@ def test_modes_weights_and_paths(sai_doc, tmp_path, sai_json):
     assert tp.Document.load(path).to_json().encode() == sai_json  # a pathlib.Path
     with pytest.raises(tp.BadInput, match="non-finite"):
         tp.af_field(sai_doc, [0.0], [0.5], amplitude_mA=float("nan"))
+
+
+def test_messages_escape_user_text():
+    # Issue 38: a byte that is not UTF-8 in a path made a UnicodeDecodeError instead of
+    # BadInput, and a NUL in a document's key cut the message short.
+    with pytest.raises(tp.BadInput) as e:
+        tp.Document.load(b"/nonexistent/\xff\x1b")
+    assert str(e.value) == "document: cannot open '/nonexistent/\\xFF\\x1B': No such file or directory"
+    with pytest.raises(tp.BadInput) as e:
+        tp.Document.from_json('{"format": "tactile-primaries/1", "array": '
+                              '{"electrodes": 8, "pitch_mm": 1.0, "x\\u0000\\u001b": 1}}')
+    assert str(e.value) == "array: unknown key 'x\\x00\\x1B'"

@@ -9,9 +9,11 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/document.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
+#include "model/ranges.hpp"
 
 using namespace tp;
 
@@ -91,6 +93,132 @@ TEST_CASE("format_number writes what printf(\"%.10g\") writes", "[io][number]") 
       std::snprintf(ref, sizeof ref, "%.10g", v);
       return std::string(ref);
     }());
+}
+
+namespace {
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("a refused value reads differently from the bound it breaks", "[io][number]") {
+  // Issue 38: "0.80000000001 outside [0, 0.8]" printed the value as 0.8.
+  CHECK(number_beside(0.80000000001, 0.8) == "0.80000000001");
+  CHECK(number_beside(2.0000000000000004, 2.0) == "2.0000000000000004");
+  CHECK(number_beside(-2.00000000001, -2.0) == "-2.00000000001");
+  CHECK(number_beside(0.0099999999999, 0.01) == "0.0099999999999");
+  CHECK(number_beside(1.00000000001e-7, 1e-7) == "1.00000000001e-07");
+  // Otherwise number_text's 10 digits: a value far from its bound, or equal to it (an
+  // open bound), reads as number_text writes it.
+  CHECK(number_beside(2.5, 2.0) == "2.5");
+  CHECK(number_beside(1.0 / 3.0, 2.0) == "0.3333333333");
+  CHECK(number_beside(0.0, 0.0) == "0");
+  CHECK(number_beside(1e300, 100.0) == "1e+300");
+  // Beside the bound of [lo, hi] it breaks.
+  CHECK(number_beside(0.80000000001, 0.0, 0.8) == "0.80000000001");
+  CHECK(number_beside(-1e-12, 0.0, 0.8) == "-1e-12");
+  CHECK(number_beside(0.00999999999999, 0.01, 20.0) == "0.00999999999999");
+  // A value a step from a bound of up to 5 digits (every bound the programs print): it
+  // reads differently, and on its side of the bound.
+  std::mt19937_64 rng(38);
+  for (int i = 0; i < 20000; ++i) {
+    const double bound = std::strtod((std::to_string(rng() % 100000 + 1) + "e-3").c_str(), nullptr);
+    const double value = std::nextafter(bound, i % 2 ? 1e9 : 0.0);
+    const std::string text = number_beside(value, bound);
+    REQUIRE(text != number_text(bound));
+    const double read = std::strtod(text.c_str(), nullptr);
+    REQUIRE((i % 2 ? read > bound : read < bound));
+  }
+  // Beside any bound, printed to 10 digits: on the same side of the printed bound.
+  for (int i = 0; i < 20000; ++i) {
+    const double bound = std::ldexp(static_cast<double>(rng() >> 11), -53) * 100.0 + 0.001;
+    const double printed = std::strtod(number_text(bound).c_str(), nullptr);
+    const double value = bound * (i % 2 ? 1 + 1e-12 : 1 - 1e-12);
+    if (i % 2 ? value <= printed : value >= printed) continue;  // no digits can: skip
+    const double read = std::strtod(number_beside(value, bound).c_str(), nullptr);
+    REQUIRE((i % 2 ? read > printed : read < printed));
+  }
+  // And in a range's message.
+  CHECK(message_of([] {
+          ranges::check(2.00000000001, ranges::max_current_mA, "max_current_mA");
+        }) == "max_current_mA: 2.00000000001 mA outside [0.001, 2] mA");
+}
+
+TEST_CASE("whole numbers are refused naming the text as given", "[io][number]") {
+  CHECK(parse_integer("10000", "--population", 1, 10000) == 10000);
+  CHECK(parse_integer("1e3", "--population", 1, 10000) == 1000);
+  CHECK(parse_integer(" 7 ", "n", 1, 10) == 7);
+  CHECK(message_of([] { parse_integer("99999999999999999999", "--population", 1, 10000); }) ==
+        "--population: 99999999999999999999 outside [1, 10000]");
+  CHECK(message_of([] { parse_integer("0", "--population", 1, 10000); }) ==
+        "--population: 0 outside [1, 10000]");
+  CHECK(message_of([] { parse_integer("2.5", "--threads", 1, 256); }) ==
+        "--threads: not a whole number '2.5'");
+  CHECK(message_of([] { parse_integer("0x10", "--threads", 1, 256); }) ==
+        "--threads: not a number '0x10'");
+  CHECK(parse_integer("010", "--threads", 1, 256) == 10);  // decimal, never octal
+  // Seeds: every value from 0 to 2^64 - 1, exactly.
+  CHECK(parse_unsigned("0", "--seed") == 0);
+  CHECK(parse_unsigned("18446744073709551615", "--seed") == 18446744073709551615ULL);
+  CHECK(parse_unsigned("9007199254740993", "--seed") == 9007199254740993ULL);  // 2^53 + 1
+  CHECK(parse_unsigned("+5", "--seed") == 5);
+  CHECK(message_of([] { parse_unsigned("-1", "--seed"); }) ==
+        "--seed: -1 outside [0, 18446744073709551615]");
+  CHECK(message_of([] { parse_unsigned("18446744073709551616", "--seed"); }) ==
+        "--seed: 18446744073709551616 outside [0, 18446744073709551615]");
+  CHECK(message_of([] { parse_unsigned("1e30", "--seed"); }) ==
+        "--seed: 1e30 outside [0, 18446744073709551615]");
+  CHECK(message_of([] { parse_unsigned("1.5", "--seed"); }) ==
+        "--seed: not a whole number in decimal digits '1.5'");
+  CHECK(message_of([] { parse_unsigned("seven", "--seed"); }) == "--seed: not a number 'seven'");
+  CHECK(message_of([] { parse_unsigned("", "--seed"); }) == "--seed: empty number");
+}
+
+TEST_CASE("user text in a message is printable: control and non-UTF-8 bytes escaped",
+          "[io][text]") {
+  using namespace std::string_literals;
+  CHECK(printable("plain text, 'quoted' (1/2) \\ kept") == "plain text, 'quoted' (1/2) \\ kept");
+  CHECK(printable("a\nb\rc\td") == "a\\nb\\rc\\td");
+  CHECK(printable("nul\0here"s) == "nul\\x00here");
+  CHECK(printable("\x1b[2J\x07\x7f") == "\\x1B[2J\\x07\\x7F");
+  // UTF-8: kept when valid (2, 3 and 4 bytes), escaped byte by byte when not.
+  CHECK(printable("\xc2\xb5m \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80") ==
+        "\xc2\xb5m \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80");
+  CHECK(printable("\xff\xfe") == "\\xFF\\xFE");
+  CHECK(printable("\x80") == "\\x80");                             // a stray continuation byte
+  CHECK(printable("\xc3") == "\\xC3");                             // truncated at the end
+  CHECK(printable("\xc3(") == "\\xC3(");                           // truncated before ASCII
+  CHECK(printable("\xc0\xaf") == "\\xC0\\xAF");                    // overlong '/'
+  CHECK(printable("\xe0\x80\xaf") == "\\xE0\\x80\\xAF");           // overlong, 3 bytes
+  CHECK(printable("\xed\xa0\x80") == "\\xED\\xA0\\x80");           // a surrogate
+  CHECK(printable("\xf4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // above U+10FFFF
+  CHECK(printable("\xc2\x9b"
+                  "1m") == "\\xC2\\x9B1m");    // C1 control (CSI)
+  CHECK(printable("\xc2\xa0") == "\xc2\xa0");  // U+00A0 is not a control
+  // Escaping is idempotent (a message escaped twice reads the same), quoting adds quotes.
+  const std::string once = printable("x\x01\xff\n");
+  CHECK(printable(once) == once);
+  CHECK(quoted_text("a\x1b") == "'a\\x1B'");
+  // Every byte string gives printable ASCII and valid UTF-8 only.
+  std::mt19937_64 rng(38);
+  for (int i = 0; i < 2000; ++i) {
+    std::string bytes(static_cast<std::size_t>(rng() % 24), '\0');
+    for (char& c : bytes) c = static_cast<char>(rng() & 0xff);
+    const std::string t = printable(bytes);
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      const auto b = static_cast<unsigned char>(t[k]);
+      REQUIRE((b >= 0x20 && b != 0x7f));
+    }
+    REQUIRE(printable(t) == t);
+  }
+  // tp::Error keeps its message printable, whoever built it.
+  CHECK(message_of([] { bad_input("--model: unknown conductor model '\x1b[31m\xff'"); }) ==
+        "--model: unknown conductor model '\\x1B[31m\\xFF'");
 }
 
 TEST_CASE("documents round-trip and keep extra keys", "[io][document]") {

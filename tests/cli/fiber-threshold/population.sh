@@ -9,6 +9,10 @@ ft=(fiber-threshold --config sai.json --population 15)
 cmp -s p1.csv p2.csv && cmp -s r1.csv r2.csv || fail "the same seed gave other bytes"
 "${ft[@]}" --seed 4 > p3.csv 2> /dev/null || fail "population, seed 4"
 cmp -s p1.csv p3.csv && fail "seeds 3 and 4 gave the same population"
+# Every seed from 0 to 2^64 - 1 is its own (beyond it, or below 0, refused: issue 38).
+fiber-threshold --config sai.json --population 1 --seed 18446744073709551615 > p5.csv 2> e5.txt ||
+  fail "the largest seed: $(cat e5.txt)"
+grep -F "seed 18446744073709551615:" e5.txt > /dev/null || fail "the largest seed: $(cat e5.txt)"
 # (A last column at_cut_end, 0 or 1, where any afferent fired first at a cut end of its fibre.)
 [[ $(head -1 p1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA?(,at_cut_end) ]] || fail "header: $(head -1 p1.csv)"
 if [[ $(head -1 p1.csv) == *,at_cut_end ]]; then
@@ -46,9 +50,10 @@ refuses 2 --says "--population: 0 outside [1, 10000]" -- fiber-threshold --confi
 refuses 2 --says "--seed, --recruitment: apply to --population only" -- fiber-threshold --config sai.json --seed 3
 refuses 2 --says "give one" -- fiber-threshold --config sai.json --population 3 --strength-duration
 # Over a 2-D array: placed in x and z over the pads and margin, a column z_mm; the same
-# bytes twice.
-fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,0 --population 3 > g1.csv 2> g.txt || fail "2-D: $(cat g.txt)"
-fiber-threshold --grid 2x2 --weights 1,-1,0,0 --at 0,0 --population 3 > g2.csv 2> g.txt || fail "2-D: $(cat g.txt)"
+# bytes twice.  Each afferent passes through its own place, so --at (one point for every
+# fibre) is refused with --population, not ignored.
+fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 > g1.csv 2> g.txt || fail "2-D: $(cat g.txt)"
+fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 > g2.csv 2> g.txt || fail "2-D: $(cat g.txt)"
 cmp -s g1.csv g2.csv || fail "2-D: not the same bytes twice"
 [[ $(head -1 g1.csv) == class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA,z_mm?(,at_cut_end) ]] || fail "2-D header: $(head -1 g1.csv)"
 awk -F, 'NR > 1 && ($7 < -5.5 || $7 > 5.5) { exit 1 }' g1.csv || fail "2-D: a z outside the pads and margin"
@@ -56,3 +61,7 @@ awk -F, 'NR > 1 && ($7 < -5.5 || $7 > 5.5) { exit 1 }' g1.csv || fail "2-D: a z 
 echo "ok: 2-D: $(cat g.txt)"
 refuses 2 --says "--recruitment: cannot write 'missing/r.csv': No such file or directory" \
   -- fiber-threshold --config sai.json --population 3 --recruitment missing/r.csv
+refuses 2 --says "--at: does not apply to --population" -- \
+  fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 --at 0,0
+refuses 2 --says "--at: does not apply to --population" -- \
+  fiber-threshold --grid 2x2 --weights 1,-1,0,0 --population 3 --at 100,100

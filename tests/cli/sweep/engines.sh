@@ -100,9 +100,9 @@ rm -f computed
 cmp local.csv again.csv && [[ ! -s computed ]] || fail "a finished sweep recomputed $(lines computed) arrays"
 echo "ok: interrupted after $n_finished of 9 arrays; the resumed sweep computed the other $((9 - n_finished)), identical CSV"
 # A --state that holds another sweep is refused; so is a non-empty directory without one.
-refuses 2 -- "$sweep" --engine parallel --state st --electrodes 4 --pitch 1:1:1
+refuses 2 --says "holds another sweep" -- "$sweep" --engine parallel --state st --electrodes 4 --pitch 1:1:1
 mkdir other && touch other/file
-refuses 2 -- "$sweep" --engine parallel --state other "${args[@]}"
+refuses 2 --says "is not empty and holds no sweep" -- "$sweep" --engine parallel --state other "${args[@]}"
 unset TP_BIN
 
 # Slurm's --dry-run: the array and merge scripts, complete, and nothing submitted.
@@ -119,51 +119,51 @@ bash -n <(sed -n '/^$/,$p' dry.txt) || fail "the merge script is not valid bash"
 echo "ok: --dry-run prints two scripts ($(wc -l < dry.txt) lines)"
 
 # Bad options: exit 2, one line, nothing run.
-refuses 2 -- "$sweep" --engine cluster
-refuses 2 -- "$sweep" --engine local --state st
-refuses 2 -- "$sweep" --engine local --dry-run
-refuses 2 -- "$sweep" --engine slurm --jobs 2
-refuses 2 -- "$sweep" --engine parallel --sshloginfile no-such-file
-refuses 2 -- "$sweep" --engine slurm --chunk 0
-refuses 2 -- "$sweep" --engine slurm --sbatch 'partition'
-refuses 2 -- "$sweep" --electrodes 1,4
-refuses 2 -- "$sweep" --pitch 1:0.5:0.1
-refuses 2 -- "$sweep" --pitch 0.5:1000:0.001
-refuses 2 -- "$sweep" --jobs
-refuses 2 -- "$sweep" --electrodes 4,6,4
-refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1.0000000001:0.00000000001   # pitches the same in 10 digits
-refuses 2 -- "$sweep" --electrodes 4 --pitch 50:150:50                      # 150 mm: the largest pitch is checked
-refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --header-only
-refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --format=json
-refuses 2 -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --version
-refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin "sk{1}.json"
-refuses 2 -- "$sweep" --engine slurm --state "a b" --electrodes 4 --pitch 1:1:1
+refuses 2 --says "--engine: expected local, parallel or slurm, not 'cluster'" -- "$sweep" --engine cluster
+refuses 2 --says "--state is for --engine parallel and slurm" -- "$sweep" --engine local --state st
+refuses 2 --says "--chunk, --sbatch, --dry-run and --no-wait are for --engine slurm" -- "$sweep" --engine local --dry-run
+refuses 2 --says "--jobs is for --engine local and parallel" -- "$sweep" --engine slurm --jobs 2
+refuses 2 --says "--sshloginfile: cannot read 'no-such-file'" -- "$sweep" --engine parallel --sshloginfile no-such-file
+refuses 2 --says "--chunk: expected a positive integer" -- "$sweep" --engine slurm --chunk 0
+refuses 2 --says "--sbatch: expected one sbatch option without spaces or quotes, like --partition=short, not 'partition'" -- "$sweep" --engine slurm --sbatch 'partition'
+refuses 2 --says "--electrodes: need at least 2, got 1" -- "$sweep" --electrodes 1,4
+refuses 2 --says "--pitch: expected MIN:MAX:STEP with 0 < MIN <= MAX" -- "$sweep" --pitch 1:0.5:0.1
+refuses 2 --says "at most 100000 pitches" -- "$sweep" --pitch 0.5:1000:0.001
+refuses 2 --says "--jobs: needs a value" -- "$sweep" --jobs
+refuses 2 --says "--electrodes: a count given twice in '4,6,4'" -- "$sweep" --electrodes 4,6,4
+refuses 2 --says "--pitch: STEP too small: two pitches are the same in 10 significant digits" -- "$sweep" --electrodes 4 --pitch 1:1.0000000001:0.00000000001   # pitches the same in 10 digits
+refuses 2 --says "--pitch: 150 mm outside [0.01, 100] mm" -- "$sweep" --electrodes 4 --pitch 50:150:50                      # 150 mm: the largest pitch is checked
+refuses 2 --says "--header-only: set by sweep-spacing for each job, not an extra option" -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --header-only
+refuses 2 --says "--format: set by sweep-spacing for each job, not an extra option" -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --format=json
+refuses 2 --says "--version: not an option for each job" -- "$sweep" --electrodes 4 --pitch 1:1:1 -- --version
+refuses 2 --says "GNU parallel would rewrite the braces in 'sk{1}.json'" -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin "sk{1}.json"
+refuses 2 --says "--state: for Slurm, a path of letters, digits and ._/+=@,:~- only" -- "$sweep" --engine slurm --state "a b" --electrodes 4 --pitch 1:1:1
 [[ ! -e "a b" ]] || fail "a refused --state was created"
-refuses 2 -- "$sweep" --engine local --chunk 4
+refuses 2 --says "--chunk, --sbatch, --dry-run and --no-wait are for --engine slurm" -- "$sweep" --engine local --chunk 4
 # What GNU parallel, its job log (a line a job) or sbatch cannot carry is refused up front
 # (exit 2, one line, nothing created), whichever option or variable it comes in.
-refuses 2 -- "$sweep" --engine parallel --state $'nl\nx' --electrodes 4 --pitch 1:1:1
-refuses 2 -- "$sweep" --engine slurm --state $'nl\nx' --electrodes 4 --pitch 1:1:1
+refuses 2 --says "--state: a path with a newline" -- "$sweep" --engine parallel --state $'nl\nx' --electrodes 4 --pitch 1:1:1
+refuses 2 --says "--state: a path with a newline" -- "$sweep" --engine slurm --state $'nl\nx' --electrodes 4 --pitch 1:1:1
 [[ ! -e nl ]] || fail "a refused --state was created"
-refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin $'fingertip\n'
-refuses 2 -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 -- --max-current $'1\n2'
-refuses 2 -- "$sweep" $'--bo\ngus'
+refuses 2 --says "GNU parallel's job log cannot hold the newline in \$'fingertip\\n'" -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 --skin $'fingertip\n'
+refuses 2 --says "GNU parallel's job log cannot hold the newline in \$'1\\n2'" -- "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1 -- --max-current $'1\n2'
+refuses 2 --says "unknown option \$'--bo\\ngus'" -- "$sweep" $'--bo\ngus'
 printf '1/:\n' > $'hosts\nx'
-refuses 2 -- "$sweep" --engine parallel --sshloginfile $'hosts\nx' --electrodes 4 --pitch 1:1:1
+refuses 2 --says "--sshloginfile: a path with a newline" -- "$sweep" --engine parallel --sshloginfile $'hosts\nx' --electrodes 4 --pitch 1:1:1
 mkdir -p $'bin\nx' 'bin{1}'
 ln -s "$(command -v optimize-weights)" $'bin\nx/optimize-weights'
 ln -s "$(command -v optimize-weights)" 'bin{1}/optimize-weights'
-refuses 2 -- env TP_BIN=$'bin\nx' "$sweep" --electrodes 4 --pitch 1:1:1
-refuses 2 -- env TP_BIN='bin{1}' "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1
+refuses 2 --says "the programs' directory has a newline" -- env TP_BIN=$'bin\nx' "$sweep" --electrodes 4 --pitch 1:1:1
+refuses 2 --says "GNU parallel would rewrite the braces in the programs' directory" -- env TP_BIN='bin{1}' "$sweep" --engine parallel --electrodes 4 --pitch 1:1:1
 mkdir 'in{1}'
-(cd 'in{1}' && refuses 2 -- "$sweep" --engine parallel --state st --electrodes 4 --pitch 1:1:1)
+(cd 'in{1}' && refuses 2 --says "GNU parallel would rewrite the braces in this directory's path" -- "$sweep" --engine parallel --state st --electrodes 4 --pitch 1:1:1)
 [[ ! -e 'in{1}/st' ]] || fail "a refused --state was created"
 # '-' is GNU parallel's name for stdin as --sshloginfile: a file of that name is read as one.
 printf '1/:\n' > ./-
 "$sweep" --engine parallel --sshloginfile - --electrodes 4 --pitch 1:1:1 --modes SAI < /dev/null > dash.csv 2> err.txt \
   || fail "--sshloginfile -: $(cat err.txt)"
 [[ $(wc -l < dash.csv) -eq 2 ]] || fail "--sshloginfile -: $(cat dash.csv)"
-refuses 2 -- "$sweep" --electrodes 2,3,4,5,6,7,8,9,10,11,12 --pitch 0.5:10:0.0001
+refuses 2 --says "1045011 arrays: at most 1000000 in one sweep" -- "$sweep" --electrodes 2,3,4,5,6,7,8,9,10,11,12 --pitch 0.5:10:0.0001
 
 # The progress bar, on a terminal (script(1) gives stderr one).
 if command -v script > /dev/null; then

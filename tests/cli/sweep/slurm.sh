@@ -89,7 +89,7 @@ cmp local.csv slurm.csv || fail "the Slurm engine's CSV differs from local's"
 [[ -z $(ls run) ]] || fail "the default state directory was left: $(ls run)"
 echo "ok: a job array of 2 tasks (9 arrays, MaxArraySize=2) and a merge job: the local engine's CSV, byte for byte, in $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.1f", b - a }') s"
 # More tasks than MaxArraySize allows: refused before anything is made or submitted.
-refuses 2 -- "$sweep" --engine slurm --chunk 3 --state "$PWD/toomany" "${args[@]}"
+refuses 2 --says "more than the cluster's MaxArraySize" -- "$sweep" --engine slurm --chunk 3 --state "$PWD/toomany" "${args[@]}"
 [[ ! -e toomany ]] || fail "a refused sweep made its --state"
 
 # A failed array (a fake optimize-weights that fails 6 electrodes at 1 mm): exit 1, one
@@ -126,7 +126,7 @@ echo "ok: --no-wait: $(cat err.txt)"
 "$sweep" --engine slurm --chunk 9 --state "$PWD/later" "${args[@]}" > again.csv 2> err.txt || fail "again: $(cat err.txt)"
 cmp local.csv again.csv || fail "a second run on the same --state differs"
 [[ $(ls later/parts | wc -l) -eq 1 ]] || fail "parts of the earlier run left: $(ls later/parts)"
-refuses 2 -- "$sweep" --engine slurm --state "$PWD/later" --electrodes 4 --pitch 1:1:1
+refuses 2 --says "holds another sweep" -- "$sweep" --engine slurm --state "$PWD/later" --electrodes 4 --pitch 1:1:1
 
 # Interrupted while it waits, by SIGINT to its process group or SIGHUP to the script alone:
 # both jobs cancelled, the default state removed, exit 128 + N, nothing of its session left.
