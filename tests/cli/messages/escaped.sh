@@ -25,7 +25,7 @@ clean
 refuses 2 --stdin "$TP_INPUTS/document-nul-key.json" --says "array: unknown key 'pitch\x00\x1B[2J'" -- af-field --config - --summary
 clean
 # ... in another program's path, and a number's text
-refuses 2 --says "--recruitment: cannot create '/nonexistent/\x1B]0;title\x07'" -- \
+refuses 2 --says "--recruitment: cannot write '/nonexistent/\x1B]0;title\x07'" -- \
   fiber-threshold --config "$TP_INPUTS/sai-weights.json" --population 1 --recruitment $'/nonexistent/\e]0;title\a'
 clean
 refuses 2 --says "--pitch: not a number '1\x7F'" -- optimize-weights --mode SAI --pitch $'1\x7f'
