@@ -62,6 +62,19 @@ double pulse_count(const Stimulus& p, const SessionOptions& opt, const StimulusL
   return n;
 }
 
+// What needs no device: patterns, the protocol's channels, the duration.
+void check_request(const Mix& m, const SessionOptions& opt) {
+  if (m.patterns.empty()) bad_input("stimulus: no patterns");
+  const std::size_t channels = m.patterns[0].currents_mA.size();
+  if (channels > device::kMaxChannels)
+    bad_input("stimulus has " + std::to_string(channels) +
+              " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
+  const double max_s = opt.limits.max_duration_s;
+  if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
+    bad_input("--duration: " + number_beside(opt.duration_s, 0, max_s) + " s outside (0, " +
+              number_text(max_s) + "] s");
+}
+
 // A single stimulus's configuration (protocol 1 to 3), checked against the device's timing.
 device::PulseConfig single_config(const Stimulus& s, const device::Capabilities& caps) {
   device::PulseConfig cfg;
@@ -225,18 +238,11 @@ SessionReport run_session(Transport& transport, const Stimulus& s, const Session
 
 SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
                          const SessionOptions& opt) {
-  if (m.patterns.empty()) bad_input("stimulus: no patterns");
+  check_request(m, opt);
   const Stimulus& s = m.patterns[0];
   SessionPlan plan;
   plan.caps = caps;
   plan.table = m.table();
-  if (s.currents_mA.size() > device::kMaxChannels)
-    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
-              " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
-  const double max_s = opt.limits.max_duration_s;
-  if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
-    bad_input("--duration: " + number_beside(opt.duration_s, 0, max_s) + " s outside (0, " +
-              number_text(max_s) + "] s");
   check_device(caps);
   if (s.currents_mA.size() > caps.channels)
     bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
@@ -340,15 +346,7 @@ class SessionRun {
 // 1. Every check before anything but identify is sent: the stimulus, its duration, the
 //    device's capabilities, and the stimulus against them (plan_session).
 bool SessionRun::prepare() {
-  if (m_.patterns.empty()) bad_input("stimulus: no patterns");
-  const Stimulus& s = m_.patterns[0];
-  if (s.currents_mA.size() > device::kMaxChannels)
-    bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
-              " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
-  const double max_s = opt_.limits.max_duration_s;
-  if (opt_.duration_s >= 0 && !(opt_.duration_s > 0 && opt_.duration_s <= max_s))
-    bad_input("--duration: " + number_beside(opt_.duration_s, 0, max_s) + " s outside (0, " +
-              number_text(max_s) + "] s");
+  check_request(m_, opt_);  // before identify: bad input sends nothing at all
   if (stop_asked()) {
     end_by_stop();
     return false;
