@@ -10,7 +10,9 @@ done > frames.jsonl
 for fault in corrupt drop; do
   start_emu --record "$fault.jsonl" --"$fault" 0.01 --seed 7
   rc=0
-  { cat frames.jsonl; sleep 1.5; } | while IFS= read -r line; do echo "$line"; sleep 0.02; done \
+  # The writer outlives a stimulus that completes (2 s): it stops at the closed pipe.
+  { cat frames.jsonl; sleep 1.5; } | (trap '' PIPE; while IFS= read -r line; do
+    echo "$line" 2> /dev/null || break; sleep 0.02; done) \
     | stimctl --port "$PORT" --live --stimulus stim.json --duration 2 2> "$fault.err" || rc=$?
   sleep 0.5
   stop_emu

@@ -36,17 +36,18 @@ grep -q "stimulus complete" end.err || fail "frames near the end: $(cat end.err)
 echo "ok: frames up to the end of --duration 0.5: $(cat end.err)"
 
 # 3. A slow device (every answer 5 ms late): 3000 frames, then 0 mA, while the input stays
-#    open; the output must be at 0 within 0.5 s of the last frame, and stay there.
+#    open; the output must be at 0 within 0.7 s of the burst, and stay there (one frame at a
+#    time, as before, takes 15 s).
 start_emu --record fade.jsonl --reply-delay-ms 5
 awk 'BEGIN { for (k = 0; k < 3000; k++) printf "{\"amplitudes\": [0.8, %.4f]}\n", 1.2 * (k % 100) / 100
   print "{\"amplitudes\": [0, 0]}" }' > fade.frames
 rc=0
-{ sleep 0.3; cat fade.frames; sleep 2; } 2> /dev/null \
+{ sleep 0.3; cat fade.frames; sleep 3; } 2> /dev/null \
   | stimctl --port "$PORT" --live --stimulus mix.json --duration 2.5 2> fade.err || rc=$?
 sleep 0.2
 stop_emu
 # The burst was written at 0.3 s after the start (give or take the start's own exchanges).
-jq -se 'map(select(.t_s >= 1.0) | .currents_mA | map(fabs) | max) | length > 100 and max == 0' \
+jq -se 'map(select(.t_s >= 1.0) | .currents_mA | map(fabs) | max) | length > 0 and max == 0' \
   fade.jsonl > /dev/null ||
   fail "the fade's last frame was not in force from 1 s: $(jq -sc 'map(select(.t_s >= 1.0)) | [length, (map(.currents_mA | map(fabs) | max) | max)]' fade.jsonl)"
 [[ $rc -eq 0 ]] || fail "fade: exit $rc: $(cat fade.err)"
