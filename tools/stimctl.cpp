@@ -16,6 +16,7 @@
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "fibre/report.hpp"
+#include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/signals.hpp"
 #include "io/number.hpp"
@@ -113,7 +114,9 @@ int main(int argc, char** argv) {
       };
     // Before the port is opened: from here on every terminating signal is a flag the
     // session honours (nothing starts after it; a running output is stopped first).
-    const volatile std::sig_atomic_t* signal_flag = tp::host::install_stop_handlers();
+    opt.stop = tp::host::StopToken().with_signals(tp::host::install_stop_handlers());
+    tp::host::LineSource lines(STDIN_FILENO);  // live mode's frames: JSON lines on stdin
+    if (live) opt.frames = &lines;
     tp::host::EmulatorOptions emu;
     emu.caps.channels = static_cast<std::uint8_t>(emu_channels);
     emu.record_path = record;
@@ -126,7 +129,7 @@ int main(int argc, char** argv) {
         if (shown) std::fprintf(stderr, "\r\033[K");
       }
     } clear_progress{progress_shown};
-    const tp::host::SessionReport r = tp::host::run_session(*transport, mix, opt, signal_flag);
+    const tp::host::SessionReport r = tp::host::run_session(*transport, mix, opt);
     tp::host::arm_emergency_stop(-1);
     if (progress_shown) std::fprintf(stderr, "\r\033[K");
     progress_shown = false;

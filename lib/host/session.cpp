@@ -73,6 +73,8 @@ void check_request(const Mix& m, const SessionOptions& opt) {
   if (opt.duration_s >= 0 && !(opt.duration_s > 0 && opt.duration_s <= max_s))
     bad_input("--duration: " + number_beside(opt.duration_s, 0, max_s) + " s outside (0, " +
               number_text(max_s) + "] s");
+  if (opt.live && !opt.frames)
+    throw Error(ExitCode::failure, "live session without a frame source (SessionOptions::frames)");
 }
 
 // A single stimulus's configuration (protocol 1 to 3), checked against the device's timing.
@@ -206,12 +208,6 @@ double peak_of(const std::vector<std::int16_t>& codes, const device::Capabilitie
   return m * caps.dac_step_nA * 1e-6;
 }
 
-std::string end_by_signal(int sig) {
-  if (sig == SIGINT) return "interrupted (SIGINT)";
-  if (sig == SIGTERM) return "terminated (SIGTERM)";
-  return "stopped by " + signal_name(sig);
-}
-
 }  // namespace
 
 void check_device(const device::Capabilities& caps) {
@@ -229,11 +225,10 @@ void check_device(const device::Capabilities& caps) {
               " channels; the protocol carries at most " + std::to_string(device::kMaxChannels));
 }
 
-SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
-                          const volatile std::sig_atomic_t* signal_flag) {
+SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt) {
   Mix m;
   m.patterns.push_back(s);
-  return run_session(transport, m, opt, signal_flag);
+  return run_session(transport, m, opt);
 }
 
 SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
@@ -279,9 +274,8 @@ namespace {
 // scheduled).  Every step that leads to output first asks whether to stop.
 class SessionRun {
  public:
-  SessionRun(Transport& t, const Mix& m, const SessionOptions& opt,
-             const volatile std::sig_atomic_t* flag)
-      : m_(m), opt_(opt), flag_(flag), dev_(t) {
+  SessionRun(Transport& t, const Mix& m, const SessionOptions& opt)
+      : m_(m), opt_(opt), dev_(t) {
     rep_.port = t.name();
   }
 
@@ -300,14 +294,11 @@ class SessionRun {
   }
 
  private:
-  bool stop_asked() const { return (flag_ && *flag_ != 0) || (opt_.stop && opt_.stop->load()); }
+  bool stop_asked() const { return opt_.stop.requested(); }
   void end_by_stop() {
-    if (flag_ && *flag_ != 0) {
-      rep_.end = end_by_signal(*flag_);
-      rep_.exit_code = 128 + *flag_;
-    } else {
-      rep_.end = opt_.stop_reason;
-    }
+    StopToken::Why why = opt_.stop.why();
+    rep_.end = std::move(why.reason);
+    rep_.exit_code = why.exit_code;
   }
   void stop_quietly() noexcept {
     if (!configured_) return;
@@ -330,12 +321,10 @@ class SessionRun {
 
   const Mix& m_;
   const SessionOptions& opt_;
-  const volatile std::sig_atomic_t* flag_;
   StimulatorClient dev_;
   SessionReport rep_;
   SessionPlan plan_;
   std::optional<LiveState> live_;
-  std::unique_ptr<LineSource> lines_;
   std::optional<LineFile> latency_;
   std::int64_t t0_ = 0;
   bool configured_ = false;
@@ -356,7 +345,6 @@ bool SessionRun::prepare() {
   rep_.scheduled = plan_.pulses;
   if (opt_.live) {
     live_.emplace(m_, plan_.limits, rep_.caps);
-    if (!opt_.frames) lines_ = std::make_unique<LineSource>(opt_.input_fd);
     if (!opt_.latency_log.empty()) latency_.emplace(opt_.latency_log, "--latency-log");
   }
   return true;
@@ -477,7 +465,7 @@ void SessionRun::keep_alive() {
 // The live input's frames, waiting up to wait_ms; their net effect sent at once.  False:
 // the device had ended the session meanwhile (completed: rep_.end says so).
 bool SessionRun::take_frames(int wait_ms) {
-  FrameSource& source = opt_.frames ? *opt_.frames : *lines_;
+  FrameSource& source = *opt_.frames;
   input_open_ = source.pump(*live_, wait_ms);
   const LiveState::Update u = live_->take();
   if (u.empty()) return true;
@@ -537,9 +525,8 @@ void SessionRun::finish() {
 
 }  // namespace
 
-SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
-                          const volatile std::sig_atomic_t* signal_flag) {
-  return SessionRun(transport, m, opt, signal_flag).run();
+SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt) {
+  return SessionRun(transport, m, opt).run();
 }
 
 }  // namespace tp::host

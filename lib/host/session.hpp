@@ -12,6 +12,7 @@
 
 #include "host/stimulator.hpp"
 #include "pulse/mix.hpp"
+#include "host/stop.hpp"
 #include "pulse/stimulus.hpp"
 
 namespace tp::host {
@@ -30,15 +31,15 @@ struct SessionProgress {
 struct SessionOptions {
   double duration_s = -1.0;  // stop after this long (< 0: the stimulus' own duration; live
                              // mode: until the input ends, at most limits.max_duration_s)
-  bool live = false;         // after starting, take live frames (host/live.hpp): from
-  FrameSource* frames = nullptr;  // here, or, when null, JSON lines on input_fd
-  int input_fd = 0;
+  bool live = false;         // after starting, take live frames (host/live.hpp) from
+  FrameSource* frames = nullptr;  // here (required in live mode): JSON lines on a file
+                                  // descriptor (stimctl), or a queue in memory (Python)
   std::string latency_log;  // live mode: "n t_ns" per update sent (n from 1; benchmarks)
   StimulusLimits limits;    // the host's limits
-  // The caller's own stop (Python's close()), asked wherever the signal flag is: the output
-  // stops, and the report's end is stop_reason (exit code 0; the caller decides).
-  const std::atomic<bool>* stop = nullptr;
-  std::string stop_reason = "stopped by the caller";
+  // A stop from outside (host/stop.hpp): a signal's flag, the caller's StopSource, or both.
+  // The output stops; the report's end says why, its exit code is 128 + the signal, or 0
+  // for the caller's stop (the caller decides).
+  StopToken stop;
   std::function<void(const SessionProgress&)> progress;
 };
 
@@ -102,15 +103,14 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
                                            const Stimulus& s, const StimulusLimits& lim,
                                            const device::Capabilities& caps);
 
-// signal_flag: set (to the signal number) by a signal handler (signals.hpp).  It is checked
-// before every step that could start output, and at every turn of the keep-alive loop.
-// A mix of several patterns goes to the device as a table (protocol 4), after the same
-// checks across patterns the device makes (check_mix, and the codes' load); live mode then
-// takes amplitude frames {"amplitudes": [...]} (a single stimulus takes those and weight
-// frames).
-SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt,
-                          const volatile std::sig_atomic_t* signal_flag);
-SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt,
-                          const volatile std::sig_atomic_t* signal_flag);
+// Checked before every step that could start output, and at every turn of the keep-alive
+// loop: opt.stop.  A mix of several patterns goes to the device as a table (protocol 4),
+// after the same checks across patterns the device makes (check_mix, and the codes'
+// load); live mode then takes amplitude frames {"amplitudes": [...]} (a single stimulus
+// takes those and weight frames).  The run's steps are SessionRun's, in session.cpp:
+// prepare (every check), open the output (preempt, configure, start), keep alive (frames,
+// status, watchdog), finish (the count delivered against the count scheduled).
+SessionReport run_session(Transport& transport, const Mix& m, const SessionOptions& opt);
+SessionReport run_session(Transport& transport, const Stimulus& s, const SessionOptions& opt);
 
 }  // namespace tp::host

@@ -1,6 +1,7 @@
 #include "host/terminal.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cstring>
 #include <exception>
@@ -68,13 +69,9 @@ void Terminal::say(const std::string& text) {
 SessionReport run_watched(Transport& transport, const Mix& m, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag,
                           const std::function<bool(int)>& stop, bool& stopped) {
-  int fds[2];
-  if (pipe2(fds, O_CLOEXEC) != 0)
-    throw Error(ExitCode::failure, std::string("pipe: ") + std::strerror(errno));
+  StopSource caller;
   SessionOptions o = opt;
-  o.live = true;  // its input: the pipe, closed to stop
-  o.input_fd = fds[0];
-  if (!(o.duration_s > 0)) o.duration_s = m.duration_s();  // live mode's count: the stimulus's
+  o.stop = caller.token().with_signals(signal_flag);
   SessionReport rep;
   std::exception_ptr error;
   std::atomic<bool> done{false};
@@ -91,7 +88,7 @@ SessionReport run_watched(Transport& transport, const Mix& m, const SessionOptio
   try {
     session = std::thread([&] {
       try {
-        rep = run_session(transport, m, o, signal_flag);
+        rep = run_session(transport, m, o);
       } catch (...) {
         error = std::current_exception();
       }
@@ -99,25 +96,18 @@ SessionReport run_watched(Transport& transport, const Mix& m, const SessionOptio
     });
   } catch (...) {
     pthread_sigmask(SIG_SETMASK, &old, nullptr);
-    close(fds[0]);
-    close(fds[1]);
     throw;
   }
   pthread_sigmask(SIG_SETMASK, &old, nullptr);
   stopped = false;
-  bool open = true;
   while (!done) {
-    if (open && ((signal_flag && *signal_flag) || stop(5))) {
-      stopped = !(signal_flag && *signal_flag);
-      close(fds[1]);  // the session's input ends: it stops the output
-      open = false;
-    } else if (!open) {
+    if (!caller.requested() && !(signal_flag && *signal_flag) && stop(5))
+      caller.request("stopped at the terminal");  // the session stops the output at once
+    else if (caller.requested() || (signal_flag && *signal_flag))
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
   }
   session.join();
-  if (open) close(fds[1]);
-  close(fds[0]);
+  stopped = caller.requested() && !(signal_flag && *signal_flag);
   if (error) std::rethrow_exception(error);
   return rep;
 }

@@ -32,8 +32,8 @@ class Terminal {
 
 // Delivers m as run_session does, on a thread of its own that leaves the signals to the
 // caller's, while stop(timeout_ms) is asked every few milliseconds (and *signal_flag
-// watched): once either says stop, the session's input ends and it stops the output at
-// once.  Returns its report; `stopped` says whether stop() ended it.
+// watched): once either says stop, the session's stop token does, and it stops the output
+// at once.  Returns its report; `stopped` says whether stop() ended it.
 SessionReport run_watched(Transport& transport, const Mix& m, const SessionOptions& opt,
                           const volatile std::sig_atomic_t* signal_flag,
                           const std::function<bool(int)>& stop, bool& stopped);

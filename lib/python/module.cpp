@@ -637,7 +637,7 @@ PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, d
 
 struct SessionRun {
   volatile std::sig_atomic_t flag = 0;  // a Python signal's exception: SIGINT
-  std::atomic<bool> closed{false};      // close() from another thread
+  tp::host::StopSource closed;          // close() from another thread
   std::shared_ptr<tp::host::FrameQueue> frames;  // a live session's input
   std::mutex m;
   std::condition_variable cv;
@@ -761,7 +761,7 @@ class Stimulator {
   void close() {
     {
       std::unique_lock<std::mutex> lock(m_);
-      if (current_) current_->closed = true;
+      if (current_) current_->closed.request("closed (Stimulator.close())");
     }
     if (live_) {
       std::unique_ptr<SessionRun> run = std::move(live_);
@@ -821,12 +821,11 @@ class Stimulator {
     SessionRun* r = run.get();
     r->frames = std::move(frames);
     opt.frames = r->frames.get();
-    opt.stop = &r->closed;
-    opt.stop_reason = "closed (Stimulator.close())";
+    opt.stop = r->closed.token().with_signals(&r->flag);
     tp::host::Transport* t = transport_.get();
     run->thread = std::thread([r, t, m, opt] {
       try {
-        r->report = tp::host::run_session(*t, m, opt, &r->flag);
+        r->report = tp::host::run_session(*t, m, opt);
       } catch (...) {
         r->error = std::current_exception();
       }

@@ -72,7 +72,8 @@ TEST_CASE("a signal during identify or configuring starts nothing", "[host][sess
     volatile std::sig_atomic_t flag = 0;
     TrippingTransport t(trip, flag);
     host::SessionOptions opt;
-    const host::SessionReport r = host::run_session(t, test_stimulus(), opt, &flag);
+    opt.stop = host::StopToken().with_signals(&flag);
+    const host::SessionReport r = host::run_session(t, test_stimulus(), opt);
     INFO("signal raised while sending message type " << static_cast<int>(trip));
     CHECK_FALSE(r.started);
     CHECK(r.exit_code == 128 + SIGINT);
@@ -83,7 +84,9 @@ TEST_CASE("a signal during identify or configuring starts nothing", "[host][sess
   volatile std::sig_atomic_t flag = 0;
   TrippingTransport t(device::Msg::start, flag);
   const auto t0 = std::chrono::steady_clock::now();
-  const host::SessionReport r = host::run_session(t, test_stimulus(), {}, &flag);
+  host::SessionOptions opt;
+  opt.stop = host::StopToken().with_signals(&flag);
+  const host::SessionReport r = host::run_session(t, test_stimulus(), opt);
   CHECK(r.started);
   CHECK(r.exit_code == 128 + SIGINT);
   CHECK(t.sent.back() == device::Msg::status);  // the final status, after stop
@@ -112,7 +115,7 @@ TEST_CASE("a device still running another session's output is stopped first", "[
   REQUIRE(first.status().state == device::State::running);
   Stimulus s = test_stimulus();
   s.count = 10;
-  const host::SessionReport r = host::run_session(borrowed, s, {}, nullptr);
+  const host::SessionReport r = host::run_session(borrowed, s, {});
   CHECK(r.preempted);
   CHECK(r.end == "stimulus complete");
   CHECK(r.pulses == 10);

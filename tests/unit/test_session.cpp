@@ -170,7 +170,7 @@ TEST_CASE("a completion with fewer pulses than scheduled is a failure, naming bo
   // firmware's engine behind its schedule, before the overrun fault): exit 0 before.
   LossyDevice lossy(3, false);
   const std::string m =
-      message_of([&] { host::run_session(lossy, mix_of(stimulus(1.0, 30)), {}, nullptr); });
+      message_of([&] { host::run_session(lossy, mix_of(stimulus(1.0, 30)), {}); });
   CHECK(m ==
         "the device delivered 20 of the 30 pulses scheduled and reported the stimulus "
         "complete: the stimulus was not delivered as asked (a device that cannot keep up "
@@ -182,7 +182,7 @@ TEST_CASE("a device that falls behind ends the output (overrun), and the host sa
           "[host][session][device]") {
   LossyDevice lossy(10, true);
   const std::string m =
-      message_of([&] { host::run_session(lossy, mix_of(stimulus(1.0, 200)), {}, nullptr); });
+      message_of([&] { host::run_session(lossy, mix_of(stimulus(1.0, 200)), {}); });
   CHECK_THAT(m, Catch::Matchers::StartsWith(
                     "device stopped the output: it could not deliver a pulse on time"));
   CHECK_THAT(m, Catch::Matchers::Contains("of 200 pulses delivered"));
@@ -200,13 +200,13 @@ TEST_CASE("a stimulus above the device's throughput is refused before anything i
     m.patterns.push_back(s);
   }
   LossyDevice device(1000000, false, caps);
-  CHECK(message_of([&] { host::run_session(device, m, {}, nullptr); }) ==
+  CHECK(message_of([&] { host::run_session(device, m, {}); }) ==
         "the stimulus asks 600 pulses a second over its 3 patterns; the device delivers at "
         "most 500 a second on time (its measured throughput): lower the rates or use fewer "
         "patterns (docs/safety.md)");
   CHECK(device.sent == std::vector<device::Msg>{device::Msg::identify});
   m.patterns.pop_back();  // 400 a second: delivered
-  CHECK(host::run_session(device, m, {}, nullptr).pulses == 40);
+  CHECK(host::run_session(device, m, {}).pulses == 40);
 }
 
 TEST_CASE("the device refuses to start a table above its throughput", "[device]") {
@@ -243,4 +243,60 @@ TEST_CASE("the device refuses to start a table above its throughput", "[device]"
   CHECK(device::send(core, seq++, device::Msg::start, start, 0) == device::Result::out_of_range);
   CHECK(core.status().state != device::State::running);
   CHECK(device::pulse_rate_mHz(nullptr, 0) == 0);
+}
+
+// Issue 39: the session stops through its token (a caller's StopSource or a signal's flag),
+// never a global; the output stops first, and the report says which stop it was.
+TEST_CASE("a stop asked before the start sends nothing but identify", "[host][session]") {
+  host::StopSource caller;
+  caller.request("closed by the test");
+  caller.request("a second reason is ignored");
+  host::SessionOptions opt;
+  opt.stop = caller.token();
+  LossyDevice device(1000000, false);
+  const host::SessionReport r = host::run_session(device, mix_of(stimulus(0.5)), opt);
+  CHECK_FALSE(r.started);
+  CHECK(r.end == "closed by the test");
+  CHECK(r.exit_code == 0);
+  CHECK(device.sent.empty());
+}
+
+TEST_CASE("a signal's flag in the token ends the run as 128 + the signal",
+          "[host][session]") {
+  volatile std::sig_atomic_t flag = 0;
+  host::StopSource caller;
+  host::SessionOptions opt;
+  opt.stop = caller.token().with_signals(&flag);
+  CHECK_FALSE(opt.stop.requested());
+  flag = SIGTERM;
+  caller.request("closed by the test");  // the signal takes precedence
+  CHECK(opt.stop.why().reason == "terminated (SIGTERM)");
+  CHECK(opt.stop.why().exit_code == 128 + SIGTERM);
+  flag = 0;
+  CHECK(opt.stop.why().reason == "closed by the test");
+  CHECK(opt.stop.why().exit_code == 0);
+  CHECK(host::StopToken().why().reason.empty());
+}
+
+TEST_CASE("a stop asked while the output runs stops it, and the device is told",
+          "[host][session]") {
+  host::StopSource caller;
+  host::SessionOptions opt;
+  opt.stop = caller.token();
+  LossyDevice device(1000000, false);
+  Stimulus s = stimulus(0.5, 2000);  // 10 s at 200 Hz
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    caller.request("closed by the test");
+  });
+  const host::SessionReport r = host::run_session(device, mix_of(s), opt);
+  stopper.join();
+  CHECK(r.started);
+  CHECK(r.end == "closed by the test");
+  CHECK(r.exit_code == 0);
+  CHECK(r.pulses < 2000);
+  const auto start = std::find(device.sent.begin(), device.sent.end(), device::Msg::start);
+  REQUIRE(start != device.sent.end());
+  CHECK(std::find(start, device.sent.end(), device::Msg::stop) != device.sent.end());
+  CHECK(device.sent.back() == device::Msg::status);  // the final status, after the stop
 }
