@@ -5,6 +5,8 @@
 #include <csignal>
 #include <cstring>
 #include <deque>
+#include <functional>
+#include <optional>
 #include <thread>
 
 #include <fcntl.h>
@@ -211,64 +213,146 @@ void await_device(int fd, const std::string& path) {
   failure("the device at " + path + " did not answer within 10 s");
 }
 
-}  // namespace
+// stim-emu's device on a pseudo-terminal, in named steps: open the line, connect the
+// forwarded device (if any), then turns of wait -> the device's replies -> the host's
+// bytes (forwarded, or handled by the device core) until a signal, a fault or an error
+// ends it; every end stops the output first (link_lost).
+class PtyEmulator {
+ public:
+  explicit PtyEmulator(const PtyEmulatorOptions& opt)
+      : opt_(opt), recorder_(opt.record_path), core_(opt.caps), rng_{opt.faults.seed} {
+    if (!opt.apply_log_path.empty()) apply_log_.emplace(opt.apply_log_path, "--apply-log");
+    if (!opt.event_log_path.empty()) event_log_.emplace(opt.event_log_path, "--event-log");
+    reply_delay_us_ = static_cast<std::uint64_t>(std::llround(opt.faults.reply_delay_s * 1e6));
+  }
+  ~PtyEmulator() {
+    if (device_fd_ >= 0) close(device_fd_);
+    if (slave_ >= 0) close(slave_);
+    if (master_ >= 0) close(master_);
+  }
+  PtyEmulator(const PtyEmulator&) = delete;
+  PtyEmulator& operator=(const PtyEmulator&) = delete;
 
-int run_pty_emulator(const PtyEmulatorOptions& opt) {
-  PulseRecorder recorder(opt.record_path);
-  std::optional<LineFile> apply_log, event_log;
-  if (!opt.apply_log_path.empty()) apply_log.emplace(opt.apply_log_path, "--apply-log");
-  if (!opt.event_log_path.empty()) event_log.emplace(opt.event_log_path, "--event-log");
-  bool running = false;  // as last logged
-  const int master = posix_openpt(O_RDWR | O_NOCTTY);
-  if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0)
-    failure(std::string("cannot open a pseudo-terminal: ") + std::strerror(errno));
-  const char* name = ptsname(master);
-  if (!name) failure("ptsname failed");
-  const std::string path = name;
-  // Keep the slave open ourselves, in raw mode: the line then behaves like a serial port
-  // (no echo, no line editing) and reads on the master never fail while no host is attached.
-  const int slave = open(path.c_str(), O_RDWR | O_NOCTTY);
-  if (slave < 0) failure("cannot open " + path + ": " + std::strerror(errno));
-  termios tio{};
-  tcgetattr(slave, &tio);
-  cfmakeraw(&tio);
-  tcsetattr(slave, TCSANOW, &tio);
-  fcntl(master, F_SETFL, fcntl(master, F_GETFL) | O_NONBLOCK);
+  int run() {
+    open_line();
+    install_signals();
+    if (forward()) {
+      device_fd_ = connect_device(opt_.forward_socket);
+      await_device(device_fd_, opt_.forward_socket);
+    }
+    std::printf("%s\n", path_.c_str());
+    std::fflush(stdout);
+    t0_ = monotonic_us();
+    try {
+      while (!g_stop && turn()) {
+      }
+    } catch (const Error&) {
+      // A record or log that cannot be written (a full disk): the output stops first, then
+      // the emulator exits saying why.
+      core_.link_lost();
+      throw;
+    }
+    try {
+      core_.advance(monotonic_us(), sink());
+    } catch (const Error&) {
+      // The record's last pulses could not be written: said below.
+    }
+    core_.link_lost();  // output stops before the emulator goes
+    if (recorder_.failed()) failure("--record: cannot write '" + opt_.record_path + "'");
+    return 0;
+  }
 
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  sigaction(SIGHUP, &sa, nullptr);
-  std::signal(SIGPIPE, SIG_IGN);
+ private:
+  static constexpr std::size_t kMaxToDevice = 65536;
 
-  const bool forward = !opt.forward_socket.empty();
-  const int device_fd = forward ? connect_device(opt.forward_socket) : -1;
-  std::vector<std::uint8_t> to_device;  // forwarded bytes the device's line has not taken yet
-  constexpr std::size_t kMaxToDevice = 65536;
-  if (forward) await_device(device_fd, opt.forward_socket);
+  bool forward() const { return !opt_.forward_socket.empty(); }
+  std::function<void(const device::DeliveredPulse&)> sink() {
+    return [this](const device::DeliveredPulse& p) { recorder_.record(p); };
+  }
 
-  std::printf("%s\n", path.c_str());
-  std::fflush(stdout);
+  // The pseudo-terminal; its slave kept open here in raw mode, so that the line behaves
+  // like a serial port (no echo, no line editing) and reads on the master never fail while
+  // no host is attached.
+  void open_line() {
+    master_ = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master_ < 0 || grantpt(master_) != 0 || unlockpt(master_) != 0)
+      failure(std::string("cannot open a pseudo-terminal: ") + std::strerror(errno));
+    const char* name = ptsname(master_);
+    if (!name) failure("ptsname failed");
+    path_ = name;
+    slave_ = open(path_.c_str(), O_RDWR | O_NOCTTY);
+    if (slave_ < 0) failure("cannot open " + path_ + ": " + std::strerror(errno));
+    termios tio{};
+    tcgetattr(slave_, &tio);
+    cfmakeraw(&tio);
+    tcsetattr(slave_, TCSANOW, &tio);
+    fcntl(master_, F_SETFL, fcntl(master_, F_GETFL) | O_NONBLOCK);
+  }
 
-  device::DeviceCore core(opt.caps);
-  SplitMix64 rng{opt.faults.seed};  // reproducible fault injection
-  const std::uint64_t t0 = monotonic_us();
-  std::uint32_t applied = 0;
-  auto sink = [&](const device::DeliveredPulse& p) { recorder.record(p); };
-  std::vector<std::uint8_t> in(4096), out;
-  // Replies waiting for their time (fault injection: a slow device), oldest first.
-  std::deque<std::pair<std::uint64_t, std::vector<std::uint8_t>>> replies;
-  const auto reply_delay_us =
-      static_cast<std::uint64_t>(std::llround(opt.faults.reply_delay_s * 1e6));
-  auto send_due = [&](std::uint64_t now) {
-    while (!replies.empty() && replies.front().first <= now) {
-      const std::vector<std::uint8_t>& bytes = replies.front().second;
+  static void install_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+    sigaction(SIGHUP, &sa, nullptr);
+    std::signal(SIGPIPE, SIG_IGN);
+  }
+
+  // One turn: faults by the clock, the device's time, due replies, a wait, then what
+  // arrived.  False: the emulator ends (a fault's disconnect, the device's line closed).
+  bool turn() {
+    const std::uint64_t now = monotonic_us();
+    const double up_s = static_cast<double>(now - t0_) * 1e-6;
+    if (opt_.faults.disconnect_after_s >= 0 && up_s >= opt_.faults.disconnect_after_s) {
+      std::fprintf(stderr, "stim-emu: disconnecting (fault injection)\n");
+      return false;
+    }
+    stalled_ = opt_.faults.stall_after_s >= 0 && up_s >= opt_.faults.stall_after_s &&
+               up_s < opt_.faults.stall_after_s + opt_.faults.stall_s;
+    core_.advance(now, sink());
+    send_due(now);
+    pollfd pfds[2];
+    const int pr = wait(now, pfds);
+    if (pr < 0) return errno == EINTR;
+    if (forward()) {  // the host's waiting bytes are offered to the device at every turn
+      if (pr > 0 && (pfds[1].revents & (POLLIN | POLLHUP | POLLERR)) && !take_device_replies())
+        return false;
+      if (pr > 0 && (pfds[0].revents & POLLIN)) take_host_bytes_forwarded();
+      return write_to_device();
+    }
+    if (pr > 0 && (pfds[0].revents & POLLIN)) take_host_bytes();
+    return true;
+  }
+
+  // Sleeps until the next pulse, watchdog deadline or reply, at most 5 ms.  Forwarding
+  // never blocks: the host's bytes wait in to_device_ while the device's line is full, and
+  // the host is not read while that holds 64 KiB (the device's replies are read all the
+  // while: a device that cannot write its replies stops reading too).
+  int wait(std::uint64_t now, pollfd (&pfds)[2]) {
+    std::uint64_t next = forward() ? UINT64_MAX : core_.next_event_us();
+    if (!replies_.empty()) next = std::min(next, replies_.front().first);
+    int timeout_ms = 5;
+    if (next != UINT64_MAX)
+      timeout_ms = next <= now
+                       ? 0
+                       : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
+    const bool read_host = !stalled_ && (!forward() || to_device_.size() < kMaxToDevice);
+    const short device_events =
+        static_cast<short>(stalled_ ? 0 : (POLLIN | (to_device_.empty() ? 0 : POLLOUT)));
+    pfds[0] = {master_, static_cast<short>(read_host ? POLLIN : 0), 0};
+    pfds[1] = {device_fd_, device_events, 0};
+    return poll(pfds, forward() ? 2 : 1, timeout_ms);
+  }
+
+  // Replies whose time has come, oldest first.  A host that does not read fills the line:
+  // the rest of a reply is lost (as on a UART), never waited for, so the device loop and
+  // its watchdog keep running.
+  void send_due(std::uint64_t now) {
+    while (!replies_.empty() && replies_.front().first <= now) {
+      const std::vector<std::uint8_t>& bytes = replies_.front().second;
       std::size_t off = 0;
-      // A host that does not read fills the line: the rest of the reply is lost (as on a
-      // UART), never waited for, so the device loop and its watchdog keep running.
       while (off < bytes.size()) {
-        const ssize_t w = ::write(master, bytes.data() + off, bytes.size() - off);
+        const ssize_t w = ::write(master_, bytes.data() + off, bytes.size() - off);
         if (w > 0)
           off += static_cast<std::size_t>(w);
         else if (w < 0 && errno == EINTR)
@@ -276,121 +360,102 @@ int run_pty_emulator(const PtyEmulatorOptions& opt) {
         else
           break;
       }
-      replies.pop_front();
+      replies_.pop_front();
     }
-  };
-  int status = 0;
-  try {
-    while (!g_stop) {
-      const std::uint64_t now = monotonic_us();
-      const double up_s = static_cast<double>(now - t0) * 1e-6;
-      if (opt.faults.disconnect_after_s >= 0 && up_s >= opt.faults.disconnect_after_s) {
-        std::fprintf(stderr, "stim-emu: disconnecting (fault injection)\n");
-        break;
-      }
-      const bool stalled = opt.faults.stall_after_s >= 0 && up_s >= opt.faults.stall_after_s &&
-                           up_s < opt.faults.stall_after_s + opt.faults.stall_s;
-      core.advance(now, sink);
-      send_due(now);
-      // Sleep until the next pulse, watchdog deadline or reply, at most 5 ms.
-      std::uint64_t next = forward ? UINT64_MAX : core.next_event_us();
-      if (!replies.empty()) next = std::min(next, replies.front().first);
-      int timeout_ms = 5;
-      if (next != UINT64_MAX)
-        timeout_ms = next <= now
-                         ? 0
-                         : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
-      // Forwarding never blocks: the host's bytes wait in to_device while the device's line
-      // is full, and the host is not read while that holds 64 KiB (the device's replies are
-      // read all the while: a device that cannot write its replies stops reading too).
-      const bool read_host = !stalled && (!forward || to_device.size() < kMaxToDevice);
-      const short device_events =
-          static_cast<short>(stalled ? 0 : (POLLIN | (to_device.empty() ? 0 : POLLOUT)));
-      pollfd pfds[2] = {{master, static_cast<short>(read_host ? POLLIN : 0), 0},
-                        {device_fd, device_events, 0}};
-      const int pr = poll(pfds, forward ? 2 : 1, timeout_ms);
-      if (pr < 0 && errno != EINTR) break;
-      pollfd& pfd = pfds[0];
-      if (forward && pr > 0 && (pfds[1].revents & (POLLIN | POLLHUP | POLLERR))) {
-        // The device's replies: through the same faults and delay as the built-in device's.
-        const ssize_t n = read(device_fd, in.data(), in.size());
-        if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
-          std::fprintf(stderr, "stim-emu: the device closed its line\n");
-          break;
-        }
-        if (n > 0) {
-          std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
-          inject(bytes, opt.faults, rng);
-          if (!bytes.empty()) replies.emplace_back(monotonic_us() + reply_delay_us, bytes);
-          send_due(monotonic_us());
-        }
-      }
-      if (forward && pr > 0 && (pfd.revents & POLLIN)) {
-        const ssize_t n = read(master, in.data(), in.size());
-        if (n > 0) {
-          std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
-          inject(bytes, opt.faults, rng);
-          to_device.insert(to_device.end(), bytes.begin(), bytes.end());
-        }
-      }
-      if (forward && !to_device.empty() && !stalled) {
-        const ssize_t w = ::write(device_fd, to_device.data(), to_device.size());
-        if (w > 0) {
-          to_device.erase(to_device.begin(), to_device.begin() + w);
-        } else if (w < 0 && errno != EAGAIN && errno != EINTR) {
-          std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
-          break;
-        }
-      }
-      if (!forward && pr > 0 && (pfd.revents & POLLIN)) {
-        const ssize_t n = read(master, in.data(), in.size());
-        if (n > 0) {
-          std::vector<std::uint8_t> bytes(in.begin(), in.begin() + n);
-          inject(bytes, opt.faults, rng);
-          out.clear();
-          const std::uint64_t t_rx = monotonic_us();
-          core.advance(t_rx, sink);
-          core.receive(bytes.data(), bytes.size(), t_rx, out);
-          if (event_log && (core.status().state == device::State::running) != running) {
-            running = !running;
-            timespec wall{};
-            clock_gettime(CLOCK_REALTIME, &wall);
-            event_log->line(
-                std::string(running ? "start " : "stop ") +
-                std::to_string(static_cast<long long>(t_rx) * 1000) + " " +
-                std::to_string(static_cast<long long>(wall.tv_sec) * 1000000000LL + wall.tv_nsec));
-          }
-          if (apply_log) {
-            const auto t = static_cast<long long>(monotonic_ns());
-            for (; applied < core.status().weight_updates; ++applied)
-              apply_log->line(std::to_string(applied + 1) + " " + std::to_string(t));
-          }
-          inject(out, opt.faults, rng);
-          if (!out.empty()) replies.emplace_back(t_rx + reply_delay_us, out);
-          send_due(monotonic_us());
-        }
-      }
+  }
+
+  // The forwarded device's replies, through the same faults and delay as the built-in
+  // device's.  False: the device closed its line.
+  bool take_device_replies() {
+    const ssize_t n = read(device_fd_, in_.data(), in_.size());
+    if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
+      std::fprintf(stderr, "stim-emu: the device closed its line\n");
+      return false;
     }
-  } catch (const Error&) {
-    // A record or log that cannot be written (a full disk): the output stops first, then
-    // the emulator exits saying why.
-    core.link_lost();
-    if (device_fd >= 0) close(device_fd);
-    close(slave);
-    close(master);
-    throw;
+    if (n > 0) {
+      std::vector<std::uint8_t> bytes(in_.begin(), in_.begin() + n);
+      inject(bytes, opt_.faults, rng_);
+      if (!bytes.empty()) replies_.emplace_back(monotonic_us() + reply_delay_us_, bytes);
+      send_due(monotonic_us());
+    }
+    return true;
   }
-  try {
-    core.advance(monotonic_us(), sink);
-  } catch (const Error&) {
-    // The record's last pulses could not be written: said below.
+
+  void take_host_bytes_forwarded() {
+    const ssize_t n = read(master_, in_.data(), in_.size());
+    if (n <= 0) return;
+    std::vector<std::uint8_t> bytes(in_.begin(), in_.begin() + n);
+    inject(bytes, opt_.faults, rng_);
+    to_device_.insert(to_device_.end(), bytes.begin(), bytes.end());
   }
-  core.link_lost();  // output stops before the emulator goes
-  if (recorder.failed()) failure("--record: cannot write '" + opt.record_path + "'");
-  if (device_fd >= 0) close(device_fd);
-  close(slave);
-  close(master);
-  return status;
-}
+
+  // False: the device's line fails.
+  bool write_to_device() {
+    if (to_device_.empty() || stalled_) return true;
+    const ssize_t w = ::write(device_fd_, to_device_.data(), to_device_.size());
+    if (w > 0) {
+      to_device_.erase(to_device_.begin(), to_device_.begin() + w);
+    } else if (w < 0 && errno != EAGAIN && errno != EINTR) {
+      std::fprintf(stderr, "stim-emu: cannot write to the device: %s\n", std::strerror(errno));
+      return false;
+    }
+    return true;
+  }
+
+  // The built-in device: the host's bytes through the faults, into the device core, its
+  // replies queued for their time; the logs told what changed.
+  void take_host_bytes() {
+    const ssize_t n = read(master_, in_.data(), in_.size());
+    if (n <= 0) return;
+    std::vector<std::uint8_t> bytes(in_.begin(), in_.begin() + n);
+    inject(bytes, opt_.faults, rng_);
+    out_.clear();
+    const std::uint64_t t_rx = monotonic_us();
+    core_.advance(t_rx, sink());
+    core_.receive(bytes.data(), bytes.size(), t_rx, out_);
+    log_events(t_rx);
+    inject(out_, opt_.faults, rng_);
+    if (!out_.empty()) replies_.emplace_back(t_rx + reply_delay_us_, out_);
+    send_due(monotonic_us());
+  }
+
+  void log_events(std::uint64_t t_rx) {
+    if (event_log_ && (core_.status().state == device::State::running) != running_) {
+      running_ = !running_;
+      timespec wall{};
+      clock_gettime(CLOCK_REALTIME, &wall);
+      event_log_->line(
+          std::string(running_ ? "start " : "stop ") +
+          std::to_string(static_cast<long long>(t_rx) * 1000) + " " +
+          std::to_string(static_cast<long long>(wall.tv_sec) * 1000000000LL + wall.tv_nsec));
+    }
+    if (apply_log_) {
+      const auto t = static_cast<long long>(monotonic_ns());
+      for (; applied_ < core_.status().weight_updates; ++applied_)
+        apply_log_->line(std::to_string(applied_ + 1) + " " + std::to_string(t));
+    }
+  }
+
+  const PtyEmulatorOptions& opt_;
+  PulseRecorder recorder_;
+  std::optional<LineFile> apply_log_, event_log_;
+  device::DeviceCore core_;
+  SplitMix64 rng_;  // reproducible fault injection
+  std::uint64_t reply_delay_us_ = 0;
+  int master_ = -1, slave_ = -1, device_fd_ = -1;
+  std::string path_;
+  std::uint64_t t0_ = 0;
+  bool stalled_ = false;
+  bool running_ = false;  // as last logged
+  std::uint32_t applied_ = 0;
+  std::vector<std::uint8_t> in_ = std::vector<std::uint8_t>(4096), out_;
+  std::vector<std::uint8_t> to_device_;  // forwarded bytes the device's line has not taken yet
+  // Replies waiting for their time (fault injection: a slow device), oldest first.
+  std::deque<std::pair<std::uint64_t, std::vector<std::uint8_t>>> replies_;
+};
+
+}  // namespace
+
+int run_pty_emulator(const PtyEmulatorOptions& opt) { return PtyEmulator(opt).run(); }
 
 }  // namespace tp::host
