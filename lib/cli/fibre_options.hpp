@@ -9,10 +9,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "fibre/models.hpp"
-#include "fibre/report.hpp"
 #include "io/document.hpp"
-#include "pulse/stimulus.hpp"
+#include "requests/fibre.hpp"
 
 namespace tp::cli {
 
@@ -31,12 +29,10 @@ struct FibreOptions {
 // model_flag: "--model" (fiber-threshold) or "--fibre-model" (optimize-weights).
 void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_flag);
 
-struct FibreSetup {
-  std::unique_ptr<fibre::FibreModel> model;
-  fibre::PulseSpec pulse;
-  fibre::ThresholdSettings settings;
-  std::optional<Stimulus> stimulus;  // --stimulus, checked against its limits
-};
+// The flags' values: the numbers parsed (bad input names the flag), --stimulus read.
+FibreRequest fibre_request(const FibreOptions& o);
+
+using FibreSetup = tp::FibreSetup;
 // Checks every option (bad input names the flag); a stimulus must be the weights times one
 // amplitude and within every limit.
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights);
