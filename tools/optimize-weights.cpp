@@ -108,7 +108,7 @@ void declare(CLI::App& app, Flags& f) {
   tp::cli::add_output_option(app);
 }
 
-// The request of the flags given: numbers parsed (bad input names the flag), --stimulus read.
+// The request of the flags given: numbers parsed (bad input names the flag), --stimulus's path.
 tp::OptimizeRequest request_of(const CLI::App& app, const Flags& f) {
   tp::OptimizeRequest r;
   for (std::size_t a = 0; !f.mode.empty();) {  // several, comma-separated
@@ -128,9 +128,9 @@ tp::OptimizeRequest request_of(const CLI::App& app, const Flags& f) {
   r.timing = f.timing;
   r.certify = f.certify;
   if (f.objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
-  r.fibre = tp::cli::fibre_request(f.fibre);
-  if (!app.count("--fibre-model")) r.fibre.model.reset();
-  if (!app.count("--offsets")) r.fibre.offsets.reset();
+  r.fibre = tp::cli::fibre_values(f.fibre);
+  r.fibre_model_given = app.count("--fibre-model") > 0;
+  r.offsets_given = app.count("--offsets") > 0;
   if (app.count("--max-evaluations")) r.max_evaluations = f.max_evaluations;
   for (const std::string& p : f.at) r.at_mm.push_back(tp::parse_list(p, "--at"));
   r.given.at = f.at;

@@ -1,7 +1,6 @@
 #include "cli/fibre_options.hpp"
 
 #include "cli/entry.hpp"
-#include "core/error.hpp"
 #include "io/number.hpp"
 
 namespace tp::cli {
@@ -44,26 +43,24 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
   add_integer(app, "--threads", o.threads, "Threads, 1 to 256 [every core]", 1, 256);
 }
 
-FibreRequest fibre_request(const FibreOptions& o) {
-  FibreRequest r;
-  r.model = o.model;
-  r.model_flag = o.model_flag;
-  r.geometry = o.geometry;
-  if (!o.stimulus.empty()) r.stimulus = stimulus_from_json(read_json(o.stimulus, "--stimulus"));
-  if (!o.width.empty()) r.width_us = parse_finite(o.width, "--width");
-  if (!o.balance_width.empty()) r.balance_width_us = parse_finite(o.balance_width, "--balance-width");
-  if (!o.interphase.empty()) r.interphase_us = parse_finite(o.interphase, "--interphase");
-  r.monophasic = o.monophasic;
-  r.offsets = o.offsets;
-  if (!o.tolerance.empty()) r.tolerance = parse_finite(o.tolerance, "--tolerance");
-  if (o.threads != 0) r.threads = o.threads;
-  return r;
+tp::FibreOptions fibre_values(const FibreOptions& o) {
+  tp::FibreOptions v;
+  v.model = o.model;
+  v.geometry = o.geometry;
+  v.stimulus = o.stimulus;
+  if (!o.width.empty()) v.width_us = parse_finite(o.width, "--width");
+  if (!o.balance_width.empty()) v.balance_width_us = parse_finite(o.balance_width, "--balance-width");
+  if (!o.interphase.empty()) v.interphase_us = parse_finite(o.interphase, "--interphase");
+  v.monophasic = o.monophasic;
+  v.offsets = o.offsets;
+  if (!o.tolerance.empty()) v.tolerance = parse_finite(o.tolerance, "--tolerance");
+  v.threads = o.threads;
+  v.model_flag = o.model_flag;
+  return v;
 }
 
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights) {
-  FibreSetup f = fibre_setup(fibre_request(o));
-  check_stimulus_weights(f, weights);
-  return f;
+  return tp::apply_fibre_options(fibre_values(o), weights);
 }
 
 }  // namespace tp::cli

@@ -1,19 +1,19 @@
 #pragma once
-// The options of the programs that compute fibre thresholds (fiber-threshold,
+// The flags of the programs that compute fibre thresholds (fiber-threshold,
 // optimize-weights --objective threshold): the fibre model, the pulse (flags or a stimulus
-// document), the node offsets, the lattice tolerance and the threads.
+// document), the node offsets, the lattice tolerance and the threads, as CLI11 declares
+// them.  Their values, and what they make, are the library's (requests/fibre_options.hpp).
 
-#include <memory>
-#include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include "io/document.hpp"
-#include "requests/fibre.hpp"
+#include "requests/fibre_options.hpp"
 
 namespace tp::cli {
 
+// The flags' texts (numbers parsed by fibre_values, naming the flag).
 struct FibreOptions {
   std::string model = "mrg";
   std::string geometry = "straight";
@@ -29,12 +29,11 @@ struct FibreOptions {
 // model_flag: "--model" (fiber-threshold) or "--fibre-model" (optimize-weights).
 void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_flag);
 
-// The flags' values: the numbers parsed (bad input names the flag), --stimulus read.
-FibreRequest fibre_request(const FibreOptions& o);
+// The values of the flags (bad input names a flag whose text is not a finite number).
+tp::FibreOptions fibre_values(const FibreOptions& o);
 
-using FibreSetup = tp::FibreSetup;
-// Checks every option (bad input names the flag); a stimulus must be the weights times one
-// amplitude and within every limit.
+using tp::FibreSetup;
+// tp::apply_fibre_options over the flags' values.
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights);
 
 }  // namespace tp::cli

@@ -400,8 +400,6 @@ py::object summarize(const PyDocument& d, std::optional<double> amplitude_mA) {
 // optimize-weights: a mode's minimax weights, a pixel (at), a bank, or the threshold
 // objective; the program's request (lib/requests/optimize.hpp) and its document.
 
-std::optional<tp::Stimulus> stimulus_arg(const std::optional<py::object>& o);  // below
-
 // at: one place, [x] or [x, z]; with a bank, several.
 using Places = std::variant<std::vector<double>, std::vector<std::vector<double>>>;
 
@@ -437,14 +435,16 @@ PyDocument optimize_weights(
   r.threads = threads;
   r.timing = timing;
   if (objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
-  r.fibre.model = fibre_model;
+  r.fibre.model = fibre_model.value_or("mrg");
+  r.fibre_model_given = fibre_model.has_value();
   r.fibre.geometry = geometry;
-  r.fibre.stimulus = stimulus_arg(stimulus);
+  if (stimulus) r.fibre.stimulus = path_arg(*stimulus);
   r.fibre.width_us = width_us;
   r.fibre.interphase_us = interphase_us;
   r.fibre.balance_width_us = balance_width_us;
   r.fibre.monophasic = monophasic;
-  r.fibre.offsets = offsets;
+  r.fibre.offsets = offsets.value_or(8);
+  r.offsets_given = offsets.has_value();
   r.fibre.tolerance = tolerance;
   r.max_evaluations = max_evaluations;
   py::gil_scoped_release release;
@@ -536,16 +536,6 @@ struct PyStimulus {
   }
   std::string to_json() const { return tp::dump_json(json()); }
 };
-
-// A stimulus keyword: a Stimulus of one pattern, or a stimulus document's path.
-std::optional<tp::Stimulus> stimulus_arg(const std::optional<py::object>& o) {
-  if (!o) return std::nullopt;
-  if (!py::isinstance<PyStimulus>(*o))
-    return tp::stimulus_from_json(tp::read_json(path_arg(*o), "--stimulus"));
-  const tp::Mix& mix = o->cast<const PyStimulus&>().mix;
-  if (mix.table()) tp::bad_input("--stimulus: a mix of patterns, not one pattern's stimulus");
-  return mix.patterns[0];
-}
 
 PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, double frequency_hz,
                       double width_us, std::optional<double> balance_width_us, double interphase_us,

@@ -1,6 +1,7 @@
 #include "requests/optimize.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 #include <utility>
@@ -14,11 +15,21 @@
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"
-#include "requests/checks.hpp"
 
 namespace tp {
 
 namespace {
+
+// The checks the program's parser makes, for values that come without it, in its words.
+void check_whole(const std::string& flag, long value, long lo, long hi) {
+  if (!(value >= lo && value <= hi))
+    bad_input(flag + ": " + std::to_string(value) + " outside [" + std::to_string(lo) + ", " +
+              std::to_string(hi) + "]");
+}
+void check_finite(const std::string& flag, std::optional<double> value) {
+  if (value && !std::isfinite(*value))
+    parse_finite(std::isnan(*value) ? "nan" : *value > 0 ? "inf" : "-inf", flag);
+}
 
 enum class Design { modes, pixel, bank, threshold };
 
@@ -30,7 +41,7 @@ struct OptimizePlan {
   FocusOptions focus;
   std::vector<std::pair<double, double>> places;  // (x, z) mm
   BankOptions bank;
-  std::optional<FibreSetup> fibre;
+  FibreOptions fibre;
   fibre::ThresholdSearchOptions search;
 };
 
@@ -123,15 +134,15 @@ void check_modes(const Document& doc, const OptimizeRequest& r) {
 // and a bank too).
 void check_threshold_flags(const OptimizeRequest& r) {
   if (by_threshold(r)) return;
-  const FibreRequest& f = r.fibre;
+  const FibreOptions& f = r.fibre;
   const std::pair<const char*, bool> given[] = {
-      {"--fibre-model", f.model.has_value()},
-      {"--stimulus", f.stimulus.has_value()},
+      {"--fibre-model", r.fibre_model_given},
+      {"--stimulus", !f.stimulus.empty()},
       {"--width", f.width_us.has_value()},
       {"--interphase", f.interphase_us.has_value()},
       {"--balance-width", f.balance_width_us.has_value()},
       {"--monophasic", f.monophasic},
-      {"--offsets", f.offsets.has_value()},
+      {"--offsets", r.offsets_given},
       {"--tolerance", f.tolerance.has_value()},
       {"--threads", r.threads && !r.bank && r.at_mm.empty()},
       {"--max-evaluations", r.max_evaluations.has_value()}};
@@ -227,10 +238,9 @@ void plan_pixel(const OptimizeRequest& r, OptimizePlan& p) {
 }
 
 void plan_threshold(const OptimizeRequest& r, OptimizePlan& p) {
-  FibreRequest f = r.fibre;
-  f.model_flag = "--fibre-model";
-  f.threads = r.threads;
-  p.fibre = fibre_setup(f);
+  p.fibre = r.fibre;
+  p.fibre.model_flag = "--fibre-model";
+  p.fibre.threads = r.threads.value_or(0);
   p.search.max_evaluations = static_cast<std::size_t>(r.max_evaluations.value_or(12));
   if (r.progress)
     p.search.progress = [progress = r.progress, n = p.search.max_evaluations](std::size_t k) {
@@ -238,9 +248,6 @@ void plan_threshold(const OptimizeRequest& r, OptimizePlan& p) {
                    " whole searches",
                false);
     };
-  // Before the AF optimum it starts from, so that nothing runs.
-  fibre::check_search_work(p.doc.setup, *p.fibre->model, p.fibre->pulse, p.fibre->settings,
-                           p.search);
 }
 
 // Every check, in the program's order; the plan each design runs.
@@ -387,8 +394,7 @@ Json threshold_document(const OptimizePlan& p, const std::string& mode, const Op
 
 OptimizeOutput run_threshold(const OptimizePlan& p, const std::string& mode) {
   const OptimizeResult af = optimize_mode(p.doc.setup, mode, p.opt);
-  const FibreSetup& f = *p.fibre;
-  check_stimulus_weights(f, af.weights);
+  const FibreSetup f = apply_fibre_options(p.fibre, af.weights);
   const std::size_t target = receptor_index(p.doc.setup, mode);
   const fibre::ThresholdOptimum t = fibre::optimize_threshold(
       p.doc.setup, target, af.weights, *f.model, f.pulse, f.settings, p.search);

@@ -12,7 +12,7 @@
 
 #include "io/document.hpp"
 #include "io/json.hpp"
-#include "requests/fibre.hpp"
+#include "requests/fibre_options.hpp"
 
 namespace tp {
 
@@ -32,10 +32,13 @@ struct OptimizeRequest {
   bool timing = false;                   // solver.time_s in the JSON (not reproducible)
   bool certify = false;                  // the certified optimum too (JSON)
   OptimizeObjective objective = OptimizeObjective::af;
-  // The threshold objective's fibre model and pulse (--fibre-model, --width, ...; its
-  // model_flag is --fibre-model whatever it says, its threads are `threads`) and its
-  // budget of whole searches, 10 to 10000 [12].
-  FibreRequest fibre;
+  // The threshold objective's fibre model and pulse (--fibre-model, --width, ...: checked
+  // with the AF optimum's weights, which a stimulus must be of; fibre.model_flag is
+  // --fibre-model and fibre.threads is `threads`, whatever they say), whether its model and
+  // offsets were given (the others: when set), and its budget of whole searches, 10 to
+  // 10000 [12].  The AF objective refuses them.
+  FibreOptions fibre;
+  bool fibre_model_given = false, offsets_given = false;
   std::optional<int> max_evaluations;
   // A pixel: at_mm holds its place, X (a 1-D array) or X, Z (a 2-D array), mm; with a
   // bank, the pixels (empty: every pad's centre).
@@ -66,7 +69,9 @@ struct OptimizeOutput {
 };
 
 // Every check of the options against the document, in the program's order, without work:
-// bad input names the flag (the message optimize-weights prints after its name).
+// bad input names the flag (the message optimize-weights prints after its name).  The
+// threshold objective's fibre options are checked by run_optimize() with the AF optimum's
+// weights (a stimulus must be of them), before the threshold search.
 void check_optimize(const Document& doc, const OptimizeRequest& r);
 
 // The checks, then the work: the whole output, or bad input (as check_optimize, or from the
