@@ -48,8 +48,8 @@
 #include "model/ranges.hpp"
 #include "pulse/make.hpp"
 #include "pulse/mix.hpp"
-#include "requests/optimize.hpp"
 #include "render/profile.hpp"
+#include "requests/optimize.hpp"
 #include "version.hpp"
 
 namespace py = pybind11;

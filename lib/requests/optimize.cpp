@@ -106,9 +106,9 @@ OptimizeOptions solver_options(Document& doc, const OptimizeRequest& r) {
   opt.max_current_mA = doc.max_current_mA;
   opt.min_target_af = r.min_target_af;
   if (!(opt.min_target_af <= 1e4))  // the paper's optima reach 0.8 to 6 V/ms
-    bad_input("--min-target-af: " +
-              given_or(r.given.min_target_af, number_beside(r.min_target_af, 1e4)) +
-              " V/ms outside [0, 10000] V/ms");
+    bad_input(
+        "--min-target-af: " + given_or(r.given.min_target_af, number_beside(r.min_target_af, 1e4)) +
+        " V/ms outside [0, 10000] V/ms");
   if (opt.min_target_af < 0.0) bad_input("--min-target-af: must be >= 0");
   opt.random_starts = r.random_starts.value_or(0);
   opt.pattern_starts = r.pattern_starts.value_or(2);
@@ -375,8 +375,7 @@ Json threshold_document(const OptimizePlan& p, const std::string& mode, const Op
   Json start = Json::object();
   start["weights"] = af.weights;
   start["ratio"] = af.ratio;
-  start["threshold_ratio"] =
-      t.start.ratios[target] ? Json(*t.start.ratios[target]) : Json(nullptr);
+  start["threshold_ratio"] = t.start.ratios[target] ? Json(*t.start.ratios[target]) : Json(nullptr);
   start["threshold_mA"] = t.start.receptors[target].threshold_mA
                               ? Json(*t.start.receptors[target].threshold_mA)
                               : Json(nullptr);
