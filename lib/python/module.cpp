@@ -28,6 +28,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "cli/array_options.hpp"
@@ -45,12 +46,10 @@
 #include "model/fibre.hpp"
 #include "model/field.hpp"
 #include "model/ranges.hpp"
-#include "opt/bank.hpp"
-#include "opt/focus.hpp"
-#include "opt/minimax.hpp"
 #include "pulse/make.hpp"
 #include "pulse/mix.hpp"
 #include "render/profile.hpp"
+#include "requests/optimize.hpp"
 #include "version.hpp"
 
 namespace py = pybind11;
@@ -398,117 +397,58 @@ py::object summarize(const PyDocument& d, std::optional<double> amplitude_mA) {
 }
 
 // ---------------------------------------------------------------------------------------
-// optimize-weights: a mode's minimax weights, a pixel (at), or a bank.
+// optimize-weights: a mode's minimax weights, a pixel (at), a bank, or the threshold
+// objective; the program's request (lib/requests/optimize.hpp) and its document.
 
-PyDocument optimize_weights(const PyDocument& d, std::optional<std::string> mode,
-                            std::optional<std::vector<double>> at, std::optional<double> radius_mm,
-                            std::optional<double> spill, std::optional<double> max_current_mA,
-                            double min_target_af, int pattern_starts, int random_starts,
-                            bool certify, bool bank, std::optional<int> neighbourhood,
-                            std::optional<int> threads,
-                            std::optional<std::vector<std::string>> modes) {
-  tp::Document doc = d.doc;
-  if (doc.setup.array.size() < 2) tp::bad_input("array: optimisation needs at least 2 electrodes");
-  const bool two_d = doc.setup.array.two_d();
-  if (two_d && !at && !bank)
-    tp::bad_input("array: " + doc.setup.array.describe() +
-                  " is 2-D: give a pixel's place, --at X,Z (or --bank)");
+// at: one place, [x] or [x, z]; with a bank, several.
+using Places = std::variant<std::vector<double>, std::vector<std::vector<double>>>;
+
+PyDocument optimize_weights(
+    const PyDocument& d, std::optional<std::string> mode, std::optional<Places> at,
+    std::optional<double> radius_mm, std::optional<double> spill,
+    std::optional<double> max_current_mA, double min_target_af, std::optional<int> pattern_starts,
+    std::optional<int> random_starts, bool certify, bool bank, std::optional<int> neighbourhood,
+    std::optional<int> threads, std::optional<std::vector<std::string>> modes,
+    const std::string& objective, std::optional<std::string> fibre_model,
+    const std::string& geometry, const std::optional<py::object>& stimulus,
+    std::optional<double> width_us, std::optional<double> interphase_us,
+    std::optional<double> balance_width_us, bool monophasic, std::optional<int> offsets,
+    std::optional<double> tolerance, std::optional<int> max_evaluations, bool timing) {
   if (mode && modes) tp::bad_input("mode and modes: give one");
   if (modes && !bank) tp::bad_input("modes: several modes with bank=True only (one: mode=)");
   if (modes && modes->empty()) tp::bad_input("--mode: no modes given");
-  if (!mode && !bank) tp::bad_input("--mode: required (RA, SAI, PC, ...)");
-  if ((radius_mm || spill) && !at && !bank)
-    tp::bad_input("--radius, --spill: apply to a pixel (--at) or a bank (--bank)");
-  if (neighbourhood && !bank) tp::bad_input("--neighbourhood: with --bank only");
-  if (neighbourhood && !(*neighbourhood >= 3 && *neighbourhood <= 255))
-    tp::bad_input("--neighbourhood: " + std::to_string(*neighbourhood) + " not in [3 - 255]");
-  if (!(pattern_starts >= 0 && pattern_starts <= 4))
-    tp::bad_input("--pattern-starts: " + std::to_string(pattern_starts) + " not in [0 - 4]");
-  if (!(random_starts >= 0 && random_starts <= 1000))
-    tp::bad_input("--random-starts: " + std::to_string(random_starts) + " not in [0 - 1000]");
-  if (threads && !(*threads >= 1 && *threads <= 256))
-    tp::bad_input(range_message("--threads", *threads, 1, 256));
-  finite_arg(min_target_af, "--min-target-af");
-  finite_arg(radius_mm, "--radius");
-  finite_arg(spill, "--spill");
-  if (at)
-    for (double v : *at) finite_arg(v, "--at");
-  tp::OptimizeOptions opt;
-  if (max_current_mA) doc.max_current_mA = finite_arg(*max_current_mA, "--max-current");
-  tp::ranges::check(doc.max_current_mA, tp::ranges::max_current_mA, "--max-current");
-  opt.max_current_mA = doc.max_current_mA;
-  opt.min_target_af = min_target_af;
-  if (!(opt.min_target_af <= 1e4))
-    tp::bad_input("--min-target-af: " + tp::number_beside(min_target_af, 1e4) +
-                  " V/ms outside [0, 10000] V/ms");
-  if (opt.min_target_af < 0.0) tp::bad_input("--min-target-af: must be >= 0");
-  opt.random_starts = random_starts;
-  opt.pattern_starts = pattern_starts;
-  // The modes: `mode`, or with a bank several (`modes`, as --mode RA,SAI,PC); a bank
-  // without either designs every receptor's.
-  std::vector<std::string> ms;
-  if (mode) ms.push_back(*mode);
-  if (modes) ms = *modes;
-  for (std::size_t k = 0; k < ms.size(); ++k) {
-    if (ms[k].empty()) tp::bad_input("--mode: empty name");
-    for (std::size_t q = 0; q < k; ++q)
-      if (ms[q] == ms[k]) tp::bad_input("--mode: " + ms[k] + " given twice");
-    tp::receptor_index(doc.setup, ms[k]);
-  }
-  std::vector<std::pair<double, double>> places;
-  if (at) {
-    if (at->size() != (two_d ? 2u : 1u))
-      tp::bad_input("--at: expected " +
-                    std::string(two_d ? "X,Z (a 2-D array)" : "X (a 1-D array)"));
-    places.emplace_back((*at)[0], two_d ? (*at)[1] : 0.0);
-  }
-  tp::FocusOptions focus;
-  if (radius_mm) {
-    focus.radius_mm = *radius_mm;
-    if (!(focus.radius_mm > 0.0))
-      tp::bad_input("--radius: must be > 0 mm (omit it for one pitch), got " +
-                    tp::number_text(*radius_mm));
-  }
-  if (spill) focus.spill = *spill;
-  focus.max_current_mA = opt.max_current_mA;
-  tp::Json out;
-  if (bank) {
-    if (certify) tp::bad_input("--certify: with --bank is not available yet");
-    if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --bank");
-    tp::BankOptions b;
-    b.modes = ms;
-    b.at = places;
-    b.radius_mm = focus.radius_mm;
-    b.spill = focus.spill;
-    b.max_current_mA = focus.max_current_mA;
-    b.neighbourhood = neighbourhood ? *neighbourhood : 0;
-    b.threads = threads ? static_cast<unsigned>(*threads) : 0;
-    py::gil_scoped_release release;
-    const tp::Bank result = tp::optimize_bank(doc.setup, b);
-    out = tp::bank_to_json(doc, result, b);
-  } else if (!places.empty()) {
-    focus.x_mm = places[0].first;
-    focus.z_mm = places[0].second;
-    focus.threads = threads ? static_cast<unsigned>(*threads)
-                            : std::max(1u, std::thread::hardware_concurrency());
-    tp::check_focus(doc.setup, focus);
-    focus.certify = certify;
-    if (opt.min_target_af > 0) tp::bad_input("--min-target-af: does not apply with --at");
-    py::gil_scoped_release release;
-    const tp::FocusResult r = tp::optimize_focus(doc.setup, ms[0], focus);
-    out = tp::focus_result_to_json(doc, r, focus, false);
-  } else {
-    if (threads) tp::bad_input("--threads: applies to --objective threshold only, --at and --bank");
-    py::gil_scoped_release release;
-    const tp::OptimizeResult r = tp::optimize_mode(doc.setup, ms[0], opt);
-    std::optional<double> certified;
-    if (certify) {
-      const double bound = opt.min_target_af > 0 ? opt.max_current_mA / opt.min_target_af : 0.0;
-      certified = tp::certify_mode(doc.setup, ms[0], opt.polish_step_mm, bound).optimum;
-    }
-    out = tp::optimize_result_to_json(doc, r, false, certified);
-  }
-  return document_of(out);
+  if (objective != "af" && objective != "threshold")  // CLI11's words
+    tp::bad_input("--objective: " + objective + " not in {af,threshold}");
+  tp::OptimizeRequest r;
+  r.modes = modes ? *modes : mode ? std::vector<std::string>{*mode} : std::vector<std::string>{};
+  if (at && at->index() == 0) r.at_mm.push_back(std::get<0>(*at));
+  if (at && at->index() == 1) r.at_mm = std::get<1>(*at);
+  r.radius_mm = radius_mm;
+  r.spill = spill;
+  r.max_current_mA = max_current_mA;
+  r.min_target_af = min_target_af;
+  r.pattern_starts = pattern_starts;
+  r.random_starts = random_starts;
+  r.certify = certify;
+  r.bank = bank;
+  r.neighbourhood = neighbourhood;
+  r.threads = threads;
+  r.timing = timing;
+  if (objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
+  r.fibre.model = fibre_model.value_or("mrg");
+  r.fibre_model_given = fibre_model.has_value();
+  r.fibre.geometry = geometry;
+  if (stimulus) r.fibre.stimulus = path_arg(*stimulus);
+  r.fibre.width_us = width_us;
+  r.fibre.interphase_us = interphase_us;
+  r.fibre.balance_width_us = balance_width_us;
+  r.fibre.monophasic = monophasic;
+  r.fibre.offsets = offsets.value_or(8);
+  r.offsets_given = offsets.has_value();
+  r.fibre.tolerance = tolerance;
+  r.max_evaluations = max_evaluations;
+  py::gil_scoped_release release;
+  return document_of(tp::run_optimize(d.doc, r).document);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1074,11 +1014,20 @@ PYBIND11_MODULE(_core, m) {
   m.def("optimize_weights", &optimize_weights, py::arg("doc"), py::arg("mode") = py::none(),
         py::kw_only(), py::arg("at") = py::none(), py::arg("radius_mm") = py::none(),
         py::arg("spill") = py::none(), py::arg("max_current_mA") = py::none(),
-        py::arg("min_target_af") = 0.0, py::arg("pattern_starts") = 2, py::arg("random_starts") = 0,
-        py::arg("certify") = false, py::arg("bank") = false, py::arg("neighbourhood") = py::none(),
+        py::arg("min_target_af") = 0.0, py::arg("pattern_starts") = py::none(),
+        py::arg("random_starts") = py::none(), py::arg("certify") = false,
+        py::arg("bank") = false, py::arg("neighbourhood") = py::none(),
         py::arg("threads") = py::none(), py::arg("modes") = py::none(),
+        py::arg("objective") = "af", py::arg("fibre_model") = py::none(),
+        py::arg("geometry") = "straight", py::arg("stimulus") = py::none(),
+        py::arg("width_us") = py::none(), py::arg("interphase_us") = py::none(),
+        py::arg("balance_width_us") = py::none(), py::arg("monophasic") = false,
+        py::arg("offsets") = py::none(), py::arg("tolerance") = py::none(),
+        py::arg("max_evaluations") = py::none(), py::arg("timing") = false,
         "optimize-weights: the mode's minimax weights; at=[x] or [x, z]: a pixel; bank=True: "
-        "every pad's pixels.  Returns the document the program prints.");
+        "every pad's pixels (or at=[[x, z], ...]'s); objective='threshold': then the weights "
+        "by a fibre model's thresholds (fibre_model=, the pulse, max_evaluations=).  Returns "
+        "the document the program prints.");
   m.def("fiber_threshold", &fiber_threshold, py::arg("doc"), py::kw_only(),
         py::arg("model") = "mrg", py::arg("width_us") = py::none(),
         py::arg("interphase_us") = py::none(), py::arg("balance_width_us") = py::none(),

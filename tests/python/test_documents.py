@@ -34,6 +34,32 @@ def test_a_pixel_and_a_bank_are_the_programs_json():
     assert bank.to_json().encode() == cli
 
 
+def test_the_threshold_objective_is_the_programs_json():
+    # optimize-weights --objective threshold, on a small array and a coarse search (~1 s).
+    fibre = ["--max-evaluations", "10", "--tolerance", "0.05", "--offsets", "1", "--threads", "1"]
+    cli = run("optimize-weights", "--electrodes", "4", "--mode", "SAI", "--objective",
+              "threshold", *fibre)[0]
+    out = tp.optimize_weights(tp.Document.create(electrodes=4), "SAI", objective="threshold",
+                              max_evaluations=10, tolerance=0.05, offsets=1, threads=1)
+    assert out.to_json().encode() == cli
+    assert out["objective"] == "threshold" and out["threshold_search"]["evaluations"] <= 10
+    assert out["threshold_ratio"]["SAI"] <= out["af_optimum"]["threshold_ratio"]
+
+
+def test_a_bank_of_several_places_and_timing():
+    # --bank with --at repeated: at= a list of places.
+    cli = run("optimize-weights", "--bank", "--mode", "PC", "--grid", "5x2", "--pitch", "2",
+              "--pad", "1x1", "--neighbourhood", "3", "--at=-2,-1", "--at=0,-1", "--at=2,1")[0]
+    doc = tp.Document.create(grid="5x2", pitch_mm=2, pad="1x1")
+    bank = tp.optimize_weights(doc, bank=True, modes=["PC"], neighbourhood=3,
+                               at=[[-2, -1], [0, -1], [2, 1]])
+    assert bank.to_json().encode() == cli
+    assert len(bank["pixels"]) == 3
+    timed = tp.optimize_weights(tp.Document.create(), "SAI", timing=True)
+    assert timed["solver"]["time_s"] >= 0
+    assert "time_s" not in tp.optimize_weights(tp.Document.create(), "SAI")["solver"]
+
+
 def test_document_round_trip_load_and_attributes(tmp_path, sai_json):
     doc = tp.Document.from_json(sai_json.decode())
     assert doc.to_json().encode() == sai_json

@@ -87,6 +87,52 @@ def test_flag_level_checks_say_what_the_programs_say(sai_doc, sai_json):
         assert str(e.value) == expected
 
 
+def test_optimize_weights_refuses_as_the_program_does():
+    # One request (lib/requests/optimize) behind both: the same checks, in the same order.
+    doc = tp.Document.create()
+    grid = tp.Document.create(grid="3x3", pitch_mm=2)
+    for call, args in (
+        (lambda: tp.optimize_weights(doc, "SAI", width_us=100), ("--width", "100")),
+        (lambda: tp.optimize_weights(doc, "SAI", fibre_model="senn"), ("--fibre-model", "senn")),
+        (lambda: tp.optimize_weights(doc, "SAI", offsets=8), ("--offsets", "8")),
+        (lambda: tp.optimize_weights(doc, "SAI", threads=2), ("--threads", "2")),
+        (lambda: tp.optimize_weights(doc, "SAI", objective="threshold", certify=True),
+         ("--objective", "threshold", "--certify")),
+        (lambda: tp.optimize_weights(doc, "SAI", objective="threshold", fibre_model="hh"),
+         ("--objective", "threshold", "--fibre-model", "hh")),
+        (lambda: tp.optimize_weights(doc, "SAI", objective="threshold", max_evaluations=10,
+                                     offsets=1, tolerance=0.1, width_us=0.5),
+         ("--objective", "threshold", "--max-evaluations", "10", "--offsets", "1",
+          "--tolerance", "0.1", "--width", "0.5")),
+        (lambda: tp.optimize_weights(doc, "SAI", at=[-0.5], objective="threshold"),
+         ("--at", "-0.5", "--objective", "threshold")),
+        (lambda: tp.optimize_weights(doc, "SAI", at=[0, 0]), ("--at", "0,0")),
+        (lambda: tp.optimize_weights(doc, "SAI", at=[-0.5], radius_mm=0),
+         ("--at", "-0.5", "--radius", "0")),
+        (lambda: tp.optimize_weights(doc, "SAI", min_target_af=-1), ("--min-target-af", "-1")),
+        (lambda: tp.optimize_weights(grid, bank=True, pattern_starts=2),
+         ("--grid", "3x3", "--pitch", "2", "--bank", "--pattern-starts", "2")),
+        (lambda: tp.optimize_weights(grid, "SAI", at=[0, 0], neighbourhood=3),
+         ("--grid", "3x3", "--pitch", "2", "--at", "0,0", "--neighbourhood", "3")),
+    ):
+        args = ("optimize-weights",) + (() if "--bank" in args else ("--mode", "SAI")) + args
+        expected = cli_message(*args)
+        with pytest.raises(tp.BadInput) as e:
+            call()
+        assert str(e.value) == expected, args
+    # The parser's checks, in its words.
+    for call, args in (
+        (lambda: tp.optimize_weights(doc, "SAI", objective="charge"), ("--objective", "charge")),
+        (lambda: tp.optimize_weights(doc, "SAI", pattern_starts=5), ("--pattern-starts", "5")),
+        (lambda: tp.optimize_weights(doc, "SAI", objective="threshold", max_evaluations=5),
+         ("--objective", "threshold", "--max-evaluations", "5")),
+    ):
+        expected = cli_message("optimize-weights", "--mode", "SAI", *args)
+        with pytest.raises(tp.BadInput) as e:
+            call()
+        assert str(e.value) == expected.removesuffix(" (see --help)"), args
+
+
 def test_modes_weights_and_paths(sai_doc, tmp_path, sai_json):
     doc = tp.Document.create(grid="2x2", pitch_mm=2, pad="1x1")
     with pytest.raises(tp.BadInput, match="no modes given"):

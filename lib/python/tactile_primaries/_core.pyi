@@ -1,5 +1,6 @@
 # Type stubs of tactile_primaries._core (lib/python/module.cpp).
-from typing import Any, Optional, Sequence
+import os
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -59,12 +60,19 @@ class Stimulus:
 
 def summarize(doc: Document, amplitude_mA: Optional[float] = None) -> dict[str, Any]: ...
 def optimize_weights(doc: Document, mode: Optional[str] = None, *,
-                     at: Optional[Sequence[float]] = None, radius_mm: Optional[float] = None,
-                     spill: Optional[float] = None, max_current_mA: Optional[float] = None,
-                     min_target_af: float = 0.0, pattern_starts: int = 2,
-                     random_starts: int = 0, certify: bool = False, bank: bool = False,
+                     at: Optional[Union[Sequence[float], Sequence[Sequence[float]]]] = None,
+                     radius_mm: Optional[float] = None, spill: Optional[float] = None,
+                     max_current_mA: Optional[float] = None, min_target_af: float = 0.0,
+                     pattern_starts: Optional[int] = None, random_starts: Optional[int] = None,
+                     certify: bool = False, bank: bool = False,
                      neighbourhood: Optional[int] = None, threads: Optional[int] = None,
-                     modes: Optional[Sequence[str]] = None) -> Document: ...
+                     modes: Optional[Sequence[str]] = None, objective: str = "af",
+                     fibre_model: Optional[str] = None, geometry: str = "straight",
+                     stimulus: Optional[Union[str, os.PathLike[str]]] = None,
+                     width_us: Optional[float] = None, interphase_us: Optional[float] = None,
+                     balance_width_us: Optional[float] = None, monophasic: bool = False,
+                     offsets: Optional[int] = None, tolerance: Optional[float] = None,
+                     max_evaluations: Optional[int] = None, timing: bool = False) -> Document: ...
 def fiber_threshold(doc: Document, *, model: str = "mrg", width_us: Optional[float] = None,
                     interphase_us: Optional[float] = None,
                     balance_width_us: Optional[float] = None, monophasic: bool = False,
