@@ -1,10 +1,6 @@
 #include "cli/fibre_options.hpp"
 
-#include <algorithm>
-#include <cmath>
-
 #include "cli/entry.hpp"
-#include "core/error.hpp"
 #include "io/number.hpp"
 
 namespace tp::cli {
@@ -47,47 +43,24 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
   add_integer(app, "--threads", o.threads, "Threads, 1 to 256 [every core]", 1, 256);
 }
 
+tp::FibreOptions fibre_values(const FibreOptions& o) {
+  tp::FibreOptions v;
+  v.model = o.model;
+  v.geometry = o.geometry;
+  v.stimulus = o.stimulus;
+  if (!o.width.empty()) v.width_us = parse_finite(o.width, "--width");
+  if (!o.balance_width.empty()) v.balance_width_us = parse_finite(o.balance_width, "--balance-width");
+  if (!o.interphase.empty()) v.interphase_us = parse_finite(o.interphase, "--interphase");
+  v.monophasic = o.monophasic;
+  v.offsets = o.offsets;
+  if (!o.tolerance.empty()) v.tolerance = parse_finite(o.tolerance, "--tolerance");
+  v.threads = o.threads;
+  v.model_flag = o.model_flag;
+  return v;
+}
+
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights) {
-  FibreSetup f;
-  const auto& known = fibre::fibre_models();
-  if (std::find(known.begin(), known.end(), o.model) == known.end())
-    bad_input(o.model_flag + ": unknown fibre model " + quoted_text(o.model) + " (mrg or senn)");
-  f.model = fibre::make_fibre_model(o.model);
-  f.settings.geometry = fibre::geometry_from_string(o.geometry);
-  if (!o.stimulus.empty()) {
-    Stimulus s = stimulus_from_json(read_json(o.stimulus, "--stimulus"));
-    check_stimulus(s, StimulusLimits{});
-    if (s.currents_mA.size() != weights.size())
-      bad_input("--stimulus: " + std::to_string(s.currents_mA.size()) +
-                " channels, the weights have " + std::to_string(weights.size()));
-    double amp = 0.0, wmax = 0.0;
-    for (double c : s.currents_mA) amp = std::max(amp, std::fabs(c));
-    for (double x : weights) wmax = std::max(wmax, std::fabs(x));
-    if (!(amp > 0.0)) bad_input("--stimulus: every current is zero");
-    for (std::size_t i = 0; i < weights.size(); ++i)
-      if (std::fabs(s.currents_mA[i] / amp - weights[i] / wmax) > 1e-6)
-        bad_input("--stimulus: its currents are not the weights times one amplitude (channel " +
-                  std::to_string(i + 1) + ")");
-    f.pulse = fibre::pulse_of(s.shape);
-    f.stimulus = std::move(s);
-  } else {
-    if (!o.width.empty()) f.pulse.width_us = parse_finite(o.width, "--width");
-    f.pulse.balance_width_us = o.balance_width.empty()
-                                   ? f.pulse.width_us
-                                   : parse_finite(o.balance_width, "--balance-width");
-    if (!o.interphase.empty()) f.pulse.interphase_us = parse_finite(o.interphase, "--interphase");
-    f.pulse.monophasic = o.monophasic;
-    if (o.monophasic) f.pulse.balance_width_us = f.pulse.width_us;
-  }
-  fibre::check_pulse(f.pulse);
-  f.settings.offsets = static_cast<std::size_t>(o.offsets);
-  if (!o.tolerance.empty()) {
-    f.settings.tolerance = parse_finite(o.tolerance, "--tolerance");
-    if (!(f.settings.tolerance >= 1e-4 && f.settings.tolerance <= 0.1))
-      bad_input("--tolerance: " + o.tolerance + " outside [0.0001, 0.1]");
-  }
-  f.settings.threads = static_cast<unsigned>(o.threads);
-  return f;
+  return tp::apply_fibre_options(fibre_values(o), weights);
 }
 
 }  // namespace tp::cli

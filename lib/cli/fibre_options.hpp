@@ -1,21 +1,19 @@
 #pragma once
-// The options of the programs that compute fibre thresholds (fiber-threshold,
+// The flags of the programs that compute fibre thresholds (fiber-threshold,
 // optimize-weights --objective threshold): the fibre model, the pulse (flags or a stimulus
-// document), the node offsets, the lattice tolerance and the threads.
+// document), the node offsets, the lattice tolerance and the threads, as CLI11 declares
+// them.  Their values, and what they make, are the library's (requests/fibre_options.hpp).
 
-#include <memory>
-#include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include "fibre/models.hpp"
-#include "fibre/report.hpp"
-#include "io/document.hpp"
-#include "pulse/stimulus.hpp"
+#include "requests/fibre_options.hpp"
 
 namespace tp::cli {
 
+// The flags' texts (numbers parsed by fibre_values, naming the flag).
 struct FibreOptions {
   std::string model = "mrg";
   std::string geometry = "straight";
@@ -31,14 +29,11 @@ struct FibreOptions {
 // model_flag: "--model" (fiber-threshold) or "--fibre-model" (optimize-weights).
 void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_flag);
 
-struct FibreSetup {
-  std::unique_ptr<fibre::FibreModel> model;
-  fibre::PulseSpec pulse;
-  fibre::ThresholdSettings settings;
-  std::optional<Stimulus> stimulus;  // --stimulus, checked against its limits
-};
-// Checks every option (bad input names the flag); a stimulus must be the weights times one
-// amplitude and within every limit.
+// The values of the flags (bad input names a flag whose text is not a finite number).
+tp::FibreOptions fibre_values(const FibreOptions& o);
+
+using tp::FibreSetup;
+// tp::apply_fibre_options over the flags' values.
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights);
 
 }  // namespace tp::cli
