@@ -598,10 +598,11 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
   if (widths_us) r.widths_us = finite_list(*widths_us, "--widths");
   r.population = population;
   if (seed) r.seed = seed_arg(*seed);
+  tp::Document doc = d.doc;  // copied with the GIL held
   tp::ThresholdOutput out;
   {
     py::gil_scoped_release release;
-    out = tp::run_thresholds(d.doc, r);
+    out = tp::run_thresholds(std::move(doc), r);
   }
   if (out.document) return to_python(*out.document);
   if (!population) return csv_columns(out.table);
