@@ -15,10 +15,12 @@
 #include <unistd.h>
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -31,8 +33,6 @@
 #include <variant>
 #include <vector>
 
-#include "cli/array_options.hpp"
-#include "cli/fibre_options.hpp"
 #include "core/error.hpp"
 #include "fibre/report.hpp"
 #include "host/live.hpp"
@@ -49,7 +49,9 @@
 #include "pulse/make.hpp"
 #include "pulse/mix.hpp"
 #include "render/profile.hpp"
+#include "requests/document_options.hpp"
 #include "requests/optimize.hpp"
+#include "requests/threshold.hpp"
 #include "version.hpp"
 
 namespace py = pybind11;
@@ -87,6 +89,21 @@ double finite_arg(double v, const std::string& flag) {
 }
 std::optional<double> finite_arg(std::optional<double> v, const std::string& flag) {
   if (v) finite_arg(*v, flag);
+  return v;
+}
+std::vector<double> finite_list(const std::vector<double>& v, const std::string& flag) {
+  for (double x : v) finite_arg(x, flag);
+  return v;
+}
+
+// A seed, 0 to 2^64 - 1, refused as the programs' --seed refuses it.
+std::uint64_t seed_arg(const py::int_& seed) {
+  const unsigned long long v = PyLong_AsUnsignedLongLong(seed.ptr());
+  if (v == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
+    PyErr_Clear();
+    tp::bad_input("--seed: " + py::cast<std::string>(seed.attr("__str__")()) +
+                  " outside [0, 18446744073709551615]");
+  }
   return v;
 }
 
@@ -128,30 +145,30 @@ PyDocument make_document(std::optional<int> electrodes, std::optional<double> pi
                          std::optional<std::string> grid, std::optional<double> row_pitch_mm,
                          std::optional<std::string> pad, std::optional<std::string> model,
                          std::optional<double> plane_z_mm, std::optional<std::string> skin) {
-  tp::cli::ArrayOptions a;
+  tp::ArrayOptions a;
   if (electrodes) a.electrodes = std::to_string(*electrodes);
   if (pitch_mm) a.pitch = number_arg(*pitch_mm);
   if (grid) a.grid = *grid;
   if (row_pitch_mm) a.row_pitch = number_arg(*row_pitch_mm);
   if (pad) a.pad = *pad;
   if (a.electrodes.size() && a.grid.size()) tp::bad_input("--electrodes and --grid: give one");
-  tp::Document d = tp::cli::load_document(a, 1);
-  tp::cli::ModelOptions m;
+  tp::Document d = tp::load_document(a, 1);
+  tp::ModelOptions m;
   if (model) m.model = *model;
   if (plane_z_mm) m.plane_z = number_arg(*plane_z_mm);
   if (skin) m.skin = *skin;
-  tp::cli::apply_model_options(d, m);
+  tp::apply_model_options(d, m);
   return {d};
 }
 
 PyDocument with_model(const PyDocument& in, std::optional<std::string> model,
                       std::optional<double> plane_z_mm, std::optional<std::string> skin) {
   tp::Document d = in.doc;
-  tp::cli::ModelOptions m;
+  tp::ModelOptions m;
   if (model) m.model = *model;
   if (plane_z_mm) m.plane_z = number_arg(*plane_z_mm);
   if (skin) m.skin = *skin;
-  tp::cli::apply_model_options(d, m);
+  tp::apply_model_options(d, m);
   return {d};
 }
 
@@ -381,7 +398,7 @@ py::object summarize(const PyDocument& d, std::optional<double> amplitude_mA) {
   const std::vector<double> w = checked_weights(d.doc, "weights");
   const double amp = amplitude_mA ? finite_arg(*amplitude_mA, "--amplitude") : d.doc.max_current_mA;
   if (d.doc.setup.array.two_d())
-    tp::cli::refuse_plane_z(d.doc, tp::cli::ModelOptions{},
+    tp::refuse_plane_z(d.doc, tp::ModelOptions{},
                             "to --summary under a 2-D array (its fibres fill every z; the "
                             "plane places af-field's x-y section only)");
   tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
@@ -454,66 +471,85 @@ PyDocument optimize_weights(
 // ---------------------------------------------------------------------------------------
 // fiber-threshold.
 
+// A CSV table (what fiber-threshold prints with --strength-duration or --population) as
+// its columns: {header: [values]}, a number as a float, an empty cell None, text (and the
+// names in the receptor and class columns) a str.
+py::dict csv_columns(const std::string& csv) {
+  std::vector<std::string> names;
+  std::vector<py::list> columns;
+  std::size_t at = 0;
+  for (bool header = true; at < csv.size(); header = false) {
+    const std::size_t end = csv.find('\n', at);
+    const std::string line = csv.substr(at, end - at);
+    at = end == std::string::npos ? csv.size() : end + 1;
+    std::size_t k = 0, from = 0;
+    for (bool more = true; more; ++k) {
+      const std::size_t comma = line.find(',', from);
+      more = comma != std::string::npos;
+      const std::string cell = line.substr(from, more ? comma - from : std::string::npos);
+      from = comma + 1;
+      if (header) {
+        names.push_back(cell);
+        columns.emplace_back();
+        continue;
+      }
+      double v = 0.0;
+      const char* last = cell.data() + cell.size();
+      const bool name = names.at(k) == "receptor" || names[k] == "class";
+      if (cell.empty())
+        columns[k].append(py::none());
+      else if (!name && std::from_chars(cell.data(), last, v).ptr == last)
+        columns[k].append(v);
+      else
+        columns[k].append(cell);
+    }
+  }
+  py::dict out;
+  for (std::size_t k = 0; k < names.size(); ++k) out[py::str(names[k])] = columns[k];
+  return out;
+}
+
 py::object fiber_threshold(const PyDocument& d, const std::string& model,
                            std::optional<double> width_us, std::optional<double> interphase_us,
                            std::optional<double> balance_width_us, bool monophasic, int offsets,
                            std::optional<double> tolerance, int threads,
                            std::optional<std::vector<double>> at,
                            std::optional<py::object> stimulus,
-                           std::optional<std::string> conductor, const std::string& geometry) {
-  tp::Document doc = d.doc;
-  if (conductor) {
-    tp::cli::ModelOptions m;
-    m.flag = "--conductor";
-    m.model = *conductor;
-    tp::cli::apply_model_options(doc, m);
+                           std::optional<std::string> conductor, const std::string& geometry,
+                           bool strength_duration, std::optional<std::vector<double>> widths_us,
+                           std::optional<long> population, std::optional<py::int_> seed) {
+  tp::ThresholdRequest r;
+  if (conductor) r.conductor.model = *conductor;
+  r.fibre.model = model;
+  r.fibre.geometry = geometry;
+  if (stimulus) r.fibre.stimulus = path_arg(*stimulus);
+  r.fibre.width_us = width_us;
+  r.fibre.interphase_us = interphase_us;
+  r.fibre.balance_width_us = balance_width_us;
+  r.fibre.monophasic = monophasic;
+  r.fibre.offsets = offsets;
+  r.fibre.tolerance = tolerance;
+  r.fibre.threads = threads;
+  if (at) {
+    r.at_mm = finite_list(*at, "--at");
+    for (double v : *at) r.at_text += (r.at_text.empty() ? "" : ",") + number_arg(v);
   }
-  std::string at_text;
-  if (at)
-    for (double v : *at) at_text += (at_text.empty() ? "" : ",") + number_arg(v);
-  const std::optional<std::array<double, 2>> through = tp::fibre_point(doc, at, at_text);
-  // The programs' flag checks (CLI11's, in its words).
-  if (stimulus && width_us) tp::bad_input("--stimulus excludes --width");
-  if (stimulus && interphase_us) tp::bad_input("--stimulus excludes --interphase");
-  if (stimulus && balance_width_us) tp::bad_input("--stimulus excludes --balance-width");
-  if (stimulus && monophasic) tp::bad_input("--stimulus excludes --monophasic");
-  if (monophasic && interphase_us) tp::bad_input("--interphase excludes --monophasic");
-  if (monophasic && balance_width_us) tp::bad_input("--balance-width excludes --monophasic");
-  if (!(offsets >= 1 && offsets <= 64)) tp::bad_input(range_message("--offsets", offsets, 1, 64));
-  if (threads != 0 && !(threads >= 1 && threads <= 256))
-    tp::bad_input(range_message("--threads", threads, 1, 256));
-  finite_arg(width_us, "--width");
-  finite_arg(interphase_us, "--interphase");
-  finite_arg(balance_width_us, "--balance-width");
-  finite_arg(tolerance, "--tolerance");
-  if (at)
-    for (double v : *at) finite_arg(v, "--at");
-  const std::vector<double> w = checked_weights(doc, "weights");
-  double wmax = 0.0;
-  for (double x : w) wmax = std::max(wmax, std::fabs(x));
-  if (!(wmax > 0.0)) tp::bad_input("weights: every weight is zero");
-  tp::cli::FibreOptions o;
-  o.model = model;
-  o.geometry = geometry;
-  if (width_us) o.width = number_arg(*width_us);
-  if (interphase_us) o.interphase = number_arg(*interphase_us);
-  if (balance_width_us) o.balance_width = number_arg(*balance_width_us);
-  o.monophasic = monophasic;
-  o.offsets = offsets;
-  if (tolerance) o.tolerance = number_arg(*tolerance);
-  o.threads = threads;
-  if (stimulus) o.stimulus = path_arg(*stimulus);
-  tp::cli::FibreSetup f = tp::cli::apply_fibre_options(o, w);
-  f.settings.through_mm = through;
-  tp::Json out = tp::document_to_json(doc);
+  r.strength_duration = strength_duration;
+  if (widths_us) r.widths_us = finite_list(*widths_us, "--widths");
+  r.population = population;
+  if (seed) r.seed = seed_arg(*seed);
+  tp::Document doc = d.doc;  // copied with the GIL held
+  tp::ThresholdOutput out;
   {
     py::gil_scoped_release release;
-    const tp::fibre::ThresholdReport r =
-        tp::fibre::compute_thresholds(doc.setup, w, *f.model, f.pulse, f.settings);
-    out["thresholds"] = tp::fibre::thresholds_to_json(doc.setup, r);
-    out["threshold_ratio"] = tp::fibre::ratios_to_json(doc.setup, r);
+    out = tp::run_thresholds(std::move(doc), r);
   }
-  return to_python(out);
+  if (out.document) return to_python(*out.document);
+  if (!population) return csv_columns(out.table);
+  py::dict both;
+  both["afferents"] = csv_columns(out.table);
+  both["recruitment"] = csv_columns(out.recruitment);
+  return both;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1034,9 +1070,14 @@ PYBIND11_MODULE(_core, m) {
         py::arg("monophasic") = false, py::arg("offsets") = 8, py::arg("tolerance") = py::none(),
         py::arg("threads") = 0, py::arg("at") = py::none(), py::arg("stimulus") = py::none(),
         py::arg("conductor") = py::none(), py::arg("geometry") = "straight",
+        py::arg("strength_duration") = false, py::arg("widths_us") = py::none(),
+        py::arg("population") = py::none(), py::arg("seed") = py::none(),
         "fiber-threshold: each receptor's threshold (mA), where it fired and the ratios; the "
-        "document the program prints, as a dict.  geometry='afferent': RA as an afferent "
-        "(docs/fibres.md).");
+        "document the program prints, as a dict (with stimulus=, threshold_multiples too).  "
+        "geometry='afferent': RA as an afferent (docs/fibres.md).  strength_duration=True "
+        "[widths_us=]: the strength-duration table; population=N [seed=]: N afferents of each "
+        "class, {'afferents': ..., 'recruitment': ...}; a table as its columns, {name: [values]} "
+        "(the program's CSV: numbers as it prints them, an empty cell None).");
   m.def("make_pulse", &make_pulse, py::arg("doc"), py::arg("amplitude_mA") = py::none(),
         py::arg("frequency_hz") = 200.0, py::kw_only(), py::arg("width_us") = 200.0,
         py::arg("balance_width_us") = py::none(), py::arg("interphase_us") = 0.0,

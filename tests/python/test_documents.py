@@ -144,6 +144,61 @@ def test_fiber_threshold_equals_the_programs(sai_json):
     assert py["thresholds"]["receptors"]["RA"]["stem"] in ("-x", "+x")
 
 
+def columns(csv):
+    """A CSV table as fiber_threshold returns it: {name: [values]}, numbers as floats, an
+    empty cell None, the receptor and class columns str."""
+    rows = [line.split(",") for line in csv.decode().splitlines()]
+    def cell(name, text):
+        if text == "":
+            return None
+        if name in ("receptor", "class"):
+            return text
+        try:
+            return float(text)
+        except ValueError:
+            return text
+    return {name: [cell(name, r[k]) for r in rows[1:]] for k, name in enumerate(rows[0])}
+
+
+def test_fiber_threshold_tables_are_the_programs(sai_json, tmp_path):
+    # The strength-duration table (a coarse lattice, two offsets: a few seconds).
+    fast = ["--tolerance", "0.05", "--offsets", "2"]
+    doc = tp.Document.from_json(sai_json.decode())
+    cli = run("fiber-threshold", "--strength-duration", "--widths", "200,50", "--monophasic",
+              *fast, stdin=sai_json)[0]
+    py = tp.fiber_threshold(doc, strength_duration=True, widths_us=[200, 50], monophasic=True,
+                            tolerance=0.05, offsets=2)
+    assert py == columns(cli)
+    assert py["width_us"] == [50.0, 200.0, 50.0, 200.0, 50.0, 200.0]
+    assert py["receptor"] == ["RA", "RA", "SAI", "SAI", "PC", "PC"]
+    # A population, its afferents and its recruitment curves.
+    curves = tmp_path / "r.csv"
+    cli = run("fiber-threshold", "--population", "2", "--seed", "5", "--recruitment",
+              str(curves), *fast, stdin=sai_json)[0]
+    py = tp.fiber_threshold(doc, population=2, seed=5, tolerance=0.05, offsets=2)
+    assert py["afferents"] == columns(cli)
+    assert py["recruitment"] == columns(curves.read_bytes())
+    assert py["afferents"]["class"] == ["RA", "RA", "SAI", "SAI", "PC", "PC"]
+
+
+def test_fiber_threshold_with_a_stimulus_is_the_programs(sai_json, tmp_path):
+    # The stimulus's amplitude in units of each threshold (threshold_multiples); a stale
+    # one in the document is replaced, as the program replaces it.
+    doc = tp.Document.from_json(sai_json.decode())
+    path = tmp_path / "sai-stimulus.json"
+    path.write_text(tp.make_pulse(doc, 0.8, 200, duration_s=0.1).to_json())
+    stale = json.loads(sai_json)
+    stale["threshold_multiples"] = {"SAI": 9.0}
+    stale = json.dumps(stale, indent=2).encode()
+    cli = load(run("fiber-threshold", "--stimulus", str(path), "--tolerance", "0.05",
+                   stdin=stale)[0])
+    py = tp.fiber_threshold(tp.Document.from_json(stale.decode()), stimulus=path,
+                            tolerance=0.05)
+    assert py == cli
+    assert py["threshold_multiples"]["SAI"] == pytest.approx(
+        0.8 / py["thresholds"]["receptors"]["SAI"]["threshold_mA"], rel=1e-12)
+
+
 def test_make_pulse_is_the_programs_json(sai_json):
     cli = run("make-pulse", "--amplitude", "1.2", "--frequency", "150", "--duration", "2",
               "--width", "100", "--balance-width", "300", stdin=sai_json)[0]

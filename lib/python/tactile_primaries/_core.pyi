@@ -78,8 +78,11 @@ def fiber_threshold(doc: Document, *, model: str = "mrg", width_us: Optional[flo
                     balance_width_us: Optional[float] = None, monophasic: bool = False,
                     offsets: int = 8, tolerance: Optional[float] = None, threads: int = 0,
                     at: Optional[Sequence[float]] = None, stimulus: Optional[str] = None,
-                    conductor: Optional[str] = None,
-                    geometry: str = "straight") -> dict[str, Any]: ...
+                    conductor: Optional[str] = None, geometry: str = "straight",
+                    strength_duration: bool = False,
+                    widths_us: Optional[Sequence[float]] = None,
+                    population: Optional[int] = None,
+                    seed: Optional[int] = None) -> dict[str, Any]: ...
 def make_pulse(doc: Document, amplitude_mA: Optional[float] = None, frequency_hz: float = 200.0,
                *, width_us: float = 200.0, balance_width_us: Optional[float] = None,
                interphase_us: float = 0.0, duration_s: Optional[float] = None,
