@@ -66,4 +66,28 @@ Bank optimize_bank(const Setup& setup, const BankOptions& opt);
 
 inline constexpr std::size_t kMaxBankPatterns = 4096;
 
+// optimize_bank's steps, exposed for the unit tests.
+
+// The part of the array a pattern may use, and how a focus sits in it.
+struct BankWindow {
+  Setup setup;                // the window's pads alone (a sub-grid centred on (0, 0))
+  int c0 = 0, r0 = 0;         // its first column and row in the grid
+  double wx = 0.0, wz = 0.0;  // its centre, in the array's coordinates
+  double ox = 0.0, oz = 0.0;  // its centre, in its own coordinates
+  bool mirror_x = false, mirror_z = false;  // reflections through its centre it admits
+  bool sub_grid = false;                    // K x K pads of a grid, else the whole array
+};
+
+// The window of a focus at (x_mm, z_mm): the whole array (neighbourhood 0), or the K x K
+// pads (fewer where the grid has fewer) centred on the pad nearest the focus, shifted to
+// stay inside the grid.  It admits a mirror when the reflection through its centre maps
+// its pads onto themselves and every receptor's fibres are vertical or run along x or z.
+BankWindow bank_window(const Setup& setup, int neighbourhood, double x_mm, double z_mm);
+
+// A window's weights (one per window pad) on the whole array: reflected through the
+// window's centre (mirror_x, mirror_z), each at its pad of the array, zero elsewhere.
+std::vector<double> weights_on_array(const ElectrodeArray& array, const BankWindow& w,
+                                     bool mirror_x, bool mirror_z,
+                                     const std::vector<double>& window_weights);
+
 }  // namespace tp

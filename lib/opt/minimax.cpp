@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include <ceres/gradient_problem.h>
@@ -109,156 +110,177 @@ bool PNormLogRatio::Evaluate(const double* zp, double* cost, double* gradient) c
   return std::isfinite(*cost);
 }
 
-OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
-                             const OptimizeOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace minimax {
+
+Search::Search(const Setup& setup, const std::string& mode, const OptimizeOptions& opt)
+    : setup_(setup), mode_(mode), opt_(opt) {
   if (!(opt.max_current_mA > 0.0)) bad_input("max current must be > 0 mA");
   if (opt.min_target_af < 0.0) bad_input("minimum target AF must be >= 0");
-  const Eigen::MatrixXd B = zero_sum_basis(setup.array.size());
+  basis_ = zero_sum_basis(setup.array.size());
+  res_.mode = mode;
+  fine_ = make_mode_problem(setup, mode, opt.polish_step_mm, false);
+  conductor_ = make_conductor(setup.conductor, setup.array);
+}
 
-  OptimizeResult res;
-  res.mode = mode;
-  auto weights_of = [&](const Eigen::VectorXd& z) {
-    const Eigen::VectorXd w = B * z;
-    return std::vector<double>(w.data(), w.data() + w.size());
-  };
-  struct Candidate {
-    double ratio;
-    Eigen::VectorXd z;
-    std::string label;
-    Peak target_peak;  // where the target's largest AF lies (the polish starts there)
-  };
+Search::~Search() = default;
 
-  ModeProblem fine = make_mode_problem(setup, mode, opt.polish_step_mm, false);
-  const Receptor& target = setup.receptors[fine.target];
-  // The true ratio of z (infinite when the target is never depolarised) and the target's
-  // peak, from one evaluation of every receptor's maximum.
-  auto assess = [&](const Eigen::VectorXd& z) {
-    const Summary sum = summarize(setup, weights_of(z));
-    const auto r = mode_ratio(sum.peaks, mode);
-    return std::make_pair(r ? *r : kInf, sum.peaks[fine.target].second);
-  };
-  std::vector<Candidate> candidates;
+Candidate Search::assess(const Eigen::VectorXd& z, std::string label) const {
+  const Eigen::VectorXd w = basis_ * z;
+  const Summary sum = summarize(setup_, std::vector<double>(w.data(), w.data() + w.size()));
+  const auto r = mode_ratio(sum.peaks, mode_);
+  return {r ? *r : kInf, z, std::move(label), sum.peaks[fine_.target].second};
+}
 
-  // 1-2. Surrogate minimisation with continuation, from every start.  The surrogate only
-  // proposes candidates for the LP polish, so it is solved loosely: p = 8, 32, 256, at most
-  // 50 iterations each.  Over 189 arrays (4, 8 and 16 electrodes, pitch 0.5 to 2.5 mm,
-  // every mode) this, with two pattern starts, gave the same ratios as p = 8, 16, ..., 256
-  // at 200 iterations, tolerances of 1e-12 and four pattern starts (docs/optimization.md).
-  {
-    const ModeProblem coarse = make_mode_problem(setup, mode, opt.surrogate_step_mm);
-    ceres::GradientProblemSolver::Options so;
-    so.line_search_direction_type = ceres::LBFGS;
-    so.max_num_iterations = 50;
-    so.function_tolerance = 1e-8;
-    so.gradient_tolerance = 1e-6;
-    so.parameter_tolerance = 1e-8;
-    so.logging_type = ceres::SILENT;
-    for (const Start& start :
-         make_starts(setup.array.size(), opt.pattern_starts, opt.random_starts, opt.seed)) {
-      ++res.starts;
-      Eigen::VectorXd z = B.transpose() * start.w;
-      z /= z.norm();
-      for (int log2_p : {3, 5, 8}) {
-        ceres::GradientProblem problem(
-            new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
-        double cost = 0.0;
-        if (!problem.Evaluate(z.data(), &cost, nullptr)) break;  // target never depolarised
-        Eigen::VectorXd trial = z;
-        ceres::GradientProblemSolver::Summary summary;
-        ceres::Solve(so, problem, trial.data(), &summary);
-        res.iterations += static_cast<int>(summary.iterations.size());
-        res.evaluations += summary.num_cost_evaluations + summary.num_gradient_evaluations;
-        if (!summary.IsSolutionUsable() || !trial.allFinite()) break;
-        z = trial / trial.norm();
-      }
-      const auto [r, peak] = assess(z);
-      if (std::isfinite(r)) candidates.push_back({r, z, start.label, peak});
+// The surrogate only proposes candidates for the LP polish, so it is solved loosely.  Over
+// 189 arrays (4, 8 and 16 electrodes, pitch 0.5 to 2.5 mm, every mode) this, with two
+// pattern starts, gave the same ratios as p = 8, 16, ..., 256 at 200 iterations,
+// tolerances of 1e-12 and four pattern starts (docs/optimization.md).
+void Search::surrogate() {
+  const ModeProblem coarse = make_mode_problem(setup_, mode_, opt_.surrogate_step_mm);
+  ceres::GradientProblemSolver::Options so;
+  so.line_search_direction_type = ceres::LBFGS;
+  so.max_num_iterations = 50;
+  so.function_tolerance = 1e-8;
+  so.gradient_tolerance = 1e-6;
+  so.parameter_tolerance = 1e-8;
+  so.logging_type = ceres::SILENT;
+  for (const Start& start :
+       make_starts(setup_.array.size(), opt_.pattern_starts, opt_.random_starts, opt_.seed)) {
+    ++res_.starts;
+    Eigen::VectorXd z = basis_.transpose() * start.w;
+    z /= z.norm();
+    for (int log2_p : {3, 5, 8}) {
+      ceres::GradientProblem problem(
+          new PNormLogRatio(coarse.off_rows, coarse.target_rows, log2_p));
+      double cost = 0.0;
+      if (!problem.Evaluate(z.data(), &cost, nullptr)) break;  // target never depolarised
+      Eigen::VectorXd trial = z;
+      ceres::GradientProblemSolver::Summary summary;
+      ceres::Solve(so, problem, trial.data(), &summary);
+      res_.iterations += static_cast<int>(summary.iterations.size());
+      res_.evaluations += summary.num_cost_evaluations + summary.num_gradient_evaluations;
+      if (!summary.IsSolutionUsable() || !trial.allFinite()) break;
+      z = trial / trial.norm();
     }
+    Candidate c = assess(z, start.label);
+    if (std::isfinite(c.ratio)) candidates_.push_back(std::move(c));
   }
+}
 
-  // 3. LP seeds: the optimum's target peak tends to sit under an electrode (an anode for a
-  // vertical target, a cathode for a horizontal one), a discrete choice that local descent
-  // does not make well.  Solve the LP with the target point under each electrode, at the
-  // top of the target's fibres, and add the solutions as candidates.  A mirror-symmetric
-  // array has a mirror-symmetric problem: the seed under electrode N-1-i is the mirror
-  // image of the one under i, with the same ratio, so the left half suffices.
-  const auto conductor = make_conductor(setup.conductor, setup.array);
-  const bool bounded = opt.min_target_af > 0.0;
-  const double weight_bound = bounded ? opt.max_current_mA / opt.min_target_af : 0.0;
-  TargetLp lp(std::move(fine.off_rows), B, weight_bound);
-  const std::size_t n = setup.array.size();
-  const std::size_t seeds = mirror_symmetric(setup.array) ? (n + 1) / 2 : n;
+TargetLp& Search::lp() {
+  if (!lp_) {
+    const double weight_bound =
+        opt_.min_target_af > 0.0 ? opt_.max_current_mA / opt_.min_target_af : 0.0;
+    lp_ = std::make_unique<TargetLp>(std::move(fine_.off_rows), basis_, weight_bound);
+  }
+  return *lp_;
+}
+
+// The optimum's target peak tends to sit under an electrode (an anode for a vertical
+// target, a cathode for a horizontal one), a discrete choice that local descent does not
+// make well.  A mirror-symmetric array has a mirror-symmetric problem: the seed under
+// electrode N-1-i is the mirror image of the one under i, with the same ratio.
+void Search::lp_seeds() {
+  const Receptor& target = setup_.receptors[fine_.target];
+  const std::size_t n = setup_.array.size();
+  const std::size_t seeds = mirror_symmetric(setup_.array) ? (n + 1) / 2 : n;
   for (std::size_t i = 0; i < seeds; ++i) {
-    const double x = setup.array.positions_mm[i];
+    const double x = setup_.array.positions_mm[i];
     const Eigen::VectorXd row =
-        B.transpose() * unit_af(setup, *conductor, target, x, target.depth_min_mm);
-    ++res.lp_solves;
-    if (const auto sol = lp.solve(row)) {
-      const auto [r, peak] = assess(sol->z);
-      if (std::isfinite(r))
-        candidates.push_back({r, sol->z, "lp-under-electrode-" + std::to_string(i), peak});
+        basis_.transpose() * unit_af(setup_, *conductor_, target, x, target.depth_min_mm);
+    ++res_.lp_solves;
+    if (const auto sol = lp().solve(row)) {
+      Candidate c = assess(sol->z, "lp-under-electrode-" + std::to_string(i));
+      if (std::isfinite(c.ratio)) candidates_.push_back(std::move(c));
     }
   }
-  std::stable_sort(candidates.begin(), candidates.end(),
+}
+
+void Search::keep_best() {
+  std::stable_sort(candidates_.begin(), candidates_.end(),
                    [](const Candidate& a, const Candidate& b) { return a.ratio < b.ratio; });
-  if (candidates.size() > static_cast<std::size_t>(opt.polished_candidates))
-    candidates.resize(static_cast<std::size_t>(opt.polished_candidates));
+  if (candidates_.size() > static_cast<std::size_t>(opt_.polished_candidates))
+    candidates_.resize(static_cast<std::size_t>(opt_.polished_candidates));
+}
 
-  // 4. Polish by LP at the target's true peak.  With an efficiency bound, only LP
-  // solutions (which honour it) are admissible.
-  std::optional<Candidate> best;
-  for (const Candidate& c : candidates) {
-    double r = bounded ? kInf : c.ratio;
-    Eigen::VectorXd z = c.z;
-    Peak pk = c.target_peak;
-    for (int it = 0; it < 10; ++it) {
-      const Eigen::VectorXd row =
-          B.transpose() * unit_af(setup, *conductor, target, pk.x_mm, pk.y_mm);
-      ++res.lp_solves;
-      const auto sol = lp.solve(row);
-      if (!sol) break;
-      const auto [rn, pn] = assess(sol->z);
-      const bool improved = std::isinf(r) ? std::isfinite(rn) : rn < r - 1e-12 * std::fabs(r);
-      if (!improved) break;
-      r = rn;
-      z = sol->z;
-      pk = pn;
-    }
-    if (std::isfinite(r) && (!best || r < best->ratio)) best = Candidate{r, z, c.label, pk};
+Candidate Search::polish(const Candidate& c) {
+  const Receptor& target = setup_.receptors[fine_.target];
+  double r = opt_.min_target_af > 0.0 ? kInf : c.ratio;
+  Eigen::VectorXd z = c.z;
+  Peak pk = c.target_peak;
+  for (int it = 0; it < 10; ++it) {
+    const Eigen::VectorXd row =
+        basis_.transpose() * unit_af(setup_, *conductor_, target, pk.x_mm, pk.y_mm);
+    ++res_.lp_solves;
+    const auto sol = lp().solve(row);
+    if (!sol) break;
+    const Candidate next = assess(sol->z, c.label);
+    const bool improved =
+        std::isinf(r) ? std::isfinite(next.ratio) : next.ratio < r - 1e-12 * std::fabs(r);
+    if (!improved) break;
+    r = next.ratio;
+    z = sol->z;
+    pk = next.target_peak;
   }
-  if (!best) {
-    if (bounded) {
-      // The best unbounded candidate's target AF at the current limit, for the message.
-      double unbounded_af = 0.0;
-      if (!candidates.empty()) {
-        Eigen::VectorXd w = B * candidates.front().z;
-        w *= opt.max_current_mA / w.cwiseAbs().maxCoeff();
-        const Field field(setup, std::vector<double>(w.data(), w.data() + w.size()));
-        unbounded_af = field.peak(target).af;
-      }
-      bad_input("no weights reach a target AF of " + number_text(opt.min_target_af) + " V/ms at " +
-                number_text(opt.max_current_mA) + " mA (the most selective weights reach " +
-                number_text(unbounded_af) + " V/ms)");
-    }
-    failure("optimisation failed: no start depolarises receptor " + mode);
-  }
+  return {r, z, c.label, pk};
+}
 
-  // 5. Make Sum w = 0 exact to rounding, then scale so that max |w| = 1 exactly: the
-  // largest divided by itself is 1, every other |w| stays <= 1 (division rounds
-  // monotonically), so no current exceeds the limit even by a rounding.
-  Eigen::VectorXd w = B * best->z;
+void Search::no_answer() const {
+  if (opt_.min_target_af > 0.0) {
+    // The best unbounded candidate's target AF at the current limit, for the message.
+    double unbounded_af = 0.0;
+    if (!candidates_.empty()) {
+      Eigen::VectorXd w = basis_ * candidates_.front().z;
+      w *= opt_.max_current_mA / w.cwiseAbs().maxCoeff();
+      const Field field(setup_, std::vector<double>(w.data(), w.data() + w.size()));
+      unbounded_af = field.peak(setup_.receptors[fine_.target]).af;
+    }
+    bad_input("no weights reach a target AF of " + number_text(opt_.min_target_af) + " V/ms at " +
+              number_text(opt_.max_current_mA) + " mA (the most selective weights reach " +
+              number_text(unbounded_af) + " V/ms)");
+  }
+  failure("optimisation failed: no start depolarises receptor " + mode_);
+}
+
+// The largest divided by itself is 1, every other |w| stays <= 1 (division rounds
+// monotonically), so no current exceeds the limit even by a rounding.
+OptimizeResult Search::finish(const Candidate& best) {
+  Eigen::VectorXd w = basis_ * best.z;
   w.array() -= w.mean();
   w /= w.cwiseAbs().maxCoeff();
+  OptimizeResult res = res_;
   res.weights.assign(w.data(), w.data() + w.size());
   for (double& v : res.weights)
     if (v == 0.0) v = 0.0;  // no -0 in the output
-  for (double v : res.weights) res.currents_mA.push_back(v * opt.max_current_mA);
-  res.summary = summarize(setup, res.currents_mA);
-  const auto r = mode_ratio(res.summary.peaks, mode);
+  for (double v : res.weights) res.currents_mA.push_back(v * opt_.max_current_mA);
+  res.summary = summarize(setup_, res.currents_mA);
+  const auto r = mode_ratio(res.summary.peaks, mode_);
   res.ratio = r ? *r : kInf;
-  res.target_max_af = res.summary.peaks[fine.target].second.af;
-  res.best_start = best->label;
+  res.target_max_af = res.summary.peaks[fine_.target].second.af;
+  res.best_start = best.label;
+  return res;
+}
+
+OptimizeResult Search::run() {
+  surrogate();
+  lp_seeds();
+  keep_best();
+  std::optional<Candidate> best;
+  for (const Candidate& c : candidates_) {
+    Candidate p = polish(c);
+    if (std::isfinite(p.ratio) && (!best || p.ratio < best->ratio)) best = std::move(p);
+  }
+  if (!best) no_answer();
+  return finish(*best);
+}
+
+}  // namespace minimax
+
+OptimizeResult optimize_mode(const Setup& setup, const std::string& mode,
+                             const OptimizeOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  minimax::Search search(setup, mode, opt);
+  OptimizeResult res = search.run();
   res.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

@@ -29,6 +29,8 @@
 // target points is the global optimum of the sampled problem, which the tests compare with.
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,8 @@
 #include "opt/problem.hpp"
 
 namespace tp {
+
+class TargetLp;  // opt/lp.hpp
 
 // The surrogate handed to Ceres (exposed for the gradient checks).
 class PNormLogRatio final : public ceres::FirstOrderFunction {
@@ -92,6 +96,77 @@ struct Certificate {
   Eigen::VectorXd weights;
   int lp_solves = 0;
 };
+
+// optimize_mode's steps over their state (Search), exposed for the unit tests:
+//   Search s(setup, mode, options);   the options checked, the fine (polish) problem
+//   s.surrogate();                    1-2: a candidate from each start
+//   s.lp_seeds();                     3: one from the LP under each electrode
+//   s.keep_best();                    the best `polished_candidates`, by ratio
+//   s.polish(c) for each              4: by LP at the target's true peak
+//   s.finish(best) / s.no_answer()    5: the result, or why there is none
+namespace minimax {
+
+struct Candidate {
+  double ratio = 0.0;  // the true ratio (infinite when the target is never depolarised)
+  Eigen::VectorXd z;   // w = B z
+  std::string label;   // the start it came from
+  Peak target_peak;    // where the target's largest AF lies (the polish starts there)
+};
+
+class Search {
+ public:
+  // Bad input for a max current not above 0, a negative minimum target AF, and as
+  // make_mode_problem().
+  Search(const Setup& setup, const std::string& mode, const OptimizeOptions& opt);
+  ~Search();
+  Search(const Search&) = delete;
+  Search& operator=(const Search&) = delete;
+
+  // z's true ratio and the target's peak, from one evaluation of every receptor's maximum.
+  Candidate assess(const Eigen::VectorXd& z, std::string label) const;
+
+  // 1-2. The surrogate minimised with continuation (p = 8, 32, 256, at most 50 L-BFGS
+  // iterations each) from every start: each one that depolarises the target a candidate.
+  void surrogate();
+  // 3. The LP with the target point under each electrode (the left half of a
+  // mirror-symmetric array), at the top of the target's fibres: each solution that
+  // depolarises the target a candidate.
+  void lp_seeds();
+  // The best `polished_candidates` candidates, by ratio (stable).
+  void keep_best();
+  // 4. c polished: the LP solved at the target's true peak, again from the answer's peak
+  // while the true ratio improves (at most 10 times); never worse than c.  With a minimum
+  // target AF only LP solutions are admissible: c's own ratio counts as infinite.
+  Candidate polish(const Candidate& c);
+  // No candidate survived: bad input naming the target AF the most selective weights
+  // reach (a minimum target AF), else a runtime failure.
+  [[noreturn]] void no_answer() const;
+  // 5. The result: Sum w = 0 exact to rounding, max |w| = 1 exactly, judged on the true
+  // maxima.
+  OptimizeResult finish(const Candidate& best);
+
+  // Every step in order.
+  OptimizeResult run();
+
+  const std::vector<Candidate>& candidates() const { return candidates_; }
+  const OptimizeResult& counts() const { return res_; }  // starts, iterations, LP solves
+  const Eigen::MatrixXd& basis() const { return basis_; }
+
+ private:
+  TargetLp& lp();
+
+  const Setup& setup_;
+  const std::string mode_;
+  const OptimizeOptions opt_;
+  Eigen::MatrixXd basis_;
+  ModeProblem fine_;
+  std::unique_ptr<TargetLp> lp_;
+  std::unique_ptr<Conductor> conductor_;
+  std::vector<Candidate> candidates_;
+  OptimizeResult res_;
+};
+
+}  // namespace minimax
 
 // Global optimum of the sampled problem by exhaustive LP over target points.
 Certificate certify_mode(const Setup& setup, const std::string& mode, double step_mm,
