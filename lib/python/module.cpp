@@ -107,10 +107,6 @@ std::uint64_t seed_arg(const py::int_& seed) {
   return v;
 }
 
-std::string range_message(const std::string& flag, long v, long lo, long hi) {
-  return flag + ": " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " +
-         std::to_string(hi) + "]";  // as tp::cli::add_integer says it
-}
 std::string cli11_range_message(const std::string& flag, long v, long lo, long hi) {
   return flag + ": Value " + std::to_string(v) + " not in range " + std::to_string(lo) + " to " +
          std::to_string(hi);  // CLI11's words, as stimctl says it
