@@ -277,3 +277,24 @@ def test_stimulator_refusals(tmp_path, sai_doc):
                        (dict(backend="x"), "--backend")):
         with pytest.raises(tp.BadInput, match=words):
             tp.Stimulator("emu", **bad)
+
+
+def test_start_live_loads_what_frames_need_before_the_output_starts():
+    # A new user's finding (issue 38 follow-up): the first set_amplitudes imported numpy,
+    # ~0.3 s during which the output ran on unchanged.  In a fresh interpreter, numpy must
+    # already be loaded when start_live returns.
+    script = textwrap.dedent("""
+        import sys
+        import tactile_primaries as tp
+        doc = tp.Document.create()
+        stim = tp.make_pulse(tp.optimize_weights(doc, "SAI"), 1.0, 200, duration_s=10)
+        assert "numpy" not in sys.modules or print("numpy before start_live")
+        with tp.Stimulator("emu") as s:
+            s.start_live(stim)
+            print("numpy" in sys.modules, flush=True)
+            s.stop()
+    """)
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "True", out.stdout

@@ -117,7 +117,12 @@ class Stimulator:
         return self._s.deliver(_as_stimulus(stimulus), duration_s)
 
     def start_live(self, stimulus, duration_s=None):
-        """Starts the stimulus and returns at once; live frames follow."""
+        """Starts the stimulus and returns at once; live frames follow (set_currents,
+        set_amplitudes) until stop(), or until duration_s (s) has run.  What the frames
+        need (numpy) is loaded before the output starts, so that the first frame is not
+        held up by an import while the output runs."""
+        import numpy  # noqa: F401  (about 0.3 s on a first import)
+
         self._s.start_live(_as_stimulus(stimulus), duration_s)
 
     def set_currents(self, currents_mA):
