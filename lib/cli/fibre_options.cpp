@@ -54,6 +54,7 @@ tp::FibreOptions fibre_values(const FibreOptions& o) {
   v.monophasic = o.monophasic;
   v.offsets = o.offsets;
   if (!o.tolerance.empty()) v.tolerance = parse_finite(o.tolerance, "--tolerance");
+  v.tolerance_text = o.tolerance;
   v.threads = o.threads;
   v.model_flag = o.model_flag;
   return v;

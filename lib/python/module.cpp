@@ -525,6 +525,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
   r.fibre.monophasic = monophasic;
   r.fibre.offsets = offsets;
   r.fibre.tolerance = tolerance;
+  if (tolerance) r.fibre.tolerance_text = number_arg(*tolerance);
   r.fibre.threads = threads;
   if (at) {
     r.at_mm = finite_list(*at, "--at");

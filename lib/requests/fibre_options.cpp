@@ -81,7 +81,9 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
   if (o.tolerance) {
     f.settings.tolerance = *o.tolerance;
     if (!(f.settings.tolerance >= 1e-4 && f.settings.tolerance <= 0.1))
-      bad_input("--tolerance: " + number_beside(*o.tolerance, 1e-4, 0.1) +
+      bad_input("--tolerance: " +
+                (o.tolerance_text.empty() ? number_beside(*o.tolerance, 1e-4, 0.1)
+                                          : o.tolerance_text) +
                 " outside [0.0001, 0.1]");
   }
   f.settings.threads = static_cast<unsigned>(o.threads);

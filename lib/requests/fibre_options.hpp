@@ -27,6 +27,7 @@ struct FibreOptions {
   bool monophasic = false;
   int offsets = 8;                    // 1 to 64
   std::optional<double> tolerance;    // 1e-4 to 0.1 [0.001]
+  std::string tolerance_text;         // the flag as given, for messages [the value]
   int threads = 0;                    // 1 to 256; 0: every core
   std::string model_flag = "--model";  // the fibre model's flag, for messages
 };

@@ -17,6 +17,8 @@ tp_cli_test(fiber-threshold refuses-zero-width refuses 2 --says "--width: 0 us o
 tp_cli_test(fiber-threshold refuses-huge-width refuses 2 --says "--width: 1000000 us outside [1, 10000] us" -- fiber-threshold --config ${IN}/sai-weights.json --width 1e6)
 tp_cli_test(fiber-threshold refuses-nan-gap refuses 2 --says "--interphase: non-finite number 'nan'" -- fiber-threshold --config ${IN}/sai-weights.json --interphase nan)
 tp_cli_test(fiber-threshold refuses-tolerance refuses 2 --says "--tolerance: 0.5 outside [0.0001, 0.1]" -- fiber-threshold --config ${IN}/sai-weights.json --tolerance 0.5)
+# The text as given, not the number it reads as (lib/requests/fibre_options: tolerance_text).
+tp_cli_test(fiber-threshold refuses-tolerance-as-given refuses 2 --says "--tolerance: 0.50 outside [0.0001, 0.1]" -- fiber-threshold --config ${IN}/sai-weights.json --tolerance 0.50)
 tp_cli_test(fiber-threshold refuses-offsets refuses 2 --says "--offsets: 0 outside [1, 64]" -- fiber-threshold --config ${IN}/sai-weights.json --offsets 0)
 tp_cli_test(fiber-threshold refuses-threads refuses 2 --says "--threads: 0 outside [1, 256]" -- fiber-threshold --config ${IN}/sai-weights.json --threads 0)
 tp_cli_test(fiber-threshold refuses-widths-alone refuses 2 --says "--widths: applies to --strength-duration only" -- fiber-threshold --config ${IN}/sai-weights.json --widths 100)

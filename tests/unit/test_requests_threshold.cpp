@@ -179,6 +179,8 @@ TEST_CASE("a threshold request is refused with fiber-threshold's messages",
     r = {};
     r.fibre.tolerance = 0.5;
     CHECK(refusal(doc, r) == "--tolerance: 0.5 outside [0.0001, 0.1]");
+    r.fibre.tolerance_text = "0.50";  // the program's flag as given
+    CHECK(refusal(doc, r) == "--tolerance: 0.50 outside [0.0001, 0.1]");
   }
   SECTION("the conductor") {
     r.conductor.model = "nope";
