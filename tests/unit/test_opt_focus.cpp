@@ -205,6 +205,34 @@ TEST_CASE("focus round: the LP's optimum meets every sample's bound, at the best
   CHECK(v.result().rounds == 2);
 }
 
+TEST_CASE("focus round: of several feasible depths, the least t", "[opt][focus]") {
+  // SAI's fibres from 0.9 to 1.2 mm deep, the focus under electrode 4: the LP is feasible
+  // at the top two of its five candidate depths (t about 0.104 and 0.126), and the round
+  // takes the top, the better.
+  Setup s;
+  const std::size_t sai = receptor_index(s, "SAI");
+  s.receptors[sai].depth_max_mm = 1.2;
+  Solver v(s, "SAI", at(-0.5));
+  v.build_samples();
+  const auto round = v.solve_round();
+  REQUIRE(round);
+  const focus::Samples& sm = v.samples();
+  const Eigen::MatrixXd off = rows(s, v, sm.off), capped = rows(s, v, sm.capped);
+  std::vector<double> t;
+  for (const double y : v.all_depths()) {
+    TargetLp lp(off, zero_sum_basis(s.array.size()), 0.0, capped,
+                Eigen::Map<const Eigen::VectorXd>(sm.caps.data(),
+                                                  static_cast<Eigen::Index>(sm.caps.size())));
+    const auto sol = lp.solve(v.focus_row(y));
+    t.push_back(sol ? sol->value : INFINITY);
+  }
+  REQUIRE(t.size() == 5);
+  REQUIRE(std::isfinite(t[1]));
+  REQUIRE(t[1] > t[0] * 1.1);  // the second depth feasible, and worse
+  CHECK(round->depth_mm == v.all_depths()[0]);
+  CHECK(round->lp.value == Approx(t[0]).epsilon(1e-9));
+}
+
 TEST_CASE("focus least norm: the shortest weights within the tolerance of t*", "[opt][focus]") {
   const Setup s;
   const FocusOptions o = at(-0.5);
