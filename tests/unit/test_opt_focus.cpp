@@ -4,7 +4,9 @@
 // certification against fresh LPs, and the steps composed giving optimize_focus's answer.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -59,6 +61,24 @@ bool in_region(const Setup& s, const Sample& p) {
 Eigen::MatrixXd rows(const Setup& s, const Solver& v, const std::vector<Sample>& pts) {
   const auto c = make_conductor(s.conductor, s.array);
   return focus::rows_of(s, *c, v.samples().tables, pts, zero_sum_basis(s.array.size()));
+}
+
+// A new LP of the solver's samples as they stand (their rows and caps), apart from its own.
+std::unique_ptr<TargetLp> fresh_lp(const Setup& s, const Solver& v) {
+  const focus::Samples& sm = v.samples();
+  return std::make_unique<TargetLp>(
+      rows(s, v, sm.off), zero_sum_basis(s.array.size()), 0.0, rows(s, v, sm.capped),
+      Eigen::Map<const Eigen::VectorXd>(sm.caps.data(), static_cast<Eigen::Index>(sm.caps.size())));
+}
+
+// t at each candidate depth, each on a fresh LP (infinite where infeasible).
+std::vector<double> fresh_t(const Setup& s, const Solver& v) {
+  std::vector<double> t;
+  for (const double y : v.all_depths()) {
+    const auto sol = fresh_lp(s, v)->solve(v.focus_row(y));
+    t.push_back(sol ? sol->value : INFINITY);
+  }
+  return t;
 }
 
 // The steps in run()'s order, up to the last round's check (or the failure).
@@ -184,17 +204,10 @@ TEST_CASE("focus round: the LP's optimum meets every sample's bound, at the best
   for (Eigen::Index i = 0; i < capped.rows(); ++i)
     CHECK(capped.row(i).dot(z) <= sm.caps[static_cast<std::size_t>(i)] + 1e-9);
   // Its depth is the best of the five, each solved on a fresh LP of the same samples.
-  double best = INFINITY, best_y = -1;
-  for (const double y : v.all_depths()) {
-    TargetLp lp(off, zero_sum_basis(s.array.size()), 0.0, capped,
-                Eigen::Map<const Eigen::VectorXd>(sm.caps.data(),
-                                                  static_cast<Eigen::Index>(sm.caps.size())));
-    if (const auto sol = lp.solve(v.focus_row(y)); sol && sol->value < best) {
-      best = sol->value;
-      best_y = y;
-    }
-  }
-  CHECK(t == Approx(best).epsilon(1e-9));
+  const std::vector<double> ts = fresh_t(s, v);
+  const auto best = std::min_element(ts.begin(), ts.end());
+  const double best_y = v.all_depths()[static_cast<std::size_t>(best - ts.begin())];
+  CHECK(t == Approx(*best).epsilon(1e-9));
   CHECK(round->depth_mm == best_y);
   CHECK(v.result().sampled_optimum == t);
   CHECK(v.result().lp_solves == 5);
@@ -203,6 +216,25 @@ TEST_CASE("focus round: the LP's optimum meets every sample's bound, at the best
   REQUIRE(v.solve_round());
   CHECK(v.depths() == std::vector<double>{round->depth_mm});
   CHECK(v.result().rounds == 2);
+}
+
+TEST_CASE("focus round: of several feasible depths, the least t", "[opt][focus]") {
+  // SAI's fibres from 0.9 to 1.2 mm deep, the focus under electrode 4: the LP is feasible
+  // at the top two of its five candidate depths (t about 0.104 and 0.126), and the round
+  // takes the top, the better.
+  Setup s;
+  const std::size_t sai = receptor_index(s, "SAI");
+  s.receptors[sai].depth_max_mm = 1.2;
+  Solver v(s, "SAI", at(-0.5));
+  v.build_samples();
+  const auto round = v.solve_round();
+  REQUIRE(round);
+  const std::vector<double> t = fresh_t(s, v);
+  REQUIRE(t.size() == 5);
+  REQUIRE(std::isfinite(t[1]));
+  REQUIRE(t[1] > t[0] * 1.1);  // the second depth feasible, and worse
+  CHECK(round->depth_mm == v.all_depths()[0]);
+  CHECK(round->lp.value == Approx(t[0]).epsilon(1e-9));
 }
 
 TEST_CASE("focus least norm: the shortest weights within the tolerance of t*", "[opt][focus]") {
@@ -340,14 +372,12 @@ TEST_CASE("focus certify: a feasible pixel's best over its peak's places, by fre
   for (const double y : v.all_depths()) cands.push_back({0.0, y, s.conductor.plane_z_mm, pc});
   CHECK(r.certified_points == cands.size());
   CHECK(r.certified_points > 2);
-  const Eigen::MatrixXd off = rows(s, v, sm.off), capped = rows(s, v, sm.capped);
   const Eigen::MatrixXd targets = rows(s, v, cands);
-  TargetLp fresh(
-      off, zero_sum_basis(s.array.size()), 0.0, capped,
-      Eigen::Map<const Eigen::VectorXd>(sm.caps.data(), static_cast<Eigen::Index>(sm.caps.size())));
+  const auto fresh = fresh_lp(s, v);
   double best = INFINITY;
   for (Eigen::Index i = 0; i < targets.rows(); ++i)
-    if (const auto sol = fresh.solve(targets.row(i).transpose())) best = std::min(best, sol->value);
+    if (const auto sol = fresh->solve(targets.row(i).transpose()))
+      best = std::min(best, sol->value);
   CHECK(*r.certified_optimum == Approx(best).epsilon(1e-9));
   CHECK(*r.certified_optimum <= r.sampled_optimum * (1 + 1e-9));
   CHECK(std::fabs(r.certified_at.x_mm) <= r.pitch_mm / 4 + 1e-12);
