@@ -120,7 +120,7 @@ TEST_CASE("a plan: groups share no pad, keep their crosstalk bound, and never co
   CHECK(multi > 0);  // some patterns did fire together
 }
 
-TEST_CASE("a plan: one pixel at its requested rate; a full image lowered, nothing dropped",
+TEST_CASE("a plan: one pixel at its requested rate, a full image lowered, nothing dropped",
           "[render]") {
   const PixelBank& b = bank6();
   const Profile profile = profile_from_json(profile_json(), 2.0, 36);
