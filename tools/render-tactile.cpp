@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -18,9 +17,7 @@
 #include "host/line_reader.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
-#include "model/ranges.hpp"
-#include "render/model_profile.hpp"
-#include "render/render.hpp"
+#include "render/request.hpp"
 
 namespace {
 
@@ -44,37 +41,9 @@ void for_each_stdin_frame(const tp::PixelBank& bank, F&& f) {
   }
 }
 
-// Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
-// given (already checked), or JSON lines read from stdin, each checked before it is
-// written.  After the last, holds it one frame period (so the device delivers it) and ends.
-// Without --profile: the fibre model's thresholds, said on stderr (after every option and
-// the bank are checked).
-tp::Profile model_profile(const tp::PixelBank& bank, const tp::RenderOptions& o, double factor,
-                          std::string& warning) {
-  tp::ModelProfileOptions m;
-  m.pulse.width_us = o.width_us;
-  m.pulse.interphase_us = o.interphase_us;
-  m.pulse.balance_width_us = o.balance_width_us;
-  m.max_current_mA = o.limits.max_current_mA;
-  m.comfort_factor = factor;
-  const tp::ModelProfile mp = tp::model_profile(bank, m);
-  std::string ranges;
-  for (std::size_t p = 0; p < tp::kPrimaries.size(); ++p) {
-    if (!mp.profile.primary[p]) continue;
-    const tp::PrimaryRange& r = *mp.profile.primary[p];
-    ranges += std::string(ranges.empty() ? "" : ", ") + tp::kPrimaries[p] + " " +
-              tp::number_text(std::round(r.threshold_mA * 1e4) / 1e4) + " to " +
-              tp::number_text(std::round(r.comfort_mA * 1e4) / 1e4) + " mA" +
-              (mp.capped[p] ? " (comfort held at the current limit)" : "") + " at pad " +
-              std::to_string(mp.pixel[p]);
-  }
-  warning =
-      "render-tactile: warning: no --profile: intensities span the fibre model's "
-      "thresholds (" +
-      m.fibre_model + ", " + tp::number_text(m.pulse.width_us) + " us) to " +
-      tp::number_text(m.comfort_factor) + " x them, not this person's: " + ranges +
-      "; run calibrate\n";
-  return mp.profile;
+// "render-tactile: warning: ...", a line, for a warning (none for none).
+std::string warning_text(const std::string& warning) {
+  return warning.empty() ? "" : "render-tactile: warning: " + warning + "\n";
 }
 
 // The PNG images on the bank's pads, each read and checked; a sequence's kept as
@@ -104,6 +73,9 @@ std::vector<tp::PadIntensities> read_images(const std::vector<std::string>& path
   return out;
 }
 
+// Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
+// given (already checked), or JSON lines read from stdin, each checked before it is
+// written.  After the last, holds it one frame period (so the device delivers it) and ends.
 void play_frames(const tp::Sequence& seq, const tp::Profile& profile, const tp::PixelBank& bank,
                  const std::vector<std::vector<double>>& given, bool from_stdin, double fps) {
   using clock = std::chrono::steady_clock;
@@ -132,6 +104,159 @@ void play_frames(const tp::Sequence& seq, const tp::Profile& profile, const tp::
                tp::number_text(fps).c_str());
 }
 
+// The flags as given (text, parsed in the request's order), and the options whose use is
+// checked against one another.
+struct Flags {
+  std::string bank_path, profile_path, rates, duration, crosstalk = "0.1", width = "200", balance,
+                                                        frames_for, fps_text = "30", comfort_factor;
+  std::vector<std::string> images;
+  bool resample = false, plan_only = false, sequence = false;
+  CLI::Option *rates_option = nullptr, *duration_option = nullptr, *crosstalk_option = nullptr,
+              *plan_option = nullptr, *fps_option = nullptr;
+};
+
+void declare_flags(CLI::App& app, Flags& f) {
+  app.add_option(
+         "images", f.images,
+         "The picture: a PNG (any colour type and depth, read as the 8-bit RGB it "
+         "shows; transparency composited onto black), - for stdin; with --sequence or "
+         "--frames, the frames in order (-: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
+      ->type_name("PNG...");
+  app.add_option("--bank", f.bank_path, "Pattern bank (optimize-weights --bank; every pad's pixel)")
+      ->required()
+      ->type_name("FILE");
+  app.add_option("--profile", f.profile_path,
+                 "The person's calibration (calibrate; format tactile-primaries/profile/1) "
+                 "[none: the fibre model's thresholds at the centre pixel, comfort "
+                 "--comfort-factor times them, with a warning]")
+      ->type_name("FILE");
+  app.add_option("--comfort-factor", f.comfort_factor,
+                 "Without --profile: comfort = this x the model's threshold, 1.1 to 10 [2]")
+      ->type_name("K");
+  f.rates_option = app.add_option("--rates", f.rates,
+                                  "Requested rate per primary, each once, Hz, 0.1 to 1000 "
+                                  "[RA:30,SAI:200,PC:250]")
+                       ->type_name("P:HZ,...");
+  f.duration_option =
+      app.add_option("--duration", f.duration,
+                     "Seconds, (0, 3600], at least one period of every pattern, never clamped [a "
+                     "still image: 1; a sequence: its frames and one more frame period at --fps, "
+                     "or 3600 for frames on stdin]")
+          ->type_name("S");
+  f.crosstalk_option =
+      app.add_option("--crosstalk", f.crosstalk,
+                     "Largest crosstalk between patterns that fire together, 0 to 1 [0.1]")
+          ->type_name("X");
+  app.add_option("--width", f.width, "Main phase, us, whole, 10 to 1000 [200]")->type_name("US");
+  app.add_option("--balance-width", f.balance,
+                 "Balancing phase, us, whole, from --width to 8000 [--width]")
+      ->type_name("US");
+  app.add_flag("--resample", f.resample,
+               "Resample an image of another size to the array's (area-weighted)");
+  f.plan_option =
+      app.add_flag("--plan", f.plan_only,
+                   "Print the plan (groups, slots, rates) as JSON instead of the stimulus; for "
+                   "arrays larger than a device");
+  app.add_flag("--sequence", f.sequence,
+               "A sequence's stimulus, for stimctl --live: each pixel and primary the frames "
+               "light (none given: every one the bank has), uploaded once, starting from the "
+               "first frame; pixels every frame lights alike fire together where a still's "
+               "would (none given: each alone)");
+  app.add_option("--frames", f.frames_for,
+                 "Play the frames (the images, or JSON lines on stdin) as live amplitude "
+                 "frames for the sequence's stimulus FILE (made for this bank, under a profile "
+                 "of no higher comfort), one every 1/--fps s")
+      ->type_name("FILE");
+  f.fps_option = app.add_option("--fps", f.fps_text,
+                                "Frames per second (--sequence, --frames), 0.1 to 1000 [30]")
+                     ->type_name("FPS");
+  tp::cli::add_output_option(app);
+}
+
+// What would do nothing is refused, not ignored: --fps paces --frames and sets the default
+// duration of --sequence's frames, nothing else; --frames plays a stimulus already made,
+// and streams (each frame to stdout when it is due, for stimctl --live; a file written
+// whole at the end would hold them back until the stream is over).
+void check_flag_use(const CLI::App& app, const Flags& f) {
+  if (f.fps_option->count() > 0 && f.frames_for.empty() &&
+      (!f.sequence || !f.duration.empty() || f.images.empty()))
+    tp::bad_input("--fps: applies to --frames, and to --sequence's frames without --duration");
+  for (const CLI::Option* opt :
+       {f.rates_option, f.duration_option, f.crosstalk_option, f.plan_option})
+    if (!f.frames_for.empty() && opt->count() > 0)
+      tp::bad_input(opt->get_name() +
+                    ": --frames plays the sequence's stimulus as it was made; give it to "
+                    "--sequence");
+  if (!f.frames_for.empty() && app.count("--output") > 0)
+    tp::bad_input(
+        "--output: --frames writes live frames to stdout as they are due (for "
+        "stimctl --live), not a document; pipe them");
+}
+
+// The request's options from the flags, each parsed and checked; the duration as given,
+// never clamped (out of range is refused here, and by the plan when it holds no pulse of
+// some pattern).
+tp::RenderRequest request_from_flags(const Flags& f) {
+  tp::RenderRequest r;
+  r.sequence = f.sequence;
+  r.plan_only = f.plan_only;
+  tp::RenderOptions& o = r.options;
+  if (!f.rates.empty()) tp::parse_rates(f.rates, o.rate_hz);
+  r.fps = tp::parse_finite(f.fps_text, "--fps");
+  if (!(r.fps >= 0.1 && r.fps <= 1000))
+    tp::bad_input("--fps: " + f.fps_text + " outside [0.1, 1000]");
+  if (!f.duration.empty()) r.duration_s = tp::parse_finite(f.duration, "--duration");
+  o.duration_s = tp::render_duration_s(r, f.images.size());
+  o.crosstalk = tp::parse_finite(f.crosstalk, "--crosstalk");
+  o.width_us = tp::parse_finite(f.width, "--width");
+  o.balance_width_us =
+      f.balance.empty() ? o.width_us : tp::parse_finite(f.balance, "--balance-width");
+  tp::check_render_options(o);
+  return r;
+}
+
+// The images and stdin as the kind of output asks them.
+void check_inputs_given(const Flags& f) {
+  if (f.sequence && !f.frames_for.empty()) tp::bad_input("--sequence and --frames: give one");
+  if (!f.sequence && f.frames_for.empty() && f.images.size() != 1)
+    tp::bad_input(tp::count_text(f.images.size(), "image") + ": a still image takes one");
+  if (!f.frames_for.empty() && f.images.empty())
+    tp::bad_input("--frames: no frames (images, or - for JSON lines on stdin)");
+  int stdin_uses = (f.bank_path == "-") + (f.profile_path == "-") + (f.frames_for == "-");
+  for (const std::string& image : f.images) stdin_uses += image == "-";
+  if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
+}
+
+// The person's profile (--profile, read under the bank's current limit), or the comfort
+// factor for the model's.
+void profile_from_flags(const Flags& f, const tp::PixelBank& bank, tp::RenderRequest& r) {
+  if (!f.profile_path.empty() && !f.comfort_factor.empty())
+    tp::bad_input("--comfort-factor: applies without --profile only");
+  if (!f.comfort_factor.empty())
+    r.comfort_factor = tp::parse_finite(f.comfort_factor, "--comfort-factor");
+  if (!(r.comfort_factor >= 1.1 && r.comfort_factor <= 10))
+    tp::bad_input("--comfort-factor: " + f.comfort_factor + " outside [1.1, 10]");
+  if (!f.profile_path.empty())
+    r.profile =
+        tp::profile_from_json(tp::read_json(f.profile_path, "profile"),
+                              r.options.limits.max_current_mA, static_cast<long>(bank.pads()));
+}
+
+// --frames: the sequence's stimulus read and checked against the bank and profile, the
+// PNG frames' amplitudes all checked first (frames on stdin: as they come), then played.
+void play(const Flags& f, const tp::RenderRequest& r, const tp::PixelBank& bank,
+          const std::vector<tp::PadIntensities>& frames, const std::string& note) {
+  const tp::RenderProfile p = tp::render_profile(r, bank);
+  const tp::Sequence seq = tp::sequence_from_json(tp::read_json(f.frames_for, "stimulus"), bank,
+                                                  p.profile, "--frames " + f.frames_for);
+  std::vector<std::vector<double>> out;
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    out.push_back(tp::frame_amplitudes(seq, p.profile, frames[k], f.images[k]));
+  std::fputs((warning_text(p.warning) + note).c_str(), stderr);
+  const bool live_input = f.images.size() == 1 && f.images[0] == "-";
+  play_frames(seq, p.profile, bank, out, live_input, r.fps);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -145,178 +270,45 @@ int main(int argc, char** argv) {
       "stderr; no lit pixel is dropped).  Prints one stimulus document of the groups "
       "(stimctl plays it), or with --plan the plan.  docs/rendering.md.",
       "render-tactile"};
-  std::string bank_path, profile_path, rates, duration, crosstalk = "0.1", width = "200", balance,
-                                                        frames_for, fps_text = "30", comfort_factor;
-  std::vector<std::string> images;
-  bool resample = false, plan_only = false, sequence = false;
-  app.add_option(
-         "images", images,
-         "The picture: a PNG (any colour type and depth, read as the 8-bit RGB it "
-         "shows; transparency composited onto black), - for stdin; with --sequence or "
-         "--frames, the frames in order (-: JSON lines {\"rgb\": [[R, G, B], ...]} on stdin)")
-      ->type_name("PNG...");
-  app.add_option("--bank", bank_path, "Pattern bank (optimize-weights --bank; every pad's pixel)")
-      ->required()
-      ->type_name("FILE");
-  app.add_option("--profile", profile_path,
-                 "The person's calibration (calibrate; format tactile-primaries/profile/1) "
-                 "[none: the fibre model's thresholds at the centre pixel, comfort "
-                 "--comfort-factor times them, with a warning]")
-      ->type_name("FILE");
-  app.add_option("--comfort-factor", comfort_factor,
-                 "Without --profile: comfort = this x the model's threshold, 1.1 to 10 [2]")
-      ->type_name("K");
-  CLI::Option* rates_option =
-      app.add_option("--rates", rates,
-                     "Requested rate per primary, each once, Hz, 0.1 to 1000 "
-                     "[RA:30,SAI:200,PC:250]")
-          ->type_name("P:HZ,...");
-  CLI::Option* duration_option =
-      app.add_option("--duration", duration,
-                     "Seconds, (0, 3600], at least one period of every pattern, never clamped [a "
-                     "still image: 1; a sequence: its frames and one more frame period at --fps, "
-                     "or 3600 for frames on stdin]")
-          ->type_name("S");
-  CLI::Option* crosstalk_option =
-      app.add_option("--crosstalk", crosstalk,
-                     "Largest crosstalk between patterns that fire together, 0 to 1 [0.1]")
-          ->type_name("X");
-  app.add_option("--width", width, "Main phase, us, whole, 10 to 1000 [200]")->type_name("US");
-  app.add_option("--balance-width", balance,
-                 "Balancing phase, us, whole, from --width to 8000 [--width]")
-      ->type_name("US");
-  app.add_flag("--resample", resample,
-               "Resample an image of another size to the array's (area-weighted)");
-  CLI::Option* plan_option =
-      app.add_flag("--plan", plan_only,
-                   "Print the plan (groups, slots, rates) as JSON instead of the stimulus; for "
-                   "arrays larger than a device");
-  app.add_flag("--sequence", sequence,
-               "A sequence's stimulus, for stimctl --live: each pixel and primary the frames "
-               "light (none given: every one the bank has), uploaded once, starting from the "
-               "first frame; pixels every frame lights alike fire together where a still's "
-               "would (none given: each alone)");
-  app.add_option("--frames", frames_for,
-                 "Play the frames (the images, or JSON lines on stdin) as live amplitude "
-                 "frames for the sequence's stimulus FILE (made for this bank, under a profile "
-                 "of no higher comfort), one every 1/--fps s")
-      ->type_name("FILE");
-  CLI::Option* fps_option =
-      app.add_option("--fps", fps_text,
-                     "Frames per second (--sequence, --frames), 0.1 to 1000 [30]")
-          ->type_name("FPS");
-  tp::cli::add_output_option(app);
+  Flags f;
+  declare_flags(app, f);
 
   return tp::cli::run(app, argc, argv, [&] {
-    tp::RenderOptions o;
-    // What would do nothing is refused, not ignored: --fps paces --frames and sets the
-    // default duration of --sequence's frames, nothing else; --frames plays a stimulus
-    // already made.
-    if (fps_option->count() > 0 && frames_for.empty() &&
-        (!sequence || !duration.empty() || images.empty()))
-      tp::bad_input("--fps: applies to --frames, and to --sequence's frames without --duration");
-    for (const CLI::Option* opt : {rates_option, duration_option, crosstalk_option, plan_option})
-      if (!frames_for.empty() && opt->count() > 0)
-        tp::bad_input(opt->get_name() +
-                      ": --frames plays the sequence's stimulus as it was made; give it to "
-                      "--sequence");
-    // --frames streams: each frame goes to stdout when it is due, for stimctl --live; a file
-    // written whole at the end would hold them back until the stream is over.
-    if (!frames_for.empty() && app.count("--output") > 0)
-      tp::bad_input(
-          "--output: --frames writes live frames to stdout as they are due (for "
-          "stimctl --live), not a document; pipe them");
-    if (!rates.empty()) tp::parse_rates(rates, o.rate_hz);
-    const double fps = tp::parse_finite(fps_text, "--fps");
-    if (!(fps >= 0.1 && fps <= 1000)) tp::bad_input("--fps: " + fps_text + " outside [0.1, 1000]");
-    const bool live_input = images.size() == 1 && images[0] == "-" && !frames_for.empty();
-    // The duration as given, never clamped: out of range is refused (check_render_options,
-    // and plan_render when it holds no pulse of some pattern).
-    o.duration_s = !duration.empty()            ? tp::parse_finite(duration, "--duration")
-                   : sequence && images.empty() ? o.limits.max_duration_s
-                   : sequence ? tp::sequence_duration_s(images.size(), fps, o.limits)
-                              : 1.0;
-    o.crosstalk = tp::parse_finite(crosstalk, "--crosstalk");
-    o.width_us = tp::parse_finite(width, "--width");
-    o.balance_width_us =
-        balance.empty() ? o.width_us : tp::parse_finite(balance, "--balance-width");
-    tp::check_render_options(o);
-    if (sequence && !frames_for.empty()) tp::bad_input("--sequence and --frames: give one");
-    if (!sequence && frames_for.empty() && images.size() != 1)
-      tp::bad_input(tp::count_text(images.size(), "image") + ": a still image takes one");
-    if (!frames_for.empty() && images.empty())
-      tp::bad_input("--frames: no frames (images, or - for JSON lines on stdin)");
-    int stdin_uses = (bank_path == "-") + (profile_path == "-") + (frames_for == "-");
-    for (const std::string& f : images) stdin_uses += f == "-";
-    if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
-    const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(bank_path, "bank"));
-    o.limits.max_current_mA = std::min(o.limits.max_current_mA, bank.doc.max_current_mA);
-    if (!plan_only && bank.pads() > static_cast<std::size_t>(tp::ranges::max_channels))
-      tp::bad_input("bank: " + tp::count_text(bank.pads(), "pad") +
-                    ", more than a stimulator drives (" + std::to_string(tp::ranges::max_channels) +
-                    "); --plan plans it");
-    if (!profile_path.empty() && !comfort_factor.empty())
-      tp::bad_input("--comfort-factor: applies without --profile only");
-    const double factor = comfort_factor.empty()
-                              ? tp::kDefaultComfortFactor
-                              : tp::parse_finite(comfort_factor, "--comfort-factor");
-    if (!(factor >= 1.1 && factor <= 10))
-      tp::bad_input("--comfort-factor: " + comfort_factor + " outside [1.1, 10]");
-    std::optional<tp::Profile> given;
-    if (!profile_path.empty())
-      given = tp::profile_from_json(tp::read_json(profile_path, "profile"), o.limits.max_current_mA,
-                                    static_cast<long>(bank.pads()));
+    check_flag_use(app, f);
+    tp::RenderRequest r = request_from_flags(f);
+    check_inputs_given(f);
+    const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(f.bank_path, "bank"));
+    tp::fit_to_bank(r, bank);
+    profile_from_flags(f, bank, r);
     // The images, all read and checked before anything is printed (frames on stdin: as
     // they come, each checked before it is written).  A sequence's frames are kept as
     // SequenceFrames keeps them, so memory does not grow with their number.
     std::vector<tp::PadIntensities> frames;
-    tp::SequenceFrames kept(bank.columns, bank.rows);
     std::string note;  // composited transparency, said with the warning
-    if (sequence && images.size() == 1 && images[0] == "-") {
-      for_each_stdin_frame(
-          bank, [&](const tp::PadIntensities& f, const std::string& where) { kept.add(f, where); });
-      if (kept.count() == 0) tp::bad_input("--sequence -: no frames on stdin");
-    } else if (!live_input) {
-      frames = read_images(images, bank, resample, sequence ? &kept : nullptr, note);
+    const bool from_stdin = f.images.size() == 1 && f.images[0] == "-";
+    if (f.sequence) r.frames.emplace(bank.columns, bank.rows);
+    if (f.sequence && from_stdin) {
+      for_each_stdin_frame(bank, [&](const tp::PadIntensities& im, const std::string& where) {
+        r.frames->add(im, where);
+      });
+      if (r.frames->count() == 0) tp::bad_input("--sequence -: no frames on stdin");
+    } else if (!(from_stdin && !f.frames_for.empty())) {
+      frames = read_images(f.images, bank, f.resample, f.sequence ? &*r.frames : nullptr, note);
     }
-
-    // Without a profile, the model's.
-    std::string warning;  // said before the first output, when every input is checked
-    const tp::Profile profile = given ? *given : model_profile(bank, o, factor, warning);
-    if (sequence && duration.empty() && kept.count() > 0)
-      o.duration_s = tp::sequence_duration_s(kept.count(), fps, o.limits);
-    if (!frames_for.empty()) {
-      const tp::Sequence seq = tp::sequence_from_json(tp::read_json(frames_for, "stimulus"), bank,
-                                                      profile, "--frames " + frames_for);
-      std::vector<std::vector<double>> out;  // PNG frames: every one checked first
-      for (std::size_t k = 0; k < frames.size(); ++k)
-        out.push_back(tp::frame_amplitudes(seq, profile, frames[k], images[k]));
-      std::fputs((warning + note).c_str(), stderr);
-      play_frames(seq, profile, bank, out, live_input, fps);
+    if (!f.frames_for.empty()) {
+      play(f, r, bank, frames, note);
       return;
     }
-    const auto t0 = std::chrono::steady_clock::now();
-    const tp::RenderPlan plan = sequence ? tp::plan_sequence(bank, profile, kept, o)
-                                         : tp::plan_render(bank, profile, frames[0], o);
-    const double plan_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (plan.lit.empty())
-      tp::bad_input(sequence ? "no frame lights a pixel"
-                             : images[0] + ": no pixel is lit (all black)");
-    // Before a word is said: every check a device's mix gets (a plan for more pads than a
-    // stimulator drives is only a plan, and skips them).
-    if (bank.pads() <= static_cast<std::size_t>(tp::ranges::max_channels))
-      tp::check_mix(plan.mix, o.limits);
-    std::fputs((warning + note).c_str(), stderr);
-    const std::string lowered = tp::lowered_text(plan, sequence ? "sequence" : "image");
-    if (!lowered.empty()) std::fprintf(stderr, "render-tactile: %s\n", lowered.c_str());
-    std::fprintf(stderr, "render-tactile: %s; planned in %s ms\n", tp::plan_summary(plan).c_str(),
-                 tp::number_text(std::round(plan_ms * 10) / 10).c_str());
-    if (plan_only) {
-      tp::cli::write_stdout(tp::dump_json(tp::plan_to_json(plan)));
-      return;
+    if (!f.sequence) {
+      r.image = frames[0];
+      r.image_name = f.images[0];
     }
-    tp::cli::write_stdout(
-        tp::dump_json(sequence ? tp::sequence_to_json(plan, bank) : tp::mix_to_json(plan.mix)));
+    const tp::RenderResult out = tp::run_render(r, bank);
+    std::fputs((warning_text(out.warning) + note).c_str(), stderr);
+    if (!out.lowered.empty()) std::fprintf(stderr, "render-tactile: %s\n", out.lowered.c_str());
+    std::fprintf(stderr, "render-tactile: %s; planned in %s ms\n",
+                 tp::plan_summary(out.plan).c_str(),
+                 tp::number_text(std::round(out.plan_ms * 10) / 10).c_str());
+    tp::cli::write_stdout(tp::dump_json(out.document));
   });
 }

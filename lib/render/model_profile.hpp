@@ -11,7 +11,7 @@
 
 #include "fibre/report.hpp"
 #include "render/profile.hpp"
-#include "render/render.hpp"
+#include "render/bank.hpp"
 
 namespace tp {
 

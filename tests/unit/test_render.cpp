@@ -4,67 +4,15 @@
 // every lit pattern delivered, the same plan for the same input.
 #include <catch2/catch.hpp>
 
-#include <random>
 #include <set>
 
 #include "core/error.hpp"
-#include "io/reports.hpp"
-#include "opt/bank.hpp"
 #include "psych/calibration.hpp"
 #include "render/render.hpp"
+#include "render_support.hpp"
 
 using namespace tp;
-
-namespace {
-
-Json profile_json(double t = 0.3, double c = 0.9) {
-  return {{"format", "tactile-primaries/profile/1"},
-          {"primaries",
-           {{"RA", {{"threshold_mA", 0.4}, {"comfort_mA", 1.0}}},
-            {"SAI", {{"threshold_mA", t}, {"comfort_mA", c}}},
-            {"PC", {{"threshold_mA", 0.5}, {"comfort_mA", 1.2}}}}}};
-}
-
-// A 6 x 6 grid of 1 x 1 mm pads at 2 mm under rect3d, every pixel's pattern of each mode in
-// a 3 x 3 neighbourhood: computed once.
-const PixelBank& bank6() {
-  static const PixelBank b = [] {
-    Document doc;
-    doc.setup.array = ElectrodeArray::grid_of(6, 6, 2.0, 2.0, 1.0, 1.0);
-    doc.setup.conductor.model = "rect3d";
-    doc.setup.lateral_margin_mm = 2.0;
-    BankOptions o;
-    o.neighbourhood = 3;
-    o.threads = 2;
-    const Bank bank = optimize_bank(doc.setup, o);
-    return pixel_bank_from_json(parse_json_strict(dump_json(bank_to_json(doc, bank, o)), "bank"));
-  }();
-  return b;
-}
-
-// A 6 x 6 image, all dark.
-PadIntensities dark6() {
-  PadIntensities im;
-  im.columns = im.rows = 6;
-  im.value.assign(36, {0, 0, 0});
-  return im;
-}
-
-PadIntensities random_image(const PixelBank& b, std::mt19937& rng, double lit_share) {
-  PadIntensities im;
-  im.columns = b.columns;
-  im.rows = b.rows;
-  std::uniform_real_distribution<double> u(0, 1);
-  for (std::size_t pad = 0; pad < b.pads(); ++pad) {
-    std::array<double, 3> v{};
-    for (std::size_t p = 0; p < 3; ++p)
-      if (b.entry[pad][p].feasible && u(rng) < lit_share) v[p] = std::round(u(rng) * 255) / 255;
-    im.value.push_back(v);
-  }
-  return im;
-}
-
-}  // namespace
+using namespace tp::render_test;
 
 TEST_CASE("a profile: its currents, and every range outside its bounds refused", "[render]") {
   const Profile p = profile_from_json(profile_json(), 2.0, 64);
@@ -147,8 +95,8 @@ TEST_CASE("a plan: groups share no pad, keep their crosstalk bound, and never co
       for (const std::size_t i : m)
         for (const std::size_t j : m)
           if (i != j)
-            CHECK(crosstalk(b, plan.lit[i].primary, plan.lit[i].pad, plan.lit[i].current_mA,
-                            plan.lit[j].pad, plan.lit[j].current_mA) <= o.crosstalk);
+            CHECK(crosstalk_oracle(b, plan.lit[i].primary, plan.lit[i].pad, plan.lit[i].current_mA,
+                                   plan.lit[j].pad, plan.lit[j].current_mA) <= o.crosstalk);
       // The group's currents: its members' currents times their weights.
       const Stimulus& s = plan.mix.patterns[g];
       for (std::size_t e = 0; e < b.pads(); ++e) {
@@ -172,7 +120,7 @@ TEST_CASE("a plan: groups share no pad, keep their crosstalk bound, and never co
   CHECK(multi > 0);  // some patterns did fire together
 }
 
-TEST_CASE("a plan: one pixel at its requested rate; a full image lowered, nothing dropped",
+TEST_CASE("a plan: one pixel at its requested rate, a full image lowered, nothing dropped",
           "[render]") {
   const PixelBank& b = bank6();
   const Profile profile = profile_from_json(profile_json(), 2.0, 36);

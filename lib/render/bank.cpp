@@ -1,0 +1,91 @@
+#include "render/bank.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "model/field.hpp"
+#include "render/profile.hpp"
+#include "render/text.hpp"
+
+namespace tp {
+
+std::string pixel_text(long pad, int columns) {
+  return "pixel (" + std::to_string(pad % columns) + ", " + std::to_string(pad / columns) + ")";
+}
+
+namespace {
+
+double get_finite(const Json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) bad_input(where + ": no " + key);
+  return json_finite(j[key], where + "." + key);
+}
+
+// One primary's entry of a pixel (`w` names it in messages): its reason when the bank
+// found no pattern, else its weights (one per pad, |w| at most 1, not all zero) and peak.
+BankEntry bank_entry(const Json& e, const Setup& setup, std::size_t primary, const std::string& w) {
+  BankEntry out;
+  out.present = true;
+  if (e.is_object() && e.contains("feasible") && !e["feasible"].is_boolean())
+    bad_input(w + ".feasible: not true or false");
+  if (e.is_object() && e.contains("feasible") && e["feasible"] == false) {
+    out.reason = e.contains("reason") && e["reason"].is_string() ? e["reason"].get<std::string>()
+                                                                 : "no pattern";
+    return out;
+  }
+  out.feasible = true;
+  const std::size_t pads = setup.array.size();
+  if (!e.is_object() || !e.contains("weights") || !e["weights"].is_array() ||
+      e["weights"].size() != pads)
+    bad_input(w + ".weights: expected " + std::to_string(pads) + " values, one per pad");
+  double peak = 0;
+  for (std::size_t i = 0; i < pads; ++i) {
+    const double v = json_finite(e["weights"][i], w + ".weights");
+    if (std::abs(v) > 1 + 1e-9) bad_input(w + ".weights: |w| above 1");
+    peak = std::max(peak, std::abs(v));
+    out.weights.push_back(v);
+  }
+  if (!(peak > 0)) bad_input(w + ".weights: all zero");
+  if (!e.contains("peak")) bad_input(w + ": no peak");
+  out.peak_x_mm = get_finite(e["peak"], "x_mm", w + ".peak");
+  out.peak_y_mm = get_finite(e["peak"], "y_mm", w + ".peak");
+  out.peak_z_mm = get_finite(e["peak"], "z_mm", w + ".peak");
+  receptor_index(setup, kPrimaries[primary]);  // the bank's receptors name it
+  return out;
+}
+
+}  // namespace
+
+PixelBank pixel_bank_from_json(const Json& j) {
+  if (!j.is_object() || !j.contains("bank") || !j.contains("pixels") || !j["pixels"].is_array())
+    bad_input("bank: not a bank of pixels (optimize-weights --bank)");
+  PixelBank b;
+  b.doc = document_from_json(j);
+  const ElectrodeArray& a = b.doc.setup.array;
+  if (!a.grid()) bad_input("bank: its array is " + a.describe() + ", not a grid of pads");
+  b.columns = a.columns;
+  b.rows = a.rows;
+  b.pad_area_mm2 = a.width_mm * a.length_mm;
+  const Json& px = j["pixels"];
+  if (px.size() != a.size())
+    bad_input("bank: " + count_text(px.size(), "pixel") + " for " + count_text(a.size(), "pad") +
+              " (render-tactile needs every pad's pixel: a bank without --at)");
+  b.entry.resize(a.size());
+  for (std::size_t k = 0; k < px.size(); ++k) {
+    const Json& p = px[k];
+    const std::string where = "bank: pixels[" + std::to_string(k) + "]";
+    const double x = get_finite(p, "x_mm", where), z = get_finite(p, "z_mm", where);
+    if (!p.contains("pad") || !p["pad"].is_number_integer() ||
+        p["pad"].get<long>() != static_cast<long>(k) || std::abs(x - a.positions_mm[k]) > 1e-6 ||
+        std::abs(z - a.z_mm[k]) > 1e-6)
+      bad_input(where + ": not pad " + std::to_string(k) + "'s centre");
+    if (!p.contains("patterns") || !p["patterns"].is_object()) bad_input(where + ": no patterns");
+    for (std::size_t m = 0; m < kPrimaries.size(); ++m)
+      if (p["patterns"].contains(kPrimaries[m]))
+        b.entry[k][m] = bank_entry(p["patterns"][kPrimaries[m]], b.doc.setup, m,
+                                   where + ".patterns." + kPrimaries[m]);
+  }
+  return b;
+}
+
+}  // namespace tp
