@@ -16,7 +16,7 @@
 #include "cli/progress.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "fibre/optimize.hpp"
+#include "opt/threshold_objective.hpp"
 #include "io/document.hpp"
 #include "io/reports.hpp"
 #include "model/ranges.hpp"
