@@ -30,6 +30,54 @@ namespace {
 double uniform(SplitMix64& rng, double lo, double hi) {
   return lo + (hi - lo) * rng.unit();
 }
+
+// One fibre of the population: its receptor and settings.
+struct Job {
+  Receptor receptor;
+  ThresholdSettings settings;
+};
+
+// Each fibre's search on its own thread's turn; the results by index into p.afferents, so
+// the output does not depend on the threads.  The failure of the lowest index is rethrown
+// once every thread has joined.
+void run_jobs(const Setup& setup, const Conductor& conductor, const std::vector<double>& weights,
+              const FibreModel& model, const Waveform& waveform, const std::vector<Job>& jobs,
+              unsigned threads, const PopulationOptions& o, Population& p) {
+  std::atomic<std::size_t> next{0};
+  std::mutex m;
+  std::exception_ptr error;
+  std::size_t error_index = jobs.size();
+  std::size_t done = 0;  // searches ended, for o.progress (under m)
+  auto worker = [&] {
+    for (;;) {
+      const std::size_t i = next.fetch_add(1);
+      if (i >= jobs.size()) return;
+      try {
+        PotentialCache cache;
+        const ReceptorThreshold t = receptor_threshold(
+            model, setup, conductor, weights, jobs[i].receptor, waveform, jobs[i].settings, &cache);
+        p.afferents[i].threshold_mA = t.threshold_mA;
+        p.afferents[i].at_cut_end = t.threshold_mA && t.at_cut_end;
+        if (o.progress) {
+          std::lock_guard<std::mutex> lock(m);
+          o.progress(++done, jobs.size());
+        }
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(m);
+        if (i < error_index) {
+          error_index = i;
+          error = std::current_exception();
+        }
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
 }  // namespace
 
 Population sample_population(const Setup& setup, const std::vector<double>& weights,
@@ -53,10 +101,6 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
   p.area_cm2 = (x1 - x0) * (two_d ? z1 - z0 : setup.array.length_mm) / 100.0;
 
   // Every fibre's receptor and settings, checked (and its work counted) before any work.
-  struct Job {
-    Receptor receptor;
-    ThresholdSettings settings;
-  };
   std::vector<Job> jobs;
   double work = 0;
   SplitMix64 rng{o.seed};
@@ -116,46 +160,10 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
   check_threshold_work(work, kMaxThresholdWork, "--population",
                        "fewer afferents, a larger --tolerance, a shorter pulse");
 
-  // Each fibre's search on its own thread's turn; the results by index, so the output does
-  // not depend on the threads.
   const unsigned threads = std::min<unsigned>(
       settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency()),
       static_cast<unsigned>(jobs.size()));
-  std::atomic<std::size_t> next{0};
-  std::mutex m;
-  std::exception_ptr error;
-  std::size_t error_index = jobs.size();
-  std::size_t done = 0;  // searches ended, for o.progress (under m)
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t i = next.fetch_add(1);
-      if (i >= jobs.size()) return;
-      try {
-        PotentialCache cache;
-        const ReceptorThreshold t =
-            receptor_threshold(model, setup, *conductor, weights, jobs[i].receptor, waveform,
-                               jobs[i].settings, &cache);
-        p.afferents[i].threshold_mA = t.threshold_mA;
-        p.afferents[i].at_cut_end = t.threshold_mA && t.at_cut_end;
-        if (o.progress) {
-          std::lock_guard<std::mutex> lock(m);
-          o.progress(++done, jobs.size());
-        }
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(m);
-        if (i < error_index) {
-          error_index = i;
-          error = std::current_exception();
-        }
-        return;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  run_jobs(setup, *conductor, weights, model, waveform, jobs, threads, o, p);
   return p;
 }
 

@@ -26,6 +26,11 @@
 // An action potential counts when it reaches the sixth node from each end of a horizontal
 // fibre, or the sixth node from the deep end of a vertical one or of an afferent's stem
 // (above -20 mV).
+//
+// The parts: the search over any potential (search.hpp: LatticeSearch), the placements
+// (placements.hpp: the fibres, one plan that counts and generates the placements, their
+// potentials), and here the receptor's threshold that joins them.  The optimiser's
+// stand-in for a threshold is opt/threshold_standin.hpp.
 
 #include <array>
 #include <cstddef>
@@ -140,18 +145,19 @@ class PotentialCache {
 
 // The number of nodes of a receptor's fibre; bad input when the model cannot represent it
 // (unmyelinated, diameter out of range), when its work would be unbounded (at most 2000
-// nodes, and 3e7 unit potentials over its placements), when a buried point source
-// (point3d) lies less than one internode from any depth the fibre occupies (a vertical
-// fibre's internodes below the receptor included), or when the conductor cannot evaluate
-// the potential at every compartment of every placement (Conductor::check_reach: the
-// layered model far from the electrodes).
+// nodes, and 3e7 unit potentials over the plan's placements, placements.hpp), when a buried
+// point source (Conductor::buried_source_depth_mm, point3d's) lies less than one internode
+// from any depth the fibre occupies (a vertical fibre's internodes below the receptor
+// included), or when the conductor cannot evaluate the potential at every compartment of
+// every placement (Conductor::check_reach: the layered model far from the electrodes).
 std::size_t fibre_nodes(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                         const Receptor& receptor, const ThresholdSettings& settings);
 
 // The work of a receptor's threshold search, in compartment-steps (one compartment advanced
 // one time step): compartments x time steps of one simulation x simulations, the last
-// estimated as placements x (bisection steps over an octave of the lattice + 4 bracketing
-// probes).  An estimate, not a bound on the search; fibre_nodes() must accept the receptor.
+// estimated as placements (the plan's count, placements.hpp) x (bisection steps over an
+// octave of the lattice + 4 bracketing probes).  An estimate, not a bound on the search;
+// fibre_nodes() must accept the receptor.
 double threshold_work(const FibreModel& model, const Setup& setup, const Conductor& conductor,
                       const Receptor& receptor, const Waveform& waveform,
                       const ThresholdSettings& settings);
@@ -174,53 +180,11 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
                                      const ThresholdSettings& settings,
                                      PotentialCache* cache = nullptr);
 
-// A stand-in for one receptor's threshold, cheap to evaluate for any weights (optimize.cpp):
-// the passive estimate (docs/fibres.md, "The threshold search") over a set of placements.
-// Far below threshold a fibre responds linearly, so its response to each electrode alone,
-// recorded at its nodes from the pulse's start to 0.05 ms after the waveform, gives its
-// response to any weights by superposition; the stand-in is K / the largest depolarisation
-// over the placements, nodes and times, per mA.  Within tens of per cent of the threshold,
-// not on its lattice: a guide for a search, never an answer.
-class LinearStandIn {
- public:
-  LinearStandIn(const FibreModel& model, const Setup& setup, const Conductor& conductor,
-                const Receptor& receptor, const Waveform& waveform,
-                const ThresholdSettings& settings);
-  // Adds the placements not yet held.
-  void add(const std::vector<Spot>& spots, PotentialCache& cache);
-  // In mA; +infinity when nothing depolarises.
-  double threshold_mA(const std::vector<double>& weights) const;
-  // A whole search's answer at weights: its placement's estimate is scaled to it from now
-  // on, and so are the placements that never gave one (adding it first if needed).
-  void calibrate(const ReceptorThreshold& exact, const std::vector<double>& weights,
-                 PotentialCache& cache);
-  std::size_t placements() const { return spots_.size(); }
-
- private:
-  const FibreModel& model_;
-  const Setup& setup_;
-  const Conductor& conductor_;
-  const Receptor& receptor_;
-  const Waveform& waveform_;
-  ThresholdSettings settings_;
-  double k_mV_;
-  std::vector<Spot> spots_;
-  std::vector<double> scale_;  // per placement; 0: default_scale_
-  std::size_t stored_ = 0;     // values in response_
-  // At most 1e7 values (80 MB) per stand-in: an evaluation is at most as many
-  // multiply-adds.
-  static constexpr double kMaxStandIn = 1e7;
-  double default_scale_ = 1.0;
-  double raw_mA(std::size_t placement, const std::vector<double>& weights) const;
-  // Per placement: samples (node, time) x electrodes, the depolarisation (mV per mA).
-  std::vector<std::vector<double>> response_;
-};
-
 // One fibre in a given potential (ve_unit_mV: per compartment, for 1 mA): its threshold by
-// receptor_threshold's search, on the lattice of settings.tolerance, with the options'
-// detection nodes, step and stop time, on one core; settings.start_mA (its first entry)
-// is where the search starts.  Empty: no threshold up
-// to settings.max_mA, or excitation even at the bottom of the search range.
+// receptor_threshold's search (search.hpp), on the lattice of settings.tolerance, with the
+// options' detection nodes, step and stop time, on one core; settings.start_mA (its first
+// entry) is where the search starts.  Empty: no threshold up to settings.max_mA, or
+// excitation even at the bottom of the search range.
 std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
                                       const std::vector<double>& ve_unit_mV,
                                       const Waveform& waveform, const SimOptions& options,

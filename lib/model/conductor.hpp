@@ -67,6 +67,13 @@ class Conductor {
   virtual void unit_potentials_3d(double /*x_mm*/, double /*y_mm*/, double /*z_mm*/,
                                   double* /*psi*/) const;
 
+  // The depth (mm) of the point sources that stand for the pads, one under each pad's
+  // centre (positions_mm[i], depth, z_of(i)), where Psi is singular inside the conductor;
+  // 0 when no source lies below the surface (every model but point3d with a
+  // source_depth_mm).  What the checks need to keep fibres, grids and planes clear of the
+  // singularities (fibre::fibre_nodes, validate_setup, check_grid, check_plane).
+  virtual double buried_source_depth_mm() const { return 0.0; }
+
   // Depths (mm) where the conductor's resistivity changes (the layered model's interfaces):
   // Psi is harmonic in space between them.
   virtual std::vector<double> interfaces_mm() const { return {}; }

@@ -39,7 +39,8 @@ constexpr double kRounding = 1e-9;
 }  // namespace
 
 void validate_setup(const Setup& setup) {
-  make_conductor(setup.conductor, setup.array);  // the name, and the model's own checks
+  const auto conductor =
+      make_conductor(setup.conductor, setup.array);  // the name, and the model's own checks
   for (const Receptor& r : setup.receptors) {
     check_model_depth(setup, r.depth_max_mm, "receptor " + r.name + ": depth");
     if (r.azimuth_deg != 0.0 && !setup.array.two_d())
@@ -48,11 +49,10 @@ void validate_setup(const Setup& setup) {
                 "a 1-D array's fibres run along x");
   }
   const ConductorParams& c = setup.conductor;
-  if (c.model == "point3d" && c.source_depth_mm > 0.0) {
+  if (const double d = conductor->buried_source_depth_mm(); d > 0.0) {
     // The sources lie at depth d under the electrodes; every receptor's fibres at every x
     // across the array, over its depths, in the plane z = plane_z_mm (1-D) or over every z
     // of the pads (2-D).
-    const double d = c.source_depth_mm;
     for (const Receptor& r : setup.receptors) {
       const double gap = d < r.depth_min_mm   ? r.depth_min_mm - d
                          : d > r.depth_max_mm ? d - r.depth_max_mm
@@ -99,8 +99,8 @@ void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, c
   for (std::size_t j = 0; j < ny; ++j)
     conductor.check_reach(reach_mm, y.at(j), y.at(j), "a grid row");
   const ConductorParams& c = setup.conductor;
-  if (c.model != "point3d" || !(c.source_depth_mm > 0.0)) return;
-  const double d = c.source_depth_mm;
+  const double d = conductor.buried_source_depth_mm();
+  if (!(d > 0.0)) return;
   const double near_mm = kNearest_mm * (1.0 - kRounding);
   // The rows near the source's depth (y is increasing), then the columns near an electrode:
   // a point nearer than kNearest_mm to a source (x_e, d, z_e), the grid in z = plane_z_mm.
@@ -136,10 +136,10 @@ void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, 
   const std::size_t nx = x.count(), nz = z.count();
   conductor.check_reach(lateral_reach_mm(setup.array, x.at(0), x.at(nx - 1), z.at(0), z.at(nz - 1)),
                         y_mm, y_mm, "the plane");
-  const ConductorParams& c = setup.conductor;
-  if (c.model != "point3d" || !(c.source_depth_mm > 0.0)) return;
+  const double d = conductor.buried_source_depth_mm();
+  if (!(d > 0.0)) return;
   const double near_mm = kNearest_mm * (1.0 - kRounding);
-  const double dy = y_mm - c.source_depth_mm;
+  const double dy = y_mm - d;
   if (!(std::fabs(dy) < near_mm)) return;
   // The grid point nearest each source: the nearest along x and along z.
   auto nearest = [](const Axis& a, std::size_t n, double v) {
@@ -153,7 +153,7 @@ void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, 
     if (dist < near_mm)
       bad_input("grid point (" + number_text(xi) + ", " + number_text(zi) + ") mm at depth " +
                 number_text(y_mm) + " mm is " + number_beside(dist, kNearest_mm) +
-                " mm from a point source (model.source_depth_mm " + number_text(c.source_depth_mm) +
+                " mm from a point source (model.source_depth_mm " + number_text(d) +
                 " mm under the pad at (" + number_text(xe) + ", " + number_text(ze) +
                 ") mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
                 " mm), where the field is singular or beyond its documented bound: move the "

@@ -59,6 +59,7 @@ class Point3d : public Conductor {
   std::size_t size() const override { return x_.size(); }
   bool planar_harmonic() const override { return false; }
   bool three_d() const override { return true; }
+  double buried_source_depth_mm() const override { return d_ > 0.0 ? d_ : 0.0; }
 
   void unit_potentials_3d(double x_mm, double y_mm, double z_mm, double* psi) const override {
     for (std::size_t i = 0; i < x_.size(); ++i) {

@@ -8,13 +8,13 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "fibre/optimize.hpp"
 #include "io/number.hpp"
 #include "io/reports.hpp"
 #include "model/ranges.hpp"
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"
+#include "opt/threshold_objective.hpp"
 
 namespace tp {
 

@@ -13,10 +13,11 @@
 #include "core/error.hpp"
 #include "fibre/cable.hpp"
 #include "fibre/geometry.hpp"
-#include "fibre/optimize.hpp"
 #include "fibre/report.hpp"
 #include "fibre/threshold.hpp"
 #include "model/field.hpp"
+#include "opt/threshold_objective.hpp"
+#include "opt/threshold_standin.hpp"
 
 using namespace tp;
 using namespace tp::fibre;

@@ -5,11 +5,11 @@
 // lattice and minima over placements, so the objective is piecewise constant: no gradient
 // to follow, hence Nelder-Mead, derivative-free.  A whole search (every receptor's
 // threshold) costs about a hundred simulations, so the search works mostly on stand-ins
-// (LinearStandIn: a fibre's linear response, calibrated by the whole searches) and makes a
-// whole search only to check the stand-ins' best; the whole searches left, if any, polish
-// by Nelder-Mead on whole searches.  It is bounded by a number of whole searches (not by
-// time, so the result is the same on any machine) and returns the best weights a whole
-// search found: never worse than the AF optimum it starts from.
+// (LinearStandIn, threshold_standin.hpp: a fibre's linear response, calibrated by the whole
+// searches) and makes a whole search only to check the stand-ins' best; the whole searches
+// left, if any, polish by Nelder-Mead on whole searches.  It is bounded by a number of whole
+// searches (not by time, so the result is the same on any machine) and returns the best
+// weights a whole search found: never worse than the AF optimum it starts from.
 
 #include <cstddef>
 #include <functional>

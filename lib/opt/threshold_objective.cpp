@@ -1,6 +1,6 @@
-// Nelder-Mead over the weights' zero-sum subspace (optimize.hpp).
+// Nelder-Mead over the weights' zero-sum subspace (threshold_objective.hpp).
 
-#include "fibre/optimize.hpp"
+#include "opt/threshold_objective.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "io/number.hpp"
 #include "model/conductor.hpp"
+#include "opt/threshold_standin.hpp"
 
 namespace tp::fibre {
 
@@ -192,10 +193,11 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
     return f;
   };
 
-  // 1. Rounds on the stand-ins (threshold.hpp: LinearStandIn), each calibrated by the whole
-  //    searches so far: Nelder-Mead on the stand-ins' ratio from the best (kGuesses x n - 1
-  //    stand-in evaluations at most), then a whole search at its best.  A round that finds
-  //    nothing better halves the first simplex's step; the rounds end below 1/16 of it.
+  // 1. Rounds on the stand-ins (threshold_standin.hpp: LinearStandIn), each calibrated by
+  //    the whole searches so far: Nelder-Mead on the stand-ins' ratio from the best
+  //    (kGuesses x n - 1 stand-in evaluations at most), then a whole search at its best.  A
+  //    round that finds nothing better halves the first simplex's step; the rounds end
+  //    below 1/16 of it.
   const std::size_t m = setup.receptors.size();
   const auto conductor = make_conductor(setup.conductor, setup.array);
   const Waveform waveform = pulse.waveform(settings.delay_ms);
