@@ -1,10 +1,13 @@
 #include "host/live.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 
 #include "core/error.hpp"
 #include "host/session.hpp"
 #include "host/stimulator.hpp"
+#include "host/transport.hpp"
 #include "io/json.hpp"
 #include "io/number.hpp"
 
@@ -73,25 +76,30 @@ LiveState::Update LiveState::take() {
   return u;
 }
 
-bool LineSource::take_lines(LiveState& state) {
+bool LineSource::take_lines(LiveState& state, std::int64_t deadline_ns) {
   bool any = false;
   std::string line;
-  while (reader_.next(line)) {
+  for (std::size_t n = 1; reader_.next(line); ++n) {
     any = true;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    state.add(parse_live_line(line, "input line " + std::to_string(reader_.lines())));
+    if (line.find_first_not_of(" \t\r") != std::string::npos)
+      state.add(parse_live_line(line, "input line " + std::to_string(reader_.lines())));
+    if (n % 16 == 0 && monotonic_ns() >= deadline_ns) break;  // the rest: the next turn's
   }
   return any;
 }
 
 bool LineSource::pump(LiveState& state, int timeout_ms) {
-  if (!take_lines(state) && !reader_.at_end()) {
+  // A turn's work ends by the time the keep-alive is due (at least kMinTurnMs of it), however
+  // slow this machine parses: lines not taken by then wait, read, for the next turn.
+  const std::int64_t deadline_ns =
+      monotonic_ns() + std::int64_t{std::max(timeout_ms, kMinTurnMs)} * 1000000;
+  if (!take_lines(state, deadline_ns) && !reader_.at_end()) {
     reader_.fill(timeout_ms);
-    take_lines(state);
+    take_lines(state, deadline_ns);
   }
   // Whatever else is there already, up to 16 reads (1 MiB) a turn.
-  for (int i = 0; i < 16 && !reader_.at_end(); ++i)
-    if (!reader_.fill(0) || !take_lines(state)) break;
+  for (int i = 0; i < 16 && !reader_.at_end() && monotonic_ns() < deadline_ns; ++i)
+    if (!reader_.fill(0) || !take_lines(state, deadline_ns)) break;
   return !reader_.at_end();
 }
 

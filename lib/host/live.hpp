@@ -78,14 +78,19 @@ class FrameSource {
 };
 
 // JSON lines from a file descriptor (stimctl --live's stdin); blank lines are skipped, and
-// a flood is taken at most 1 MiB a turn, so that it never starves the keep-alive.
+// a flood is taken at most 1 MiB and timeout_ms (at least kMinTurnMs) a turn, so that it
+// never starves the keep-alive on however slow a machine: the lines not taken stay for the
+// next pump.
 class LineSource final : public FrameSource {
  public:
+  static constexpr int kMinTurnMs = 5;
   explicit LineSource(int fd) : reader_(fd) {}
   bool pump(LiveState& state, int timeout_ms) override;
 
  private:
-  bool take_lines(LiveState& state);  // true: at least one line was complete
+  // Complete lines until none is left or deadline_ns (monotonic_ns()) has passed; true: at
+  // least one line was complete.
+  bool take_lines(LiveState& state, std::int64_t deadline_ns);
   LineReader reader_;
 };
 

@@ -3,8 +3,10 @@
 // pulses than scheduled is a failure; a stimulus above the device's throughput is refused
 // before anything is sent, and the device refuses it again at start.
 #include <catch2/catch.hpp>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <deque>
 #include <string>
@@ -146,6 +148,46 @@ TEST_CASE("frames that queue are folded: the last of each kind, a currents frame
   u = state.take();
   CHECK(u.codes);
   CHECK_FALSE(u.scales);
+}
+
+TEST_CASE("a flood of lines is taken a turn at a time, never past the keep-alive's time",
+          "[host][live]") {
+  // 60000 amplitude frames of 28 bytes (1.7 MB).  A turn's 17 reads of 64 KiB would hold
+  // 39789 of them; its 5 ms parse at most a few thousand on any machine (a frame takes
+  // microseconds), so the first pump stops by its time, well before 30000.  The rest come,
+  // in order, in later turns.
+  char path[] = "/tmp/tp-flood-XXXXXX";
+  const int fd = mkstemp(path);
+  REQUIRE(fd >= 0);
+  unlink(path);
+  std::string text;
+  const int n = 60000;
+  for (int k = 0; k < n; ++k)
+    text += "{\"amplitudes\": [" + std::to_string(0.001 * (k % 1000)) + "]}\n\n";
+  REQUIRE(write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()));
+  REQUIRE(lseek(fd, 0, SEEK_SET) == 0);
+  host::LineSource source(fd);
+  host::LiveState state(mix_of(stimulus(1.0)), StimulusLimits{}, device::Capabilities{});
+  CHECK(source.pump(state, 0));
+  host::LiveState::Update u = state.take();
+  const long first = u.frames;
+  CHECK(first > 0);
+  CHECK(first < 30000);
+  long total = first, turns = 1;
+  bool open = true;
+  while (open && turns < 100000) {
+    open = source.pump(state, 0);
+    u = state.take();
+    total += u.frames;
+    ++turns;
+  }
+  CHECK_FALSE(open);
+  CHECK(total == n);
+  host::LiveState last(mix_of(stimulus(1.0)), StimulusLimits{}, device::Capabilities{});
+  last.add(host::parse_live_line(
+      "{\"amplitudes\": [" + std::to_string(0.001 * ((n - 1) % 1000)) + "]}", "last"));
+  CHECK(*u.scales == *last.take().scales);  // the last frame's, in force at the end
+  close(fd);
 }
 
 TEST_CASE("a live frame is told by its one key, never by the text of the line", "[host][live]") {
