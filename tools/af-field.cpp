@@ -14,7 +14,7 @@
 #include "core/error.hpp"
 #include "io/document.hpp"
 #include "io/reports.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

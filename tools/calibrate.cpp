@@ -16,10 +16,11 @@
 #include "host/signals.hpp"
 #include "host/stimulator.hpp"
 #include "host/terminal.hpp"
-#include "io/files.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/files.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 #include "psych/calibration.hpp"
+#include "render/options.hpp"
 
 namespace {
 

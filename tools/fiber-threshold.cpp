@@ -18,9 +18,9 @@
 #include "core/error.hpp"
 #include "fibre/population.hpp"
 #include "io/document.hpp"
-#include "io/files.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/files.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 #include "requests/threshold.hpp"
 
 namespace {

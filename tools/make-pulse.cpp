@@ -16,11 +16,11 @@
 #include "fibre/report.hpp"
 #include "io/csv.hpp"
 #include "io/document.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
-#include "pulse/make.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
+#include "requests/pulse.hpp"
 #include "pulse/stimulus.hpp"
-#include "render/profile.hpp"
+#include "psych/profile.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

@@ -12,9 +12,9 @@
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "pulse/mix.hpp"
-#include "render/profile.hpp"
+#include "psych/profile.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

@@ -14,7 +14,7 @@
 #include "cli/entry.hpp"
 #include "cli/fibre_options.hpp"
 #include "cli/progress.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "requests/optimize.hpp"
 
 namespace {

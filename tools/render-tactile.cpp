@@ -15,8 +15,8 @@
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "host/line_reader.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 #include "render/request.hpp"
 
 namespace {

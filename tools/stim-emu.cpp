@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "device/protocol.hpp"
 #include "host/emulator.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{

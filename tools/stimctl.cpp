@@ -19,7 +19,7 @@
 #include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/signals.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "pulse/mix.hpp"
 
 int main(int argc, char** argv) {

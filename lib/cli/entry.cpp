@@ -14,8 +14,8 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/files.hpp"
-#include "io/number.hpp"
+#include "core/files.hpp"
+#include "core/number.hpp"
 #include "version.hpp"
 
 namespace tp::cli {
@@ -90,7 +90,7 @@ void refuse_empty_values(const CLI::App& app) {
 }
 
 // A signal that ends the program removes the temporaries of files not yet complete
-// (io/files.hpp), then ends it as the signal would have.
+// (core/files.hpp), then ends it as the signal would have.
 void end_by_signal(int sig) {
   remove_temporaries();
   std::signal(sig, SIG_DFL);

@@ -40,7 +40,7 @@ CLI::Option* add_seed(CLI::App& app, const std::string& name, std::uint64_t& tar
 
 // Writes a string to stdout and flushes; an I/O failure is a runtime failure.  With
 // --output FILE (add_output_option), the text goes to FILE instead, which is written whole
-// when the program succeeds and left as it was when it fails (io/files.hpp).
+// when the program succeeds and left as it was when it fails (core/files.hpp).
 void write_stdout(std::string_view text);
 
 // Adds --output FILE to a program that writes one document.  The file is created (as a

@@ -1,7 +1,7 @@
 #include "cli/fibre_options.hpp"
 
 #include "cli/entry.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::cli {
 

@@ -79,4 +79,9 @@ inline std::string quoted_text(std::string_view text) {
   return "'" + printable(text) + "'";
 }
 
+// n and the noun, plural (noun + "s") unless n is 1: "1 slot", "2 slots", "0 frames".
+inline std::string count_text(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 }  // namespace tp

@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::fibre {
 namespace {

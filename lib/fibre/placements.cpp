@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::fibre {
 

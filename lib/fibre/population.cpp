@@ -10,7 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/splitmix.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/conductor.hpp"
 
 namespace tp::fibre {

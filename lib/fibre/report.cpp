@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::fibre {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fibre/threshold.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "model/field.hpp"
 #include "pulse/stimulus.hpp"
 

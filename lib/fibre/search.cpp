@@ -13,10 +13,10 @@
 
 namespace tp::fibre {
 
-Lattice::Lattice(double tolerance)
+AmplitudeLattice::AmplitudeLattice(double tolerance)
     : per_octave(static_cast<long>(std::ceil(std::log(2.0) / std::log1p(tolerance)))) {}
 
-double Lattice::amplitude(long j) const {
+double AmplitudeLattice::amplitude(long j) const {
   // j = q K + r with 0 <= r < K: 2^q exactly times 2^(r/K), so amplitude(j + K) is exactly
   // twice amplitude(j).
   long q = j / per_octave, r = j % per_octave;
@@ -28,7 +28,7 @@ double Lattice::amplitude(long j) const {
                     static_cast<int>(q));
 }
 
-long Lattice::at_or_above(double a) const {
+long AmplitudeLattice::at_or_above(double a) const {
   long j = static_cast<long>(std::ceil(std::log2(a) * static_cast<double>(per_octave)));
   while (amplitude(j - 1) >= a) --j;
   while (amplitude(j) < a) ++j;
@@ -68,7 +68,7 @@ namespace {
 
 // The indices base.. of ve in the order of their drive, the strongest first (ties: the
 // lower index first).
-std::vector<std::size_t> strongest_first(const LatticeSearch& search,
+std::vector<std::size_t> strongest_first(const AmplitudeSearch& search,
                                          const std::vector<std::vector<double>>& ve,
                                          std::size_t base) {
   std::vector<std::size_t> order(ve.size() - base);
@@ -104,7 +104,7 @@ void on_threads(unsigned n, Work& work, Stop stop) {
 
 }  // namespace
 
-LatticeSearch::LatticeSearch(const FibreModel& model, const Axon& axon, const Waveform& w,
+AmplitudeSearch::AmplitudeSearch(const FibreModel& model, const Axon& axon, const Waveform& w,
                              const SimOptions& o, const ThresholdSettings& s)
     : model_(model),
       axon_(axon),
@@ -119,7 +119,7 @@ LatticeSearch::LatticeSearch(const FibreModel& model, const Axon& axon, const Wa
   settling_.stop_when_settled = s.settle;
 }
 
-Best LatticeSearch::minimum(const std::vector<std::vector<double>>& ve, std::size_t base, Best best,
+Best AmplitudeSearch::minimum(const std::vector<std::vector<double>>& ve, std::size_t base, Best best,
                             long guess, bool close) {
   const std::vector<std::size_t> order = strongest_first(*this, ve, base);
   std::atomic<std::size_t> next{0};
@@ -181,14 +181,14 @@ namespace {
 constexpr long kNone = std::numeric_limits<long>::min();
 }  // namespace
 
-struct LatticeSearch::Excitation {
+struct AmplitudeSearch::Excitation {
   CableSimulator& sim;
   const std::vector<double>& ve;
   bool settle;
   long paused = kNone;  // the point whose run paused, if it is the last that did not excite
 };
 
-LatticeSearch::Probe LatticeSearch::probe(Excitation& e, long j) {
+AmplitudeSearch::Probe AmplitudeSearch::probe(Excitation& e, long j) {
   ++simulations_;
   const SimResult r = e.sim.run(e.ve.data(), lat_.amplitude(j), w_, e.settle ? settling_ : o_);
   const bool excited = r.first_time_ms >= 0.0;
@@ -197,7 +197,7 @@ LatticeSearch::Probe LatticeSearch::probe(Excitation& e, long j) {
 }
 
 // Whether the runs taken as not exciting at j and below are so to their ends.
-bool LatticeSearch::confirm(Excitation& e, long j) {
+bool AmplitudeSearch::confirm(Excitation& e, long j) {
   if (e.paused != j) return true;  // j's run went to its end
   if (e.sim.paused_amplitude() != lat_.amplitude(j))
     failure("fibre: the paused run is not the one to confirm");
@@ -213,7 +213,7 @@ bool LatticeSearch::confirm(Excitation& e, long j) {
 // that drives the nodes by 1 mV of activating function, to 0.05 ms after the waveform,
 // gives the peak depolarisation dv; the estimate is that amplitude times K / dv.  Only
 // the work depends on it, not the answer.  None when the field does not depolarise.
-std::optional<long> LatticeSearch::estimate(CableSimulator& sim, const std::vector<double>& ve) {
+std::optional<long> AmplitudeSearch::estimate(CableSimulator& sim, const std::vector<double>& ve) {
   const double a0 = 1.0 / drive(ve);
   if (!std::isfinite(a0) || !(a0 > 0.0)) return std::nullopt;
   const double k_mV = passive_k_mV(w_);
@@ -241,7 +241,7 @@ std::optional<long> LatticeSearch::estimate(CableSimulator& sim, const std::vect
 // the threshold is the first point from e up that fires (nearly always e itself).  Both
 // depend on this potential alone, not on the bracket the search started from: the answer is
 // the same whichever thread searched it, and in whatever order.
-bool LatticeSearch::search_one(CableSimulator& sim, const std::vector<double>& ve, std::size_t i,
+bool AmplitudeSearch::search_one(CableSimulator& sim, const std::vector<double>& ve, std::size_t i,
                                const Best& best, long guess, bool near, long& out) {
   Excitation settling{sim, ve, settling_.stop_when_settled};
   if (const std::optional<bool> r = search_from(settling, i, best, guess, near, out)) return *r;
@@ -253,7 +253,7 @@ bool LatticeSearch::search_one(CableSimulator& sim, const std::vector<double>& v
 // near (a threshold: the best so far, another fibre's, nearby weights'), so that a close
 // guess costs a few probes; from 1/8 octave from the passive estimate (within about 1/3
 // octave), which then becomes the guess; else from an octave.
-long LatticeSearch::first_step(CableSimulator& sim, const std::vector<double>& ve, const Best& best,
+long AmplitudeSearch::first_step(CableSimulator& sim, const std::vector<double>& ve, const Best& best,
                                bool near, long& guess) {
   if (near || best.found) return std::max(1L, lat_.per_octave / 32);
   if (const std::optional<long> est = estimate(sim, ve)) {
@@ -265,7 +265,7 @@ long LatticeSearch::first_step(CableSimulator& sim, const std::vector<double>& v
 
 // search_one with the probes of e; none when a run taken as not exciting excited the fibre
 // after all.
-std::optional<bool> LatticeSearch::search_from(Excitation& e, std::size_t i, const Best& best,
+std::optional<bool> AmplitudeSearch::search_from(Excitation& e, std::size_t i, const Best& best,
                                                long guess, bool near, long& out) {
   // The largest lattice point at which firing would still beat the best.
   const long limit = !best.found ? jmax_ : (i < best.index ? best.j : best.j - 1);
@@ -333,7 +333,7 @@ std::optional<bool> LatticeSearch::search_from(Excitation& e, std::size_t i, con
 // runs to the top of the search range whatever `limit` is, and the point it finds depends
 // on e alone (not on the best so far, nor on the order of the potentials); it counts only
 // if it is at most `limit`.  Its probes (`whole`) run to their ends.
-bool LatticeSearch::first_firing(Excitation& whole, long hi, long limit, long& out) {
+bool AmplitudeSearch::first_firing(Excitation& whole, long hi, long limit, long& out) {
   long f_lo = hi, f_hi = hi;
   for (long step = 1;; step *= 2) {
     f_hi = hi + step;
@@ -364,7 +364,7 @@ std::optional<double> fibre_threshold(const FibreModel& model, const Axon& axon,
     bad_input("fibre: tolerance must be within 1e-4 to 0.1");
   if (!(settings.max_mA > 0.0 && std::isfinite(settings.max_mA)))
     bad_input("fibre: max_mA must be positive and finite");
-  LatticeSearch search(model, axon, waveform, options, settings);
+  AmplitudeSearch search(model, axon, waveform, options, settings);
   const std::optional<double> start = caller_start(settings);
   const long guess = search.lattice().at_or_above(start.value_or(1.0));
   const bool near = start.has_value();

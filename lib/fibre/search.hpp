@@ -33,7 +33,7 @@ double largest_af(const Axon& axon, const double* ve);
 inline constexpr double kPassiveAfter_ms = 0.05;
 
 // The depolarisation at the end of a pulse at which an MRG node fires, about (the passive
-// estimate, LatticeSearch): 4.3 + 5.3 / sqrt(the longest phase in ms) mV; 0 for a waveform
+// estimate, AmplitudeSearch): 4.3 + 5.3 / sqrt(the longest phase in ms) mV; 0 for a waveform
 // without a phase.
 double passive_k_mV(const Waveform& w);
 
@@ -44,9 +44,9 @@ std::optional<double> caller_start(const ThresholdSettings& s);
 // The search on the lattice of settings.tolerance, from 2^-50 max_mA to max_mA, of one
 // fibre (model, axon) driven by a waveform, with the options' detection nodes, step and stop
 // time; settings.threads workers (0: every core) and settings.settle (runs that pause).
-class LatticeSearch {
+class AmplitudeSearch {
  public:
-  LatticeSearch(const FibreModel& model, const Axon& axon, const Waveform& w, const SimOptions& o,
+  AmplitudeSearch(const FibreModel& model, const Axon& axon, const Waveform& w, const SimOptions& o,
                 const ThresholdSettings& s);
 
   // The lexicographic minimum of (threshold lattice point, index) over the potentials
@@ -70,7 +70,7 @@ class LatticeSearch {
   // A potential's largest activating function at the fibre's nodes (largest_af()).
   double drive(const std::vector<double>& ve) const { return largest_af(axon_, ve.data()); }
 
-  const Lattice& lattice() const { return lat_; }
+  const AmplitudeLattice& lattice() const { return lat_; }
   long jmax() const { return jmax_; }
   long jmin() const { return jmin_; }
   std::size_t simulations() const { return simulations_; }
@@ -96,7 +96,7 @@ class LatticeSearch {
   const Waveform& w_;
   SimOptions o_;         // every run to its end
   SimOptions settling_;  // o_, pausing runs once settled (unless the settings say not to)
-  Lattice lat_;
+  AmplitudeLattice lat_;
   long jmax_, jmin_;
   unsigned threads_;
   std::atomic<std::size_t> simulations_{0};

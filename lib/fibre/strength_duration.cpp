@@ -1,6 +1,6 @@
 #include "fibre/strength_duration.hpp"
 
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::fibre {
 

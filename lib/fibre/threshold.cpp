@@ -10,7 +10,7 @@
 #include "core/error.hpp"
 #include "fibre/placements.hpp"
 #include "fibre/search.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::fibre {
 
@@ -44,7 +44,7 @@ double threshold_work(const FibreModel& model, const Setup& setup, const Conduct
   // Along each fibre (an afferent's directions: their compartments summed below).
   const double placements = static_cast<double>(PlacementPlan(setup, r, s, f.internode_mm).count());
   const double probes =
-      std::ceil(std::log2(static_cast<double>(Lattice(s.tolerance).per_octave))) + 4.0;
+      std::ceil(std::log2(static_cast<double>(AmplitudeLattice(s.tolerance).per_octave))) + 4.0;
   double compartments = 0.0;  // over the fibres (an afferent's two directions)
   for (const Axon& a : f.axons) compartments += static_cast<double>(a.compartments.size());
   return compartments * steps * placements * probes;
@@ -86,7 +86,7 @@ struct FibreBest {
 // Each round is searched after the rounds before it (whose placements win ties); a
 // refinement only once a round has found a threshold, around the best so far.
 template <class Potential>
-FibreBest search_placements(LatticeSearch& search, const PlacementPlan& plan, Potential&& potential,
+FibreBest search_placements(AmplitudeSearch& search, const PlacementPlan& plan, Potential&& potential,
                             long guess, bool near) {
   FibreBest out;
   std::vector<std::vector<double>> ves;
@@ -162,10 +162,10 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   long jmin = 0;
   for (std::size_t fi = 0; fi < f.axons.size(); ++fi) {
     const Axon& axon = f.axons[fi];
-    LatticeSearch search(model, axon, waveform, detection_options(axon, f, s, vertical), s);
+    AmplitudeSearch search(model, axon, waveform, detection_options(axon, f, s, vertical), s);
     jmin = search.jmin();
     // Where to start: the best so far (another direction's), else the caller's guess, else
-    // the passive estimate (LatticeSearch; 1 mA without one).
+    // the passive estimate (AmplitudeSearch; 1 mA without one).
     const long guess = winner.found ? winner.j : search.lattice().at_or_above(start.value_or(1.0));
     auto potential = [&](const Spot& at) {
       return potentials_mV(conductor, weights, axon, at.x0_mm, at.y0_mm, vertical, at.z0_mm, two_d,
@@ -184,7 +184,7 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
       winner.spot.direction = f.directions[fi];
     }
   }
-  const Lattice lattice(s.tolerance);
+  const AmplitudeLattice lattice(s.tolerance);
   if (!winner.found) {
     out.reason = "does not fire below " + number_text(s.max_mA) + " mA";
     return out;

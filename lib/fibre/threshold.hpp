@@ -27,7 +27,7 @@
 // fibre, or the sixth node from the deep end of a vertical one or of an afferent's stem
 // (above -20 mV).
 //
-// The parts: the search over any potential (search.hpp: LatticeSearch), the placements
+// The parts: the search over any potential (search.hpp: AmplitudeSearch), the placements
 // (placements.hpp: the fibres, one plan that counts and generates the placements, their
 // potentials), and here the receptor's threshold that joins them.  The optimiser's
 // stand-in for a threshold is opt/threshold_standin.hpp.
@@ -108,8 +108,8 @@ struct ReceptorThreshold {
 };
 
 // The lattice: amplitude of point j, and the number of points per octave.
-struct Lattice {
-  explicit Lattice(double tolerance);
+struct AmplitudeLattice {
+  explicit AmplitudeLattice(double tolerance);
   double amplitude(long j) const;
   long at_or_above(double amplitude_mA) const;  // the smallest j with amplitude(j) >= a
   long per_octave;

@@ -20,7 +20,7 @@
 #include "core/splitmix.hpp"
 #include "device/pulse_record.hpp"
 #include "host/transport.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::host {
 

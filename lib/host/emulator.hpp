@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "device/device_core.hpp"
-#include "io/files.hpp"
+#include "core/files.hpp"
 
 namespace tp::host {
 

@@ -8,8 +8,8 @@
 #include "host/session.hpp"
 #include "host/stimulator.hpp"
 #include "host/transport.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 
 namespace tp::host {
 

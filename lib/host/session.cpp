@@ -12,9 +12,9 @@
 #include "host/line_reader.hpp"
 #include "host/live.hpp"
 #include "host/signals.hpp"
-#include "io/files.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/files.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 
 namespace tp::host {
 namespace {

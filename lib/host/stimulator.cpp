@@ -11,7 +11,7 @@
 #include <sys/random.h>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::host {
 namespace {

@@ -6,9 +6,9 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/constants.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "model/field.hpp"
 
 namespace tp {

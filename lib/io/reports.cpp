@@ -6,7 +6,7 @@
 #include "io/csv.hpp"
 #include "io/document.hpp"
 #include "model/constants.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"

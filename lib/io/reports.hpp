@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "io/csv.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 #include "model/field.hpp"
 
 namespace tp {

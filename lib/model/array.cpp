@@ -5,8 +5,8 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 

@@ -5,9 +5,9 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/lattice.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 

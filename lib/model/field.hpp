@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/conductor.hpp"
 #include "model/receptors.hpp"
 

@@ -45,7 +45,7 @@ std::optional<GridLattice> grid_lattice(const ElectrodeArray& arr, double x0_mm,
 
 namespace {
 
-// Lattice lines origin + i step for i in [i0, i1], with the ends lo, hi when off them.
+// AmplitudeLattice lines origin + i step for i in [i0, i1], with the ends lo, hi when off them.
 std::vector<double> axis(double lo, double hi, bool lo_off, bool hi_off, double origin, double step,
                          int i0, int i1) {
   std::vector<double> v;

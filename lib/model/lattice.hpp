@@ -7,7 +7,7 @@
 // pitch = mz hz, every point-pad pair is one of few offsets ((a - c m) hx, (b - r mz) hz):
 // the lone pad's response is tabulated once per plane (PadTable) and looked up, instead of
 // evaluating every pad at every point.  The field searches (Field::plane_af) and the focus
-// problem's samples (opt/focus.cpp) use it.
+// problem's samples (opt/focus_samples.cpp) use it.
 
 #include <memory>
 #include <optional>

@@ -8,7 +8,7 @@
 #include <Eigen/Dense>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/quadrature.hpp"
 
 namespace tp {

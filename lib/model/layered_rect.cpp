@@ -53,7 +53,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/conductor.hpp"
 #include "model/layered.hpp"
 #include "model/quadrature.hpp"
@@ -125,12 +125,12 @@ const GaussLegendre<kGl>& gl8() {
 
 // Breakpoints 0, s, 2s, ... up to `shift + s`, then doubling the distance from `shift`:
 // tiles of width s near the source and of width equal to their distance from it beyond.
-struct Lattice {
+struct AmplitudeLattice {
   double s = 1.0, shift = 0.0;
   long m0 = 1;      // first geometric index
   double b0 = 1.0;  // B(m0)
-  Lattice() = default;
-  Lattice(double s_, double shift_) : s(s_), shift(shift_) {
+  AmplitudeLattice() = default;
+  AmplitudeLattice(double s_, double shift_) : s(s_), shift(shift_) {
     m0 = std::max(1L, static_cast<long>(std::ceil((shift + s) / s)));
     b0 = static_cast<double>(m0) * s;
   }
@@ -153,7 +153,7 @@ struct Lattice {
 template <class F>
 double graded_integral(double lo, double hi, double s, F&& f) {
   if (!(hi > lo)) return 0.0;
-  const Lattice lat(s, 0.0);
+  const AmplitudeLattice lat(s, 0.0);
   std::vector<double> cuts = {lo, hi};
   for (int sign : {-1, 1}) {
     for (long m = 0;; ++m) {
@@ -187,7 +187,7 @@ class Tables {
                                               k + 1 < n ? stack_.top_of(k + 1) : stack_.top_of(k)));
     }
     stack_depth_ = std::max(stack_.top_of(n - 1), a_glob_);
-    r_lattice_ = Lattice(a_glob_, 0.0);
+    r_lattice_ = AmplitudeLattice(a_glob_, 0.0);
     lambda_max_ = kDecay / a_glob_;
   }
 
@@ -214,9 +214,9 @@ class Tables {
   struct YTile {
     std::size_t layer = 0;
     double y0 = 0.0, y1 = 0.0, s = 0.0;
-    Lattice u, q;
+    AmplitudeLattice u, q;
     std::vector<std::unique_ptr<Tile>> tiles;  // by u-tile index
-    Lattice fu, fv;                            // u and v, graded from the pad's edges
+    AmplitudeLattice fu, fv;                            // u and v, graded from the pad's edges
     std::map<std::pair<long, long>, std::unique_ptr<QTile>> qtiles;  // by (a, b) tile index
     std::map<std::pair<long, long>, std::unique_ptr<FTile>> ftiles;  // by (u, v) tile index
   };
@@ -256,10 +256,10 @@ class Tables {
       slot->y0 = y0;
       slot->y1 = y1;
       slot->s = layer_a_min(k, y0, y1);
-      slot->u = Lattice(slot->s, 0.5 * w_);
-      slot->q = Lattice(slot->s, 0.0);
-      slot->fu = Lattice(slot->s, 0.5 * w_);
-      slot->fv = Lattice(slot->s, 0.5 * l_);
+      slot->u = AmplitudeLattice(slot->s, 0.5 * w_);
+      slot->q = AmplitudeLattice(slot->s, 0.0);
+      slot->fu = AmplitudeLattice(slot->s, 0.5 * w_);
+      slot->fv = AmplitudeLattice(slot->s, 0.5 * l_);
     }
     return *slot;
   }
@@ -719,7 +719,7 @@ class Tables {
   LayeredHalfSpace stack_;
   double w_, l_, z_;
   double a_glob_ = 1.0, stack_depth_ = 1.0, lambda_max_ = 1.0;
-  Lattice r_lattice_;
+  AmplitudeLattice r_lattice_;
   std::mutex mutex_;
   static constexpr std::size_t kPotentialMemo = 500'000;  // about 40 MB at most
   std::map<std::array<long long, 3>, double> potential_memo_;

@@ -10,7 +10,7 @@
 namespace tp {
 
 // The most samples of one fibre (or one boundary segment) the models take: with the
-// documented ranges (lib/model/ranges.hpp) the largest is ~6e6 (1100 mm of fibre at the
+// documented ranges (lib/core/ranges.hpp) the largest is ~6e6 (1100 mm of fibre at the
 // 0.2 um step of a 0.01 mm depth).
 inline constexpr double kMaxSamples = 1e7;
 // Throws tp::Error (bad input) naming the count and the cap.

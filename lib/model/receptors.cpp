@@ -7,8 +7,8 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/json.hpp"
-#include "model/ranges.hpp"
+#include "core/json.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "model/conductor.hpp"
-#include "model/fibre.hpp"
+#include "model/fibre_factor.hpp"
 
 namespace tp {
 

@@ -11,8 +11,8 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
 #include "opt/lp.hpp"
 
 namespace tp {

@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "opt/focus_check.hpp"
 #include "opt/focus_solver.hpp"
 

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "opt/lp.hpp"
 #include "opt/problem.hpp"
 

@@ -6,7 +6,7 @@
 #include <tuple>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "opt/focus_check.hpp"
 #include "opt/ldp.hpp"
 #include "opt/problem.hpp"

@@ -12,7 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/splitmix.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "opt/lp.hpp"
 
 namespace tp {

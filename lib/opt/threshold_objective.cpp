@@ -9,7 +9,7 @@
 #include <numeric>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/conductor.hpp"
 #include "opt/threshold_standin.hpp"
 

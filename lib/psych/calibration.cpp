@@ -5,8 +5,9 @@
 #include <functional>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
+#include "psych/pulse_train.hpp"
 
 namespace tp {
 
@@ -15,11 +16,8 @@ void check_calibration_options(const CalibrationOptions& o, const PixelBank& ban
   if (!(o.trial_s >= 0.05 && o.trial_s <= 10))
     bad_input("--trial-duration: " + number_beside(o.trial_s, 0.05, 10) +
               " s outside [0.05, 10] s");
-  RenderOptions r;  // the rates and widths as render-tactile checks them
-  r.rate_hz = o.rate_hz;
-  r.width_us = o.width_us;
-  r.balance_width_us = o.balance_width_us;
-  check_render_options(r);
+  // The rates and the phases as render-tactile checks them (its --interphase: 0).
+  check_pulse_train(o.rate_hz, o.width_us, 0.0, o.balance_width_us, StimulusLimits{});
   if (bank.pads() > static_cast<std::size_t>(ranges::max_channels))
     bad_input("bank: " + std::to_string(bank.pads()) + " pads, more than a stimulator drives (" +
               std::to_string(ranges::max_channels) + ")");

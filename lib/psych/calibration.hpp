@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
+#include "io/bank.hpp"
+#include "psych/profile.hpp"
 #include "psych/staircase.hpp"
 #include "pulse/mix.hpp"
-#include "render/profile.hpp"
-#include "render/render.hpp"
 
 namespace tp {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "core/error.hpp"
 #include "device/device_core.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "device/protocol.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "pulse/stimulus.hpp"
 
 namespace tp {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "device/protocol.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 
 namespace tp {
 

@@ -8,7 +8,7 @@
 #include <png.h>
 
 #include "core/error.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 
 namespace tp {
 

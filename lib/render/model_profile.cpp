@@ -5,7 +5,7 @@
 
 #include "core/error.hpp"
 #include "fibre/models.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp {
 

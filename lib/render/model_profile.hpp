@@ -10,8 +10,8 @@
 #include <string>
 
 #include "fibre/report.hpp"
-#include "render/profile.hpp"
-#include "render/bank.hpp"
+#include "psych/profile.hpp"
+#include "io/bank.hpp"
 
 namespace tp {
 

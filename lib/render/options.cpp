@@ -4,8 +4,9 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "render/profile.hpp"
+#include "core/number.hpp"
+#include "psych/profile.hpp"
+#include "psych/pulse_train.hpp"
 
 namespace tp {
 
@@ -51,22 +52,8 @@ std::vector<int> parse_primaries(const std::string& text, const std::string& wha
 
 void check_render_options(const RenderOptions& o) {
   const StimulusLimits& l = o.limits;
-  for (std::size_t p = 0; p < 3; ++p)
-    if (!(o.rate_hz[p] >= l.min_frequency_hz && o.rate_hz[p] <= l.max_frequency_hz))
-      bad_input(std::string("--rates: ") + kPrimaries[p] + " " +
-                number_beside(o.rate_hz[p], l.min_frequency_hz, l.max_frequency_hz) +
-                " Hz outside [" + number_text(l.min_frequency_hz) + ", " +
-                number_text(l.max_frequency_hz) + "] Hz");
-  auto whole = [](double v, double lo, double hi, const char* name) {
-    if (!(v >= lo && v <= hi && v == std::floor(v)))
-      bad_input(std::string(name) + ": " + number_beside(v, lo, hi) +
-                " us is not a whole number in [" + number_text(lo) + ", " + number_text(hi) +
-                "] us");
-  };
-  whole(o.width_us, l.min_width_us, l.max_width_us, "--width");
-  whole(o.interphase_us, 0, 1000, "--interphase");
-  whole(o.balance_width_us, o.width_us, l.max_balance_width_us, "--balance-width");
-  whole(o.gap_us, l.min_gap_us, l.max_slip_us, "--gap");
+  check_pulse_train(o.rate_hz, o.width_us, o.interphase_us, o.balance_width_us, l);
+  check_whole_us(o.gap_us, l.min_gap_us, l.max_slip_us, "--gap");
   if (!(o.crosstalk >= 0 && o.crosstalk <= 1))
     bad_input("--crosstalk: " + number_beside(o.crosstalk, 0, 1) + " outside [0, 1]");
   if (!(o.duration_s > 0 && o.duration_s <= l.max_duration_s))

@@ -5,10 +5,10 @@
 
 #include "core/error.hpp"
 #include "core/parallel.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/field.hpp"
 #include "render/colouring.hpp"
-#include "render/text.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 

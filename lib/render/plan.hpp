@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "pulse/mix.hpp"
-#include "render/bank.hpp"
+#include "io/bank.hpp"
 #include "render/frame.hpp"
 #include "render/image.hpp"
 #include "render/options.hpp"
-#include "render/profile.hpp"
+#include "psych/profile.hpp"
 
 namespace tp {
 

@@ -2,7 +2,7 @@
 // Rendering a tactile image (issue 23; docs/rendering.md): a bank of focal pixels
 // (optimize-weights --bank), a person's profile and the pads' intensities become a mix
 // of patterns the device plays.  This header gathers the parts:
-//   render/bank.hpp      the bank read (pixel_bank_from_json);
+//   io/bank.hpp      the bank read (pixel_bank_from_json);
 //   render/options.hpp   the options, --rates and their checks;
 //   render/plan.hpp      a still's plan: lit -> groups -> frame -> mix (plan_render);
 //   render/colouring.hpp the groups' colouring (DSatur);
@@ -28,10 +28,10 @@
 // check.  When the image asks more than the device can deliver this lowers rates, never
 // drops a lit pixel, and the plan says so.
 
-#include "render/bank.hpp"
+#include "io/bank.hpp"
 #include "render/image.hpp"
 #include "render/options.hpp"
 #include "render/plan.hpp"
-#include "render/profile.hpp"
+#include "psych/profile.hpp"
 #include "render/sequence.hpp"
-#include "render/text.hpp"
+#include "core/text.hpp"

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 

@@ -1,6 +1,6 @@
 #pragma once
 // render-tactile's work (docs/rendering.md), for the program and any other front end, in
-// the manner of PulseRequest (pulse/make.hpp): a bank, the image or a sequence's frames,
+// the manner of PulseRequest (requests/pulse.hpp): a bank, the image or a sequence's frames,
 // and a person's profile (or none: the fibre model's) become a still's or a sequence's
 // stimulus, or its plan, and what to say about it.  The front end reads the files and
 // writes the output; the request holds values.

@@ -5,8 +5,8 @@
 #include <tuple>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "render/text.hpp"
+#include "core/number.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 

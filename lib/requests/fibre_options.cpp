@@ -5,8 +5,8 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
 
 namespace tp {
 

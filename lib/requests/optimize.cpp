@@ -8,9 +8,9 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "io/reports.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "io/document.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "requests/fibre_options.hpp"
 
 namespace tp {

@@ -7,8 +7,8 @@
 
 #include "core/error.hpp"
 #include "fibre/threshold.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 

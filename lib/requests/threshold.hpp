@@ -17,7 +17,7 @@
 #include "fibre/population.hpp"
 #include "fibre/strength_duration.hpp"
 #include "io/document.hpp"
-#include "io/json.hpp"
+#include "core/json.hpp"
 #include "requests/document_options.hpp"
 #include "requests/fibre_options.hpp"
 

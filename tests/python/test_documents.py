@@ -77,7 +77,7 @@ def test_document_round_trip_load_and_attributes(tmp_path, sai_json):
 
 
 def axis(lo, hi, step):
-    """af-field's axis: lo + i step, the last at most hi (lib/io/number.hpp's Axis)."""
+    """af-field's axis: lo + i step, the last at most hi (lib/core/number.hpp's Axis)."""
     n = int(round((hi - lo) / step)) + 1
     return np.array([min(lo + i * step, hi) for i in range(n)])
 

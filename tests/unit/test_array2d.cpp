@@ -10,7 +10,7 @@
 #include "core/error.hpp"
 #include "io/document.hpp"
 #include "model/field.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 
 using namespace tp;
 

@@ -502,7 +502,7 @@ TEST_CASE("Pausing settled runs changes the work, not the threshold", "[fibre][m
 }
 
 TEST_CASE("The amplitude lattice", "[fibre]") {
-  const Lattice l(1e-3);
+  const AmplitudeLattice l(1e-3);
   CHECK(l.amplitude(l.per_octave) == 2.0);
   CHECK(l.amplitude(1) / l.amplitude(0) <= 1.001);
   for (double a : {1e-4, 0.3, 1.0, 1.7, 99.9, 100.0}) {

@@ -13,7 +13,7 @@
 #include "core/error.hpp"
 #include "fibre/placements.hpp"
 #include "fibre/threshold.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "model/conductor.hpp"
 #include "model/field.hpp"
 

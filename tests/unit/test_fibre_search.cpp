@@ -46,12 +46,12 @@ struct TestFibre {
     s.threads = threads;
     return s;
   }
-  LatticeSearch search(const ThresholdSettings& s) const {
-    return LatticeSearch(*model, axon, pulse, options(), s);
+  AmplitudeSearch search(const ThresholdSettings& s) const {
+    return AmplitudeSearch(*model, axon, pulse, options(), s);
   }
 };
 
-long from_1mA(const LatticeSearch& s) {
+long from_1mA(const AmplitudeSearch& s) {
   return s.lattice().at_or_above(1.0);
 }
 
@@ -61,14 +61,14 @@ TEST_CASE("The search finds the lattice point where a point source first fires t
           "[fibre][search]") {
   TestFibre f;
   const std::vector<double> ve = point_source_mV(f.axon, 10, 1.0);
-  LatticeSearch search = f.search(f.settings());
+  AmplitudeSearch search = f.search(f.settings());
   const Best best = search.minimum({ve}, 0, Best{}, from_1mA(search), false);
   REQUIRE(best.found);
   CHECK(best.index == 0);
   REQUIRE(best.j > search.jmin());
   REQUIRE(best.j <= search.jmax());
   // Fires at the point, and is not even excited one point below (runs to their ends).
-  const Lattice& lattice = search.lattice();
+  const AmplitudeLattice& lattice = search.lattice();
   CableSimulator sim(*f.model, f.axon);
   const SimOptions o = f.options();
   CHECK(sim.run(ve.data(), lattice.amplitude(best.j), f.pulse, o).fired);
@@ -91,7 +91,7 @@ TEST_CASE("The search finds the lattice point where a point source first fires t
 
 TEST_CASE("The search's answer scales exactly with the potential", "[fibre][search]") {
   TestFibre f;
-  LatticeSearch search = f.search(f.settings());
+  AmplitudeSearch search = f.search(f.settings());
   const long K = search.lattice().per_octave;
   auto point = [&](double scale) {
     const Best b =
@@ -112,7 +112,7 @@ TEST_CASE("The start and the threads change the search's work, not its answer", 
   // tie between the two nearest goes to the lower index.
   std::vector<std::vector<double>> ve;
   for (double h : {1.5, 0.5, 2.0, 1.0, 0.5}) ve.push_back(point_source_mV(f.axon, 10, h));
-  LatticeSearch reference = f.search(f.settings());
+  AmplitudeSearch reference = f.search(f.settings());
   const Best best = reference.minimum(ve, 0, Best{}, from_1mA(reference), false);
   REQUIRE(best.found);
   CHECK(best.index == 1);
@@ -120,7 +120,7 @@ TEST_CASE("The start and the threads change the search's work, not its answer", 
     for (double start_mA : {1e-6, 0.05, 1.0, 99.0})
       for (bool close : {false, true}) {
         CAPTURE(threads, start_mA, close);
-        LatticeSearch search = f.search(f.settings(threads));
+        AmplitudeSearch search = f.search(f.settings(threads));
         const Best b = search.minimum(ve, 0, Best{}, search.lattice().at_or_above(start_mA), close);
         CHECK(b.found);
         CHECK(b.j == best.j);
@@ -128,7 +128,7 @@ TEST_CASE("The start and the threads change the search's work, not its answer", 
       }
   // One potential: a close start at the answer costs fewer runs than one far below it.
   auto runs = [&](long guess) {
-    LatticeSearch search = f.search(f.settings());
+    AmplitudeSearch search = f.search(f.settings());
     CHECK(search.minimum({ve[1]}, 0, Best{}, guess, true).j == best.j);
     return search.simulations();
   };
@@ -141,10 +141,10 @@ TEST_CASE("The search goes on from the best of earlier potentials", "[fibre][sea
   const std::vector<std::vector<double>> ve{point_source_mV(f.axon, 10, 0.5),
                                             point_source_mV(f.axon, 10, 2.0),
                                             point_source_mV(f.axon, 10, 0.5)};
-  LatticeSearch all = f.search(f.settings());
+  AmplitudeSearch all = f.search(f.settings());
   const Best whole = all.minimum(ve, 0, Best{}, from_1mA(all), false);
   // The first alone, then the rest from its best: the same minimum.
-  LatticeSearch parts = f.search(f.settings());
+  AmplitudeSearch parts = f.search(f.settings());
   const Best first = parts.minimum({ve[0]}, 0, Best{}, from_1mA(parts), false);
   std::vector<std::vector<double>> grown{ve[0]};
   const Best again = parts.minimum(grown, 0, Best{}, from_1mA(parts), false);
@@ -159,7 +159,7 @@ TEST_CASE("The search goes on from the best of earlier potentials", "[fibre][sea
   CHECK(whole.j == first.j);
   // A potential that cannot beat the best so far costs one run: the source 2 mm away does
   // not excite the fibre at the best's point.
-  LatticeSearch one = f.search(f.settings());
+  AmplitudeSearch one = f.search(f.settings());
   const Best unchanged = one.minimum({ve[0], ve[1]}, 1, first, from_1mA(one), true);
   CHECK(unchanged.j == first.j);
   CHECK(unchanged.index == 0);
@@ -172,14 +172,14 @@ TEST_CASE("The search's range: no threshold below max_mA, or fired even at its f
   const SimOptions o = f.options();
   // No field: nothing fires.
   const std::vector<double> zero(f.axon.compartments.size(), 0.0);
-  LatticeSearch search = f.search(f.settings());
+  AmplitudeSearch search = f.search(f.settings());
   CHECK_FALSE(search.minimum({zero}, 0, Best{}, from_1mA(search), false).found);
   CHECK_FALSE(fibre_threshold(*f.model, f.axon, zero, f.pulse, o, f.settings()));
   // A threshold near 1 mA with max_mA at 0.01 mA: none.
   const std::vector<double> ve = point_source_mV(f.axon, 10, 1.0);
   ThresholdSettings low = f.settings();
   low.max_mA = 0.01;
-  LatticeSearch capped = f.search(low);
+  AmplitudeSearch capped = f.search(low);
   CHECK_FALSE(capped.minimum({ve}, 0, Best{}, from_1mA(capped), false).found);
   CHECK_FALSE(fibre_threshold(*f.model, f.axon, ve, f.pulse, o, low));
   // 1e15 times the potential: excited at the floor (2^-50 x 100 mA), reported below it.

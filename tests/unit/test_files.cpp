@@ -1,5 +1,5 @@
 // Files written whole or not at all, and records written a whole line at a time
-// (io/files.hpp).
+// (core/files.hpp).
 #include <catch2/catch.hpp>
 
 #include <csignal>
@@ -16,7 +16,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
-#include "io/files.hpp"
+#include "core/files.hpp"
 
 using namespace tp;
 namespace fs = std::filesystem;

@@ -11,9 +11,9 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "io/document.hpp"
-#include "io/json.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/json.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
 
 using namespace tp;
 

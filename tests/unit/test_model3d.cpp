@@ -8,7 +8,7 @@
 #include "conductor_support.hpp"
 #include "core/error.hpp"
 #include "model/field.hpp"
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 
 using namespace tp;
 using namespace tp::test;

@@ -348,7 +348,7 @@ CATCH_TEST_CASE("the LP is scale invariant: absurd AF scales give the same ratio
 
 CATCH_TEST_CASE("optimize with absurd physical constants: an answer or an error, never abort",
                 "[opt][lp][glpk]") {
-  // The document parser refuses these (lib/model/ranges.hpp); the library must still hold.
+  // The document parser refuses these (lib/core/ranges.hpp); the library must still hold.
   for (int k = 0; k < 3; ++k) {
     Setup s;
     if (k == 0) s.conductor.resistivity_ohm_m = 1e250;

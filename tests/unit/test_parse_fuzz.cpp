@@ -17,8 +17,8 @@
 #include "core/error.hpp"
 #include "core/splitmix.hpp"
 #include "io/document.hpp"
-#include "io/json.hpp"
-#include "model/ranges.hpp"
+#include "core/json.hpp"
+#include "core/ranges.hpp"
 #include "pulse/stimulus.hpp"
 
 using namespace tp;

@@ -1,4 +1,4 @@
-// Rendering (lib/render/profile.hpp, render.hpp): a profile's currents; the plan's groups
+// Rendering (lib/psych/profile.hpp, render.hpp): a profile's currents; the plan's groups
 // (no shared pad, crosstalk within its bound on the field evaluated again), its frame (no
 // pulse ever deferred, rates never above the requested, the device's own checks pass),
 // every lit pattern delivered, the same plan for the same input.

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 #include "psych/calibration.hpp"
 #include "psych/staircase.hpp"
 

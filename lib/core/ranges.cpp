@@ -1,9 +1,9 @@
-#include "model/ranges.hpp"
+#include "core/ranges.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
+#include "core/number.hpp"
 
 namespace tp::ranges {
 

@@ -1,8 +1,8 @@
-#include "render/profile.hpp"
+#include "psych/profile.hpp"
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "render/text.hpp"
+#include "core/number.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 

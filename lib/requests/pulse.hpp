@@ -6,7 +6,7 @@
 
 #include "io/document.hpp"
 #include "pulse/stimulus.hpp"
-#include "render/profile.hpp"
+#include "psych/profile.hpp"
 
 namespace tp {
 

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "io/json.hpp"
+#include "core/json.hpp"
 
 namespace tp {
 

@@ -1,4 +1,4 @@
-#include "model/fibre.hpp"
+#include "model/fibre_factor.hpp"
 
 #include "model/constants.hpp"
 

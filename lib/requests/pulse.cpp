@@ -1,10 +1,10 @@
-#include "pulse/make.hpp"
+#include "requests/pulse.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
-#include "io/number.hpp"
-#include "model/ranges.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
 
 namespace tp {
 

@@ -1,12 +1,12 @@
-#include "render/bank.hpp"
+#include "io/bank.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
 #include "model/field.hpp"
-#include "render/profile.hpp"
-#include "render/text.hpp"
+#include "psych/profile.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 
