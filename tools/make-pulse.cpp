@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     if (!duration.empty()) r.duration_s = tp::parse_finite(duration, "--duration");
     const tp::Stimulus s = tp::make_stimulus(doc, r);
     // The amplitude against the thresholds the document carries (fiber-threshold's).
-    const auto against = tp::fibre::stimulus_against_thresholds(s);
+    const auto against = tp::stimulus_against_thresholds(s);
     // Every option is checked before anything is printed, on stderr or stdout.
     long pulses = 0;
     if (format == "csv") {

@@ -15,7 +15,7 @@
 
 #include "cli/entry.hpp"
 #include "core/error.hpp"
-#include "fibre/report.hpp"
+#include "pulse/thresholds.hpp"
 #include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/signals.hpp"
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     // make-pulse): said before anything is sent.
     std::optional<std::string> against;
     for (std::size_t p = 0; p < mix.patterns.size(); ++p) {
-      const auto one = tp::fibre::stimulus_against_thresholds(mix.patterns[p]);
+      const auto one = tp::stimulus_against_thresholds(mix.patterns[p]);
       if (one)
         against = (against ? *against + "; " : std::string()) +
                   (mix.single() ? "" : "pattern " + std::to_string(p) + ": ") + *one;

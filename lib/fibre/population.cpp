@@ -104,7 +104,7 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
   std::vector<Job> jobs;
   double work = 0;
   SplitMix64 rng{o.seed};
-  const Waveform waveform = pulse.waveform(settings.delay_ms);
+  const Waveform waveform = waveform_of(pulse, settings.delay_ms);
   for (const AfferentClass& c : classes) {
     const Receptor* base = nullptr;
     for (const Receptor& r : setup.receptors)

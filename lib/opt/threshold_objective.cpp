@@ -200,7 +200,7 @@ ThresholdOptimum optimize_threshold(const Setup& setup, std::size_t target,
   //    below 1/16 of it.
   const std::size_t m = setup.receptors.size();
   const auto conductor = make_conductor(setup.conductor, setup.array);
-  const Waveform waveform = pulse.waveform(settings.delay_ms);
+  const Waveform waveform = waveform_of(pulse, settings.delay_ms);
   ThresholdSettings fine = settings;
   fine.dt_ms = 0.005;  // as compute_thresholds()
   std::vector<LinearStandIn> stand;

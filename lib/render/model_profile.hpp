@@ -23,7 +23,7 @@ inline constexpr double kDefaultComfortFactor = 2.0;
 
 struct ModelProfileOptions {
   std::string fibre_model = "mrg";
-  fibre::PulseSpec pulse;                         // the rendered pulse
+  tp::PulseSpec pulse;                         // the rendered pulse
   double comfort_factor = kDefaultComfortFactor;  // 1.1 to 10
   double max_current_mA = 2.0;
 };

@@ -68,7 +68,7 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
   f.settings.geometry = fibre::geometry_from_string(o.geometry);
   if (!o.stimulus.empty()) {
     f.stimulus = checked_stimulus(o.stimulus, weights);
-    f.pulse = fibre::pulse_of(f.stimulus->shape);
+    f.pulse = tp::pulse_of(f.stimulus->shape);
   } else {
     if (o.width_us) f.pulse.width_us = *o.width_us;
     f.pulse.balance_width_us = o.balance_width_us ? *o.balance_width_us : f.pulse.width_us;
@@ -76,7 +76,7 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
     f.pulse.monophasic = o.monophasic;
     if (o.monophasic) f.pulse.balance_width_us = f.pulse.width_us;
   }
-  fibre::check_pulse(f.pulse);
+  tp::check_pulse(f.pulse);
   f.settings.offsets = static_cast<std::size_t>(o.offsets);
   if (o.tolerance) {
     f.settings.tolerance = *o.tolerance;

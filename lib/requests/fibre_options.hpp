@@ -34,7 +34,7 @@ struct FibreOptions {
 
 struct FibreSetup {
   std::unique_ptr<fibre::FibreModel> model;
-  fibre::PulseSpec pulse;
+  tp::PulseSpec pulse;
   fibre::ThresholdSettings settings;
   std::optional<Stimulus> stimulus;  // checked against its limits
 };

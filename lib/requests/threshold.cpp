@@ -114,8 +114,8 @@ ThresholdOutput run_receptor_thresholds(const ThresholdPlan& p) {
         mult[t.receptor] = nullptr;
     }
     doc.extra["threshold_multiples"] = mult;
-    const auto carried = fibre::carried_thresholds(doc.extra);
-    out.notes.push_back("stimulus " + fibre::threshold_multiples(*carried, amp));
+    const auto carried = tp::carried_thresholds(doc.extra);
+    out.notes.push_back("stimulus " + tp::threshold_multiples(*carried, amp));
   }
   out.document = document_to_json(doc);
   return out;
@@ -205,7 +205,7 @@ ThresholdOutput run_population(const ThresholdPlan& p, const ThresholdProgress& 
 }  // namespace
 
 std::vector<double> strength_duration_widths(std::vector<double> ws,
-                                             const fibre::PulseSpec& pulse) {
+                                             const tp::PulseSpec& pulse) {
   for (double w : ws)
     if (!(w >= 1.0 && w <= 10000.0))
       bad_input("--widths: " + number_beside(w, 1.0, 10000.0) + " us outside [1, 10000] us");
@@ -213,7 +213,7 @@ std::vector<double> strength_duration_widths(std::vector<double> ws,
   std::sort(ws.begin(), ws.end());
   ws.erase(std::unique(ws.begin(), ws.end()), ws.end());
   for (double w : ws) {  // every pulse checked before any work
-    const fibre::PulseSpec p = fibre::pulse_at_width(pulse, w);
+    const tp::PulseSpec p = fibre::pulse_at_width(pulse, w);
     if (!p.monophasic && !(p.balance_width_us >= 1.0 && p.balance_width_us <= 10000.0))
       bad_input("--widths: " + number_text(w) + " us gives a balancing phase of " +
                 number_beside(p.balance_width_us, 1.0, 10000.0) + " us, outside [1, 10000] us");

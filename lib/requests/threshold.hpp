@@ -86,6 +86,6 @@ ThresholdOutput run_thresholds(Document doc, const ThresholdRequest& r,
 // The strength-duration table's widths, checked against the pulse (bad input naming
 // --widths): each 1 to 10000 us and its balancing phase too, at most 64; sorted, each once.
 std::vector<double> strength_duration_widths(std::vector<double> widths_us,
-                                             const fibre::PulseSpec& pulse);
+                                             const tp::PulseSpec& pulse);
 
 }  // namespace tp

@@ -183,7 +183,7 @@ TEST_CASE("a population over a 2-D array", "[fibre][population][array2d]") {
       one.fixed_offset_mm = a.offset_mm;
     }
     const auto t =
-        receptor_threshold(*model, setup, *conductor, w, r, pulse.waveform(s.delay_ms), one);
+        receptor_threshold(*model, setup, *conductor, w, r, waveform_of(pulse, s.delay_ms), one);
     REQUIRE(t.threshold_mA);
     CHECK(*t.threshold_mA == *a.threshold_mA);
     ++checked;

@@ -85,11 +85,11 @@ TEST_CASE("Weiss's law: no fit from one width, one width twice, or a falling cha
 
 TEST_CASE("the strength-duration table: its pulses, widths and CSV",
           "[requests][threshold][strength-duration]") {
-  fibre::PulseSpec p;
+  tp::PulseSpec p;
   p.width_us = 100;
   p.balance_width_us = 300;
   p.interphase_us = 20;
-  const fibre::PulseSpec q = fibre::pulse_at_width(p, 50);
+  const tp::PulseSpec q = fibre::pulse_at_width(p, 50);
   CHECK(q.width_us == 50);
   CHECK(q.balance_width_us == 150);  // the balancing phase keeps its ratio, 3
   CHECK(q.interphase_us == 20);
