@@ -5,7 +5,7 @@
 
 #include "core/error.hpp"
 #include "model/field.hpp"
-#include "psych/profile.hpp"
+#include "model/primaries.hpp"
 #include "core/text.hpp"
 
 namespace tp {

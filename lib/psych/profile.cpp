@@ -6,12 +6,6 @@
 
 namespace tp {
 
-int primary_index(const std::string& name, const std::string& what) {
-  for (std::size_t i = 0; i < kPrimaries.size(); ++i)
-    if (name == kPrimaries[i]) return static_cast<int>(i);
-  bad_input(what + ": '" + name + "' is not a primary (RA, SAI or PC)");
-}
-
 const PrimaryRange& Profile::range(int p, long pad) const {
   const auto it = pixel.find(pad);
   if (it != pixel.end() && it->second[static_cast<std::size_t>(p)])

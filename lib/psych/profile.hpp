@@ -10,13 +10,9 @@
 #include <string>
 
 #include "core/json.hpp"
+#include "model/primaries.hpp"
 
 namespace tp {
-
-// The primaries, in an image's channel order: R = RA, G = SAI, B = PC.
-inline constexpr std::array<const char*, 3> kPrimaries = {"RA", "SAI", "PC"};
-// The index of a primary's name; bad input naming `what` and the known names otherwise.
-int primary_index(const std::string& name, const std::string& what);
 
 struct PrimaryRange {
   double threshold_mA = 0, comfort_mA = 0;
