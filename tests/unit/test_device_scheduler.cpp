@@ -285,7 +285,7 @@ TEST_CASE("a table's refusals: utilisation, the load across patterns, room, indi
   CHECK(last[2][0] == full / 2);
 }
 
-TEST_CASE("a table whose slip cannot be bounded is refused at start; 256 patterns in turn run",
+TEST_CASE("a table whose slip cannot be bounded is refused at start, 256 patterns in turn run",
           "[device][mix]") {
   Capabilities caps;
   caps.channels = 8;
@@ -333,7 +333,7 @@ TEST_CASE("a table whose slip cannot be bounded is refused at start; 256 pattern
   }
 }
 
-TEST_CASE("utilisation and the mean bound, each alone; the exact slip against a brute force",
+TEST_CASE("utilisation and the mean bound, each alone, the exact slip against a brute force",
           "[device][mix]") {
   Capabilities caps;
   caps.channels = 8;

@@ -121,7 +121,7 @@ TEST_CASE("a bank's window weights on the array: placed, reflected, zero elsewhe
   CHECK(weights_on_array(s.array, whole, false, false, all) == all);
 }
 
-TEST_CASE("a bank: derived patterns equal the ones solved directly; translation", "[focus]") {
+TEST_CASE("a bank: derived patterns equal the ones solved directly, translation", "[focus]") {
   const Setup s = grid_4x4();
   BankOptions b;
   b.modes = {"SAI"};
