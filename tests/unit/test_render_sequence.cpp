@@ -7,7 +7,7 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "psych/calibration.hpp"
+#include "psych/profile.hpp"
 #include "render/render.hpp"
 #include "render_support.hpp"
 
@@ -327,60 +327,6 @@ TEST_CASE("render's messages: rates once each, ranges' keys known, counts in the
   CHECK_THAT(plan_summary(one), Catch::StartsWith("1 lit pattern in 1 group, cycle"));
   CHECK_THAT(plan_summary(one), Catch::EndsWith("(200 requested; 1 group)"));
   CHECK_THAT(plan_summary(one), Catch::Contains("cycle 500 us of 1 slot,"));  // k = 10 cycles
-}
-
-TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pixel too",
-          "[render][psych]") {
-  const PixelBank& b = bank6();
-  CalibrationOptions o;
-  o.primaries = {1};  // SAI
-  o.pads = {14, 21};
-  const double thr[2] = {0.3, 0.2}, comfort[2] = {0.7, 0.5};
-  Calibration cal(b, o);
-  double top = 0;
-  while (!cal.done()) {
-    const Mix m = cal.stimulus();
-    const std::size_t k = cal.pad() == 14 ? 0 : 1;
-    const auto& w = b.entry[static_cast<std::size_t>(cal.pad())][1].weights;
-    for (std::size_t e = 0; e < w.size(); ++e)
-      REQUIRE(m.patterns[0].currents_mA[e] == Approx(cal.level_mA() * w[e]));
-    top = std::max(top, cal.level_mA());
-    cal.respond(cal.level_mA() > (cal.comfort() ? comfort[k] : thr[k]));
-  }
-  CHECK(top <= o.staircase.ceiling_mA);
-  const Profile p = cal.profile();
-  const double step = std::sqrt(o.staircase.step_factor);
-  for (std::size_t k = 0; k < 2; ++k) {
-    const PrimaryRange& r = *p.pixel.at(k == 0 ? 14 : 21)[1];
-    CHECK(std::abs(std::log(r.threshold_mA / thr[k])) <= std::log(step) + 1e-12);
-    CHECK(std::abs(std::log(r.comfort_mA / comfort[k])) <= std::log(step) + 1e-12);
-  }
-  // The primary's range: the lower middle of the pixels' (here, the lower of two).
-  CHECK(p.primary[1]->threshold_mA == p.pixel.at(21)[1]->threshold_mA);
-  CHECK_FALSE(p.primary[0].has_value());
-  CHECK(profile_from_json(profile_to_json(p), 2.0, 36).primary[1]->threshold_mA ==
-        p.primary[1]->threshold_mA);
-  // Someone who never feels anything: no threshold, a note, no range.
-  CalibrationOptions one = o;
-  one.pads = {14};
-  Calibration none(b, one);
-  while (!none.done()) none.respond(false);
-  CHECK_FALSE(none.profile().primary[1].has_value());
-  REQUIRE(none.notes().size() == 1);
-  CHECK_THAT(none.notes()[0], Catch::Contains("not felt up to the ceiling, 1 mA; no threshold"));
-  // The bank's own current limit bounds the ceiling; a trial that some limit refuses at
-  // the ceiling (the RMS current, with 1000 us phases at 2 mA) is refused before any trial.
-  PixelBank low = b;
-  low.doc.max_current_mA = 0.5;
-  CHECK_THROWS_WITH(Calibration(low, one), Catch::Contains("above the bank's current limit"));
-  CalibrationOptions wide = one;
-  wide.width_us = wide.balance_width_us = 1000;
-  wide.staircase.ceiling_mA = 2.0;
-  CHECK_THROWS_WITH(Calibration(b, wide), Catch::Contains("above the limit"));
-  // Never too strong: comfort is the ceiling.
-  Calibration numb(b, one);
-  while (!numb.done()) numb.respond(numb.comfort() ? false : numb.level_mA() > 0.3);
-  CHECK(numb.profile().primary[1]->comfort_mA == o.staircase.ceiling_mA);
 }
 
 TEST_CASE("a plan: primaries share slots where their residues allow, and never collide",
