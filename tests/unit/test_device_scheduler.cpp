@@ -1,6 +1,6 @@
 // Patterns on the device (protocol 4): the scheduler's rule checked over long randomised
-// runs of the device core, the table's refusals (across patterns too, and above the device's throughput) and live
-// amplitudes.
+// runs of the device core, the table's refusals (across patterns too, and above the
+// device's throughput) and live amplitudes.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
