@@ -3,11 +3,16 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
+#include "core/number.hpp"
 #include "opt/bank.hpp"
+#include "opt/focus.hpp"
+#include "opt_support.hpp"
 
 using namespace tp;
+using tp::test::grid_4x4;
 
 namespace {
 
@@ -114,4 +119,103 @@ TEST_CASE("a bank's window weights on the array: placed, reflected, zero elsewhe
   std::vector<double> all(20);
   for (std::size_t j = 0; j < 20; ++j) all[j] = static_cast<double>(j);
   CHECK(weights_on_array(s.array, whole, false, false, all) == all);
+}
+
+TEST_CASE("a bank: derived patterns equal the ones solved directly, translation", "[focus]") {
+  const Setup s = grid_4x4();
+  BankOptions b;
+  b.modes = {"SAI"};
+  b.threads = 2;
+  const Bank bank = optimize_bank(s, b);
+  REQUIRE(bank.patterns.size() == 16);
+  CHECK(bank.solves == 4);  // one quadrant: the others are its mirror images
+  // A derived pattern (pad 15, the mirror in x and z of pad 0) against its own solve.
+  const BankPattern& p = bank.patterns[15];
+  REQUIRE(!p.solved);
+  CHECK(p.mirror_x);
+  CHECK(p.mirror_z);
+  FocusOptions o;
+  o.x_mm = 3.0;
+  o.z_mm = 3.0;
+  const FocusResult direct = optimize_focus(s, "SAI", o);
+  for (std::size_t i = 0; i < 16; ++i)
+    CHECK(std::fabs(direct.weights[i] - p.result.weights[i]) < 1e-6);
+  CHECK(p.result.ratio == Approx(direct.ratio).epsilon(1e-6));
+  CHECK(p.result.bounds_hold);
+
+  // A neighbourhood of 3 on a 7 x 5 grid: the interior pixels share one pattern, moved by
+  // whole pitches: pad (2, 2)'s weights shifted one column are pad (3, 2)'s, exactly.
+  Setup t = s;
+  t.array = ElectrodeArray::grid_of(7, 5, 2.0, 2.0, 1.0, 1.0);
+  BankOptions n = b;
+  n.neighbourhood = 3;
+  n.at = {{-2.0, 0.0}, {0.0, 0.0}, {2.0, 0.0}};  // columns 2, 3, 4 of row 2
+  const Bank tb = optimize_bank(t, n);
+  REQUIRE(tb.patterns.size() == 3);
+  CHECK(tb.solves == 1);
+  for (const BankPattern& q : tb.patterns) REQUIRE(q.feasible);
+  for (std::size_t k = 0; k + 1 < 3; ++k) {
+    const auto& w0 = tb.patterns[k].result.weights;
+    const auto& w1 = tb.patterns[k + 1].result.weights;
+    for (int row = 0; row < 5; ++row)
+      for (int col = 0; col + 1 < 7; ++col)
+        CHECK(w1[static_cast<std::size_t>(row * 7 + col + 1)] ==
+              w0[static_cast<std::size_t>(row * 7 + col)]);
+    int used = 0;
+    for (double w : w1) used += w != 0.0;
+    CHECK(used <= 9);
+    CHECK(tb.patterns[k].result.bounds_hold);
+  }
+}
+
+TEST_CASE("a bank: a problem first met mirrored, threads, and the failures' places", "[focus]") {
+  const Setup s = grid_4x4();
+  BankOptions b;
+  b.modes = {"SAI"};
+  b.at = {{3.0, 3.0}, {-3.0, -3.0}};  // the first is solved as its mirror image
+  b.threads = 1;
+  const Bank bank = optimize_bank(s, b);
+  REQUIRE(bank.patterns.size() == 2);
+  CHECK(bank.solves == 1);
+  FocusOptions o;
+  o.x_mm = 3.0;
+  o.z_mm = 3.0;
+  const FocusResult direct = optimize_focus(s, "SAI", o);
+  const BankPattern& p = bank.patterns[0];
+  REQUIRE(p.feasible);
+  CHECK(p.solved);
+  for (std::size_t i = 0; i < 16; ++i)
+    CHECK(std::fabs(direct.weights[i] - p.result.weights[i]) < 1e-6);
+  const Peak& peak = p.result.summary.peaks[receptor_index(s, "SAI")].second;
+  CHECK(std::hypot(peak.x_mm - 3.0, peak.z_mm - 3.0) < 0.5);
+  CHECK(p.result.bounds_hold);
+
+  // The same bank on 1 and on 3 threads: the same numbers.
+  Setup g = s;
+  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
+  BankOptions all;
+  all.modes = {"SAI", "PC"};
+  all.threads = 1;
+  const Bank one = optimize_bank(g, all);
+  all.threads = 3;
+  const Bank three = optimize_bank(g, all);
+  REQUIRE(one.patterns.size() == three.patterns.size());
+  for (std::size_t i = 0; i < one.patterns.size(); ++i) {
+    CHECK(one.patterns[i].feasible == three.patterns[i].feasible);
+    CHECK(one.patterns[i].reason == three.patterns[i].reason);
+    CHECK(one.patterns[i].result.weights == three.patterns[i].result.weights);
+    CHECK(one.patterns[i].result.ratio == three.patterns[i].result.ratio);
+  }
+  // A pixel without a pattern is named by its own place, not its problem's (PC's corners
+  // have none: 4, solved once).
+  int without = 0;
+  for (const BankPattern& q : one.patterns) {
+    if (q.feasible) continue;
+    ++without;
+    const auto [x, z] = one.pixels[q.pixel];
+    const std::string at = "(" + number_text(x) + ", " + number_text(z) + ") mm";
+    INFO(q.reason);
+    CHECK(q.reason.find(at) != std::string::npos);
+  }
+  CHECK(without == 4);
 }

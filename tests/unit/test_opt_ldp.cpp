@@ -144,3 +144,51 @@ TEST_CASE("least norm on a plane: an empty set keeps the start, said so", "[opt]
   CHECK_FALSE(r.found);
   CHECK(r.z == start);
 }
+
+TEST_CASE("least distance: the projection onto a half-space and a wedge, and infeasibility",
+          "[focus][ldp]") {
+  // min |x| subject to a . x >= b (b > 0): x = a b / |a|^2.
+  Eigen::MatrixXd g(1, 3);
+  g << 1.0, 2.0, -2.0;
+  Eigen::VectorXd h(1);
+  h << 3.0;
+  const auto x = least_distance(g, h);
+  REQUIRE(x);
+  CHECK((*x - g.row(0).transpose() * (3.0 / 9.0)).norm() < 1e-14);
+  // A wedge x1 >= 1, x2 >= 2 (and a slack constraint x1 + x2 >= -5): (1, 2).
+  Eigen::MatrixXd w(3, 2);
+  w << 1, 0, 0, 1, 1, 1;
+  Eigen::VectorXd hw(3);
+  hw << 1, 2, -5;
+  const auto y = least_distance(w, hw);
+  REQUIRE(y);
+  CHECK(std::fabs((*y)(0) - 1.0) < 1e-13);
+  CHECK(std::fabs((*y)(1) - 2.0) < 1e-13);
+  // x >= 1 and -x >= 0 cannot both hold.
+  Eigen::MatrixXd c(2, 1);
+  c << 1, -1;
+  Eigen::VectorXd hc(2);
+  hc << 1, 0;
+  CHECK_FALSE(least_distance(c, hc));
+  // Against a brute-force search over every active set of a random 4 x 3 problem.
+  Eigen::MatrixXd e(4, 3);
+  e << 0.3, -1.2, 0.5, 1.1, 0.2, -0.7, -0.4, 0.9, 1.3, 0.8, 0.1, 0.2;
+  Eigen::VectorXd f(4);
+  f << 1.0, -0.5, 0.7, 0.2;
+  const Eigen::VectorXd u = nnls(e, f);
+  double best = INFINITY;
+  for (int mask = 0; mask < 8; ++mask) {
+    std::vector<int> cols;
+    for (int j = 0; j < 3; ++j)
+      if (mask & (1 << j)) cols.push_back(j);
+    Eigen::MatrixXd ep(4, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      ep.col(static_cast<Eigen::Index>(k)) = e.col(cols[k]);
+    Eigen::VectorXd s =
+        cols.empty() ? Eigen::VectorXd() : Eigen::VectorXd(ep.colPivHouseholderQr().solve(f));
+    if ((s.array() < 0).any()) continue;
+    best = std::min(best, (ep * s - f).norm());
+  }
+  CHECK((u.array() >= 0).all());
+  CHECK((e * u - f).norm() == Approx(best).epsilon(1e-12));
+}

@@ -48,7 +48,7 @@ TEST_CASE("Weiss's law: the fit recovers a rheobase and chronaxie exactly",
   CHECK(fit->chronaxie_us == Approx(tc).epsilon(1e-12));
 }
 
-TEST_CASE("Weiss's law: two points give the line through them; the least squares otherwise",
+TEST_CASE("Weiss's law: two points give the line through them, the least squares otherwise",
           "[requests][threshold][weiss]") {
   // Two widths: the slope and intercept of the charges' chord.
   const std::vector<double> t{100, 400}, i{1.0, 0.4};

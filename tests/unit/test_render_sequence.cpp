@@ -1,4 +1,4 @@
-// Rendering (lib/psych/profile.hpp, render.hpp): a profile's currents; the plan's groups
+// Rendering (lib/render/render.hpp): the plan's groups
 // (no shared pad, crosstalk within its bound on the field evaluated again), its frame (no
 // pulse ever deferred, rates never above the requested, the device's own checks pass),
 // every lit pattern delivered, the same plan for the same input.
@@ -7,54 +7,12 @@
 #include <set>
 
 #include "core/error.hpp"
-#include "psych/calibration.hpp"
+#include "psych/profile.hpp"
 #include "render/render.hpp"
 #include "render_support.hpp"
 
 using namespace tp;
 using namespace tp::render_test;
-
-TEST_CASE("a profile: its currents, and every range outside its bounds refused", "[render]") {
-  const Profile p = profile_from_json(profile_json(), 2.0, 64);
-  CHECK(p.current_mA(1, 0, 0.0) == 0.0);
-  CHECK(p.current_mA(1, 0, 1.0) == Approx(0.9));
-  CHECK(p.current_mA(1, 0, 0.5) == Approx(0.6));
-  CHECK(p.current_mA(0, 7, 1.0 / 255) == Approx(0.4 + 0.6 / 255));
-  Json j = profile_json();
-  j["pixels"] = Json::array({{{"pad", 3}, {"SAI", {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}}}}});
-  const Profile q = profile_from_json(j, 2.0, 64);
-  CHECK(q.current_mA(1, 3, 1.0) == Approx(0.2));
-  CHECK(q.current_mA(1, 4, 1.0) == Approx(0.9));
-  CHECK(q.current_mA(0, 3, 1.0) == Approx(1.0));  // its other primaries: the profile's
-  CHECK(profile_to_json(q) == j);
-  auto refused = [](const Json& bad, const std::string& says) {
-    try {
-      profile_from_json(bad, 2.0, 64);
-      FAIL("accepted: " << bad.dump());
-    } catch (const Error& e) {
-      CHECK(e.code() == ExitCode::bad_input);
-      CHECK_THAT(e.what(), Catch::Contains(says));
-    }
-  };
-  refused(profile_json(0.5, 0.4), "below its threshold");
-  refused(profile_json(0.3, 2.5), "above the current limit");
-  refused(profile_json(0.0, 0.4), "outside [0.001, 2] mA");
-  refused(profile_json(0.0005, 0.4), "outside [0.001, 2] mA");
-  Json f = profile_json();
-  f["format"] = "tactile-primaries/profile/2";
-  refused(f, "format");
-  Json far = profile_json();
-  far["pixels"] =
-      Json::array({{{"pad", 64}, {"SAI", {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}}}}});
-  refused(far, "not one of the array's 64 pads");
-  Json odd = profile_json();
-  odd["primaries"]["XY"] = {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}};
-  refused(odd, "not a primary");
-  Json partial = profile_json();
-  partial["primaries"].erase("PC");
-  const Profile r = profile_from_json(partial, 2.0, 64);
-  CHECK_THROWS_AS(r.current_mA(2, 0, 1.0), Error);
-}
 
 TEST_CASE("a plan: groups share no pad, keep their crosstalk bound, and never collide",
           "[render]") {
@@ -327,60 +285,6 @@ TEST_CASE("render's messages: rates once each, ranges' keys known, counts in the
   CHECK_THAT(plan_summary(one), Catch::StartsWith("1 lit pattern in 1 group, cycle"));
   CHECK_THAT(plan_summary(one), Catch::EndsWith("(200 requested; 1 group)"));
   CHECK_THAT(plan_summary(one), Catch::Contains("cycle 500 us of 1 slot,"));  // k = 10 cycles
-}
-
-TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pixel too",
-          "[render][psych]") {
-  const PixelBank& b = bank6();
-  CalibrationOptions o;
-  o.primaries = {1};  // SAI
-  o.pads = {14, 21};
-  const double thr[2] = {0.3, 0.2}, comfort[2] = {0.7, 0.5};
-  Calibration cal(b, o);
-  double top = 0;
-  while (!cal.done()) {
-    const Mix m = cal.stimulus();
-    const std::size_t k = cal.pad() == 14 ? 0 : 1;
-    const auto& w = b.entry[static_cast<std::size_t>(cal.pad())][1].weights;
-    for (std::size_t e = 0; e < w.size(); ++e)
-      REQUIRE(m.patterns[0].currents_mA[e] == Approx(cal.level_mA() * w[e]));
-    top = std::max(top, cal.level_mA());
-    cal.respond(cal.level_mA() > (cal.comfort() ? comfort[k] : thr[k]));
-  }
-  CHECK(top <= o.staircase.ceiling_mA);
-  const Profile p = cal.profile();
-  const double step = std::sqrt(o.staircase.step_factor);
-  for (std::size_t k = 0; k < 2; ++k) {
-    const PrimaryRange& r = *p.pixel.at(k == 0 ? 14 : 21)[1];
-    CHECK(std::abs(std::log(r.threshold_mA / thr[k])) <= std::log(step) + 1e-12);
-    CHECK(std::abs(std::log(r.comfort_mA / comfort[k])) <= std::log(step) + 1e-12);
-  }
-  // The primary's range: the lower middle of the pixels' (here, the lower of two).
-  CHECK(p.primary[1]->threshold_mA == p.pixel.at(21)[1]->threshold_mA);
-  CHECK_FALSE(p.primary[0].has_value());
-  CHECK(profile_from_json(profile_to_json(p), 2.0, 36).primary[1]->threshold_mA ==
-        p.primary[1]->threshold_mA);
-  // Someone who never feels anything: no threshold, a note, no range.
-  CalibrationOptions one = o;
-  one.pads = {14};
-  Calibration none(b, one);
-  while (!none.done()) none.respond(false);
-  CHECK_FALSE(none.profile().primary[1].has_value());
-  REQUIRE(none.notes().size() == 1);
-  CHECK_THAT(none.notes()[0], Catch::Contains("not felt up to the ceiling, 1 mA; no threshold"));
-  // The bank's own current limit bounds the ceiling; a trial that some limit refuses at
-  // the ceiling (the RMS current, with 1000 us phases at 2 mA) is refused before any trial.
-  PixelBank low = b;
-  low.doc.max_current_mA = 0.5;
-  CHECK_THROWS_WITH(Calibration(low, one), Catch::Contains("above the bank's current limit"));
-  CalibrationOptions wide = one;
-  wide.width_us = wide.balance_width_us = 1000;
-  wide.staircase.ceiling_mA = 2.0;
-  CHECK_THROWS_WITH(Calibration(b, wide), Catch::Contains("above the limit"));
-  // Never too strong: comfort is the ceiling.
-  Calibration numb(b, one);
-  while (!numb.done()) numb.respond(numb.comfort() ? false : numb.level_mA() > 0.3);
-  CHECK(numb.profile().primary[1]->comfort_mA == o.staircase.ceiling_mA);
 }
 
 TEST_CASE("a plan: primaries share slots where their residues allow, and never collide",

@@ -1,182 +1,22 @@
-// The calibration's adaptive procedure (lib/psych/staircase.hpp) against simulated
-// observers: a deterministic one (its threshold found within the final step), stochastic
-// ones (the staircase's mean estimate on the point Levitt's rule converges on), and the
-// safety rules (never above the ceiling, no step up larger than the bound).
+// psych::Calibration (lib/psych/calibration.hpp): its options' refusals, its trials' order
+// and stimuli, a deterministic observer's threshold and comfort found within the
+// staircase's step, what ended each staircase that found nothing, the session's length,
+// stages and summary, and its log.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <random>
+#include <functional>
+#include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/number.hpp"
 #include "psych/calibration.hpp"
-#include "psych/staircase.hpp"
+#include "render_support.hpp"
 
 using namespace tp;
-
-namespace {
-
-// Runs a staircase to its end against an observer answer(level).
-template <class Observer>
-Staircase run(const StaircaseOptions& o, Observer&& answer) {
-  Staircase s(o);
-  while (!s.done()) s.respond(answer(s.level_mA()));
-  return s;
-}
-
-void check_safety(const Staircase& s, const StaircaseOptions& o) {
-  const auto& t = s.trials();
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    REQUIRE(t[k].level_mA <= o.ceiling_mA);
-    // No step up beyond the configured steps (themselves within max_step_up), and no
-    // level below the floor.
-    const double step = std::max(o.ascend_factor, o.step_factor);
-    REQUIRE(step <= o.max_step_up);
-    if (k > 0) REQUIRE(t[k].level_mA <= t[k - 1].level_mA * step * (1 + 1e-12));
-    REQUIRE(t[k].level_mA >= kMinLevel_mA);
-  }
-}
-
-}  // namespace
-
-TEST_CASE("a deterministic observer's threshold is found within the final step",
-          "[psych][staircase]") {
-  StaircaseOptions o;
-  o.ceiling_mA = 1.5;
-  for (double hidden : {0.11, 0.37, 0.9, 1.3}) {
-    const Staircase s = run(o, [&](double level) { return level > hidden; });
-    INFO("hidden threshold " << hidden);
-    REQUIRE(s.found());
-    check_safety(s, o);
-    const double final_step = std::sqrt(o.step_factor);
-    CHECK(s.estimate_mA() >= hidden / final_step);
-    CHECK(s.estimate_mA() <= hidden * final_step);
-    CHECK(s.trials().front().ascending);
-    CHECK(s.trials().size() < 60u);
-  }
-}
-
-TEST_CASE("the mean estimate lies on the point the n-down-1-up rule converges on",
-          "[psych][staircase]") {
-  // A logistic psychometric function in log level: P(yes) = 1 / (1 + exp(-(ln L - ln T) /
-  // s)).  n-down-1-up converges where P^n = 1/2 (Levitt 1971): P = 0.5, 0.707, 0.794.
-  const double T = 0.4, slope = 0.08;
-  for (int down : {1, 2, 3}) {
-    StaircaseOptions o;
-    o.down = down;
-    o.reversals = 14;
-    o.max_trials = 300;
-    const double p = std::pow(0.5, 1.0 / down);
-    const double target = T * std::exp(slope * std::log(p / (1 - p)));
-    std::mt19937_64 rng(40 + down);
-    std::uniform_real_distribution<double> u(0, 1);
-    double log_sum = 0;
-    int found = 0;
-    for (int run_k = 0; run_k < 2000; ++run_k) {
-      const Staircase s = run(o, [&](double level) {
-        return u(rng) < 1 / (1 + std::exp(-(std::log(level) - std::log(T)) / slope));
-      });
-      if (!s.found()) continue;
-      check_safety(s, o);
-      log_sum += std::log(s.estimate_mA());
-      ++found;
-    }
-    INFO(down << "-down-1-up: target " << target << " mA");
-    REQUIRE(found > 1900);
-    CHECK(std::exp(log_sum / found) ==
-          Approx(target).epsilon(0.015));  // 2- and 3-down: 3.8 % apart
-  }
-}
-
-TEST_CASE("nothing felt up to the ceiling: not found, and the ceiling never passed",
-          "[psych][staircase]") {
-  StaircaseOptions o;
-  o.start_mA = 0.1;
-  o.ceiling_mA = 0.6;
-  const Staircase s = run(o, [](double) { return false; });
-  CHECK_FALSE(s.found());
-  check_safety(s, o);
-  CHECK(s.trials().back().level_mA == o.ceiling_mA);
-  // 0.1 x 1.25^k while below 0.6 (nine levels, to 0.596), then 0.6 itself
-  CHECK(s.trials().size() == 10u);
-  // Felt only at the ceiling: the staircase runs there, never above.
-  const Staircase t = run(o, [&](double level) { return level >= o.ceiling_mA; });
-  check_safety(t, o);
-  CHECK(t.found());
-  CHECK(t.estimate_mA() <= o.ceiling_mA);
-}
-
-TEST_CASE("staircase options outside their ranges are bad input", "[psych][staircase]") {
-  auto refused = [](auto change, const char* says) {
-    StaircaseOptions o;
-    change(o);
-    try {
-      Staircase s(o);
-      FAIL("accepted");
-    } catch (const Error& e) {
-      CHECK(e.code() == ExitCode::bad_input);
-      CHECK_THAT(e.what(), Catch::Matchers::StartsWith(says));
-    }
-  };
-  refused([](StaircaseOptions& o) { o.ceiling_mA = 2.5; }, "ceiling 2.5 outside (0, 2]");
-  refused([](StaircaseOptions& o) { o.start_mA = 1.2; }, "start level 1.2 outside [0.001, 1]");
-  refused([](StaircaseOptions& o) { o.start_mA = 4.9e-324; }, "start level ");
-  refused([](StaircaseOptions& o) { o.ascend_factor = 1.6; }, "ascending step 1.6 outside");
-  refused([](StaircaseOptions& o) { o.step_factor = 1.0; }, "staircase step 1 outside");
-  refused([](StaircaseOptions& o) { o.max_step_up = 3; }, "largest step up 3 outside");
-  refused([](StaircaseOptions& o) { o.down = 4; }, "down count 4 outside [1, 3]");
-  refused([](StaircaseOptions& o) { o.reversals = 2; }, "reversals 2 outside [4, 30]");
-  refused([](StaircaseOptions& o) { o.start_mA = std::nan(""); }, "start level ");
-}
-
-TEST_CASE("a run never dwells at the ceiling, nor goes under the floor", "[psych][staircase]") {
-  StaircaseOptions o;
-  // One "yes" (a false alarm, or a comfort limit above the ceiling), then only "no": the
-  // staircase climbs to the ceiling and ends there after kNoAtCeiling answers, not found.
-  int calls = 0;
-  const Staircase s = run(o, [&](double) { return calls++ == 0; });
-  CHECK_FALSE(s.found());
-  check_safety(s, o);
-  int at_ceiling = 0;
-  for (const auto& t : s.trials()) at_ceiling += t.level_mA >= o.ceiling_mA;
-  CHECK(at_ceiling == kNoAtCeiling);
-  CHECK(s.trials().size() < 30u);
-  CHECK(s.end() == StaircaseEnd::no_at_ceiling);
-  // Always "yes": the levels go down to the floor and stop there; kYesAtFloor answers
-  // there end the run, not found (before: it dwelt there to its trial limit).
-  const Staircase low = run(o, [](double) { return true; });
-  check_safety(low, o);
-  CHECK_FALSE(low.found());
-  CHECK(low.end() == StaircaseEnd::yes_at_floor);
-  int at_floor = 0;
-  for (const auto& t : low.trials()) at_floor += t.level_mA <= kMinLevel_mA;
-  CHECK(at_floor == kYesAtFloor);
-  CHECK(static_cast<int>(low.trials().size()) < o.max_trials);
-  // From the floor itself: the first three answers.
-  o.start_mA = kMinLevel_mA;
-  const Staircase floor = run(o, [](double) { return true; });
-  CHECK(floor.end() == StaircaseEnd::yes_at_floor);
-  CHECK(floor.trials().size() == static_cast<std::size_t>(kYesAtFloor));
-}
-
-TEST_CASE("each way a run ends is told apart", "[psych][staircase]") {
-  StaircaseOptions o;
-  CHECK(Staircase(o).end() == StaircaseEnd::running);
-  CHECK(run(o, [](double l) { return l > 0.3; }).end() == StaircaseEnd::reversals);
-  CHECK(run(o, [](double) { return false; }).end() == StaircaseEnd::ceiling);
-  // Alternating answers, more reversals asked than the trials allow: out of trials, with
-  // the reversals it made.
-  o.reversals = 30;
-  o.max_trials = 20;
-  int k = 0;
-  const Staircase t = run(o, [&](double) { return (k++ / 2) % 2 == 0; });
-  CHECK(t.end() == StaircaseEnd::trials);
-  CHECK_FALSE(t.found());
-  CHECK(t.trials().size() == 20u);
-  CHECK(t.reversals() > 0);
-  CHECK(t.reversals() < 30);
-}
+using namespace tp::render_test;
 
 namespace {
 
@@ -359,21 +199,150 @@ TEST_CASE("calibration's log: a header and one row per trial", "[psych]") {
         "7,SAI,11,3,1,too strong,0.25,staircase,yes,1,10,0.2499");
 }
 
-TEST_CASE("the largest steps allowed: every run within them, against random observers",
-          "[psych][staircase]") {
-  StaircaseOptions o;
-  o.ascend_factor = o.step_factor = o.max_step_up = 2;
-  o.ceiling_mA = 2;
-  o.start_mA = 0.01;
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> u(0, 1);
-  int found = 0;
-  for (int k = 0; k < 5000; ++k) {
-    const double threshold = 0.01 + u(rng) * 2;
-    const Staircase s =
-        run(o, [&](double level) { return u(rng) < (level > threshold ? 0.9 : 0.1); });
-    check_safety(s, o);
-    found += s.found();
+TEST_CASE("calibration: a deterministic observer's threshold and comfort, per pixel too",
+          "[render][psych]") {
+  const PixelBank& b = bank6();
+  CalibrationOptions o;
+  o.primaries = {1};  // SAI
+  o.pads = {14, 21};
+  const double thr[2] = {0.3, 0.2}, comfort[2] = {0.7, 0.5};
+  Calibration cal(b, o);
+  double top = 0;
+  while (!cal.done()) {
+    const Mix m = cal.stimulus();
+    const std::size_t k = cal.pad() == 14 ? 0 : 1;
+    const auto& w = b.entry[static_cast<std::size_t>(cal.pad())][1].weights;
+    for (std::size_t e = 0; e < w.size(); ++e)
+      REQUIRE(m.patterns[0].currents_mA[e] == Approx(cal.level_mA() * w[e]));
+    top = std::max(top, cal.level_mA());
+    cal.respond(cal.level_mA() > (cal.comfort() ? comfort[k] : thr[k]));
   }
-  CHECK(found > 2000);
+  CHECK(top <= o.staircase.ceiling_mA);
+  const Profile p = cal.profile();
+  const double step = std::sqrt(o.staircase.step_factor);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const PrimaryRange& r = *p.pixel.at(k == 0 ? 14 : 21)[1];
+    CHECK(std::abs(std::log(r.threshold_mA / thr[k])) <= std::log(step) + 1e-12);
+    CHECK(std::abs(std::log(r.comfort_mA / comfort[k])) <= std::log(step) + 1e-12);
+  }
+  // The primary's range: the lower middle of the pixels' (here, the lower of two).
+  CHECK(p.primary[1]->threshold_mA == p.pixel.at(21)[1]->threshold_mA);
+  CHECK_FALSE(p.primary[0].has_value());
+  CHECK(profile_from_json(profile_to_json(p), 2.0, 36).primary[1]->threshold_mA ==
+        p.primary[1]->threshold_mA);
+  // Someone who never feels anything: no threshold, a note, no range.
+  CalibrationOptions one = o;
+  one.pads = {14};
+  Calibration none(b, one);
+  while (!none.done()) none.respond(false);
+  CHECK_FALSE(none.profile().primary[1].has_value());
+  REQUIRE(none.notes().size() == 1);
+  CHECK_THAT(none.notes()[0], Catch::Contains("not felt up to the ceiling, 1 mA; no threshold"));
+  // The bank's own current limit bounds the ceiling; a trial that some limit refuses at
+  // the ceiling (the RMS current, with 1000 us phases at 2 mA) is refused before any trial.
+  PixelBank low = b;
+  low.doc.max_current_mA = 0.5;
+  CHECK_THROWS_WITH(Calibration(low, one), Catch::Contains("above the bank's current limit"));
+  CalibrationOptions wide = one;
+  wide.width_us = wide.balance_width_us = 1000;
+  wide.staircase.ceiling_mA = 2.0;
+  CHECK_THROWS_WITH(Calibration(b, wide), Catch::Contains("above the limit"));
+  // Never too strong: comfort is the ceiling.
+  Calibration numb(b, one);
+  while (!numb.done()) numb.respond(numb.comfort() ? false : numb.level_mA() > 0.3);
+  CHECK(numb.profile().primary[1]->comfort_mA == o.staircase.ceiling_mA);
+}
+
+TEST_CASE("calibration options: each refusal names its option, the first out of range",
+          "[psych][calibration]") {
+  const PixelBank b = two_pads();
+  CalibrationOptions o;
+  o.pads = {0, 1};
+  CHECK_NOTHROW(check_calibration_options(o, b));
+  CalibrationOptions t = o;
+  t.trial_s = 0.01;
+  CHECK_THROWS_WITH(check_calibration_options(t, b),
+                    "--trial-duration: 0.01 s outside [0.05, 10] s");
+  CalibrationOptions none = o;
+  none.pads.clear();
+  CHECK_THROWS_WITH(check_calibration_options(none, b), "calibrate: no pixel to measure");
+  CalibrationOptions pad = o;
+  pad.pads = {0, 2};
+  CHECK_THROWS_WITH(check_calibration_options(pad, b), "--pixel: pad 2 is not one of the bank's 2");
+  CalibrationOptions prim = o;
+  prim.primaries = {1, 3};
+  CHECK_THROWS_WITH(check_calibration_options(prim, b), "--primaries: not a primary");
+  CalibrationOptions ceiling = o;
+  PixelBank low = b;
+  low.doc.max_current_mA = 0.5;
+  CHECK_THROWS_WITH(check_calibration_options(ceiling, low),
+                    "--ceiling: 1 mA is above the bank's current limit, 0.5 mA");
+  // The constructor checks them too, and the first refusal wins.
+  t.pads.clear();
+  CHECK_THROWS_WITH(Calibration(b, t), "--trial-duration: 0.01 s outside [0.05, 10] s");
+  try {
+    check_calibration_options(t, b);
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::bad_input);
+  }
+}
+
+TEST_CASE("calibration trials: pixels in the order given, each primary in turn, the same each run",
+          "[psych][calibration]") {
+  const PixelBank b = two_pads();
+  CalibrationOptions o;
+  o.pads = {1, 0};
+  o.primaries = {2, 0};
+  o.trial_s = 0.4;
+  // An observer whose answers depend on the trial only: two runs give the same trials.
+  auto observer = [](int primary, bool comfort, double level) {
+    return level > (comfort ? 0.6 : 0.1 + 0.1 * primary);
+  };
+  std::vector<std::pair<long, int>> order;
+  Calibration c(b, o);
+  while (!c.done()) {
+    const std::pair<long, int> unit{c.pad(), c.primary()};
+    if (order.empty() || order.back() != unit) order.push_back(unit);
+    // The trial's stimulus: the pixel's pattern at the level, at the primary's rate.
+    const Mix m = c.stimulus();
+    REQUIRE(m.patterns.size() == 1);
+    const Stimulus& s = m.patterns[0];
+    const auto& w =
+        b.entry[static_cast<std::size_t>(c.pad())][static_cast<std::size_t>(c.primary())].weights;
+    REQUIRE(s.currents_mA.size() == w.size());
+    for (std::size_t e = 0; e < w.size(); ++e) CHECK(s.currents_mA[e] == c.level_mA() * w[e]);
+    CHECK(s.amplitude_mA == c.level_mA());
+    CHECK(c.level_mA() <= o.staircase.ceiling_mA);
+    CHECK(s.shape.frequency_hz == o.rate_hz[static_cast<std::size_t>(c.primary())]);
+    CHECK(s.count == std::lround(o.trial_s * s.shape.frequency_hz));
+    CHECK(s.shape.width_us == o.width_us);
+    CHECK(s.shape.balance_width_us == o.balance_width_us);
+    c.respond(observer(c.primary(), c.comfort(), c.level_mA()));
+  }
+  CHECK(order == std::vector<std::pair<long, int>>{{1, 2}, {1, 0}, {0, 2}, {0, 0}});
+  const Calibration again = calibrate(b, o, observer);
+  REQUIRE(again.trials().size() == c.trials().size());
+  for (std::size_t k = 0; k < c.trials().size(); ++k) {
+    CHECK(again.trials()[k].level_mA == c.trials()[k].level_mA);
+    CHECK(again.trials()[k].yes == c.trials()[k].yes);
+    CHECK(again.trials()[k].primary == c.trials()[k].primary);
+    CHECK(again.trials()[k].pad == c.trials()[k].pad);
+    CHECK(again.trials()[k].comfort == c.trials()[k].comfort);
+  }
+  // Finished: no more trials, a response changes nothing, and every unit has its range.
+  const std::size_t n = c.trials().size();
+  c.respond(true);
+  CHECK(c.trials().size() == n);
+  const Profile p = c.profile();
+  REQUIRE(p.primary[0].has_value());
+  REQUIRE(p.primary[2].has_value());
+  CHECK_FALSE(p.primary[1].has_value());
+  CHECK(c.notes().empty());
+  const double step = std::log(std::sqrt(o.staircase.step_factor)) + 1e-12;
+  for (const long pad : {0L, 1L})
+    for (const int primary : {0, 2}) {
+      const PrimaryRange& r = *p.pixel.at(pad)[static_cast<std::size_t>(primary)];
+      CHECK(std::abs(std::log(r.threshold_mA / (0.1 + 0.1 * primary))) <= step);
+      CHECK(std::abs(std::log(r.comfort_mA / 0.6)) <= step);
+    }
 }

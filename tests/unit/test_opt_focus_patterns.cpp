@@ -1,6 +1,6 @@
-// Focal patterns (issue 21, items 3 and 4): the least-distance solver against closed forms,
-// and every pattern checked by the test's own evaluation of the field on a fine grid (the
-// peak's place, the spill bound, the ratio), and symmetric foci giving symmetric weights.
+// Focal patterns (issue 21, items 3 and 4): every pattern checked by the test's own
+// evaluation of the field on a fine grid (the peak's place, the spill bound, the ratio), and
+// symmetric foci giving symmetric weights.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -9,59 +9,11 @@
 
 #include "core/error.hpp"
 #include "model/field.hpp"
-#include "opt/bank.hpp"
 #include "opt/focus.hpp"
-#include "opt/ldp.hpp"
+#include "opt_support.hpp"
 
 using namespace tp;
-
-TEST_CASE("least distance: the projection onto a half-space and a wedge, and infeasibility",
-          "[focus][ldp]") {
-  // min |x| subject to a . x >= b (b > 0): x = a b / |a|^2.
-  Eigen::MatrixXd g(1, 3);
-  g << 1.0, 2.0, -2.0;
-  Eigen::VectorXd h(1);
-  h << 3.0;
-  const auto x = least_distance(g, h);
-  REQUIRE(x);
-  CHECK((*x - g.row(0).transpose() * (3.0 / 9.0)).norm() < 1e-14);
-  // A wedge x1 >= 1, x2 >= 2 (and a slack constraint x1 + x2 >= -5): (1, 2).
-  Eigen::MatrixXd w(3, 2);
-  w << 1, 0, 0, 1, 1, 1;
-  Eigen::VectorXd hw(3);
-  hw << 1, 2, -5;
-  const auto y = least_distance(w, hw);
-  REQUIRE(y);
-  CHECK(std::fabs((*y)(0) - 1.0) < 1e-13);
-  CHECK(std::fabs((*y)(1) - 2.0) < 1e-13);
-  // x >= 1 and -x >= 0 cannot both hold.
-  Eigen::MatrixXd c(2, 1);
-  c << 1, -1;
-  Eigen::VectorXd hc(2);
-  hc << 1, 0;
-  CHECK_FALSE(least_distance(c, hc));
-  // Against a brute-force search over every active set of a random 4 x 3 problem.
-  Eigen::MatrixXd e(4, 3);
-  e << 0.3, -1.2, 0.5, 1.1, 0.2, -0.7, -0.4, 0.9, 1.3, 0.8, 0.1, 0.2;
-  Eigen::VectorXd f(4);
-  f << 1.0, -0.5, 0.7, 0.2;
-  const Eigen::VectorXd u = nnls(e, f);
-  double best = INFINITY;
-  for (int mask = 0; mask < 8; ++mask) {
-    std::vector<int> cols;
-    for (int j = 0; j < 3; ++j)
-      if (mask & (1 << j)) cols.push_back(j);
-    Eigen::MatrixXd ep(4, static_cast<Eigen::Index>(cols.size()));
-    for (std::size_t k = 0; k < cols.size(); ++k)
-      ep.col(static_cast<Eigen::Index>(k)) = e.col(cols[k]);
-    Eigen::VectorXd s =
-        cols.empty() ? Eigen::VectorXd() : Eigen::VectorXd(ep.colPivHouseholderQr().solve(f));
-    if ((s.array() < 0).any()) continue;
-    best = std::min(best, (ep * s - f).norm());
-  }
-  CHECK((u.array() >= 0).all());
-  CHECK((e * u - f).norm() == Approx(best).epsilon(1e-12));
-}
+using tp::test::grid_4x4;
 
 namespace {
 
@@ -355,66 +307,6 @@ TEST_CASE("a grid's walls on the lattice equal every pad evaluated (one pad's wa
   }
 }
 
-namespace {
-
-// A 4 x 4 grid of 1 x 1 mm pads at 2 mm under rect3d, fibres 2 mm beyond the pads.
-Setup grid_4x4() {
-  Setup s;
-  s.array = ElectrodeArray::grid_of(4, 4, 2.0, 2.0, 1.0, 1.0);
-  s.conductor.model = "rect3d";
-  s.lateral_margin_mm = 2.0;
-  return s;
-}
-
-}  // namespace
-
-TEST_CASE("a bank: derived patterns equal the ones solved directly; translation", "[focus]") {
-  const Setup s = grid_4x4();
-  BankOptions b;
-  b.modes = {"SAI"};
-  b.threads = 2;
-  const Bank bank = optimize_bank(s, b);
-  REQUIRE(bank.patterns.size() == 16);
-  CHECK(bank.solves == 4);  // one quadrant: the others are its mirror images
-  // A derived pattern (pad 15, the mirror in x and z of pad 0) against its own solve.
-  const BankPattern& p = bank.patterns[15];
-  REQUIRE(!p.solved);
-  CHECK(p.mirror_x);
-  CHECK(p.mirror_z);
-  FocusOptions o;
-  o.x_mm = 3.0;
-  o.z_mm = 3.0;
-  const FocusResult direct = optimize_focus(s, "SAI", o);
-  for (std::size_t i = 0; i < 16; ++i)
-    CHECK(std::fabs(direct.weights[i] - p.result.weights[i]) < 1e-6);
-  CHECK(p.result.ratio == Approx(direct.ratio).epsilon(1e-6));
-  CHECK(p.result.bounds_hold);
-
-  // A neighbourhood of 3 on a 7 x 5 grid: the interior pixels share one pattern, moved by
-  // whole pitches: pad (2, 2)'s weights shifted one column are pad (3, 2)'s, exactly.
-  Setup t = s;
-  t.array = ElectrodeArray::grid_of(7, 5, 2.0, 2.0, 1.0, 1.0);
-  BankOptions n = b;
-  n.neighbourhood = 3;
-  n.at = {{-2.0, 0.0}, {0.0, 0.0}, {2.0, 0.0}};  // columns 2, 3, 4 of row 2
-  const Bank tb = optimize_bank(t, n);
-  REQUIRE(tb.patterns.size() == 3);
-  CHECK(tb.solves == 1);
-  for (const BankPattern& q : tb.patterns) REQUIRE(q.feasible);
-  for (std::size_t k = 0; k + 1 < 3; ++k) {
-    const auto& w0 = tb.patterns[k].result.weights;
-    const auto& w1 = tb.patterns[k + 1].result.weights;
-    for (int row = 0; row < 5; ++row)
-      for (int col = 0; col + 1 < 7; ++col)
-        CHECK(w1[static_cast<std::size_t>(row * 7 + col + 1)] ==
-              w0[static_cast<std::size_t>(row * 7 + col)]);
-    int used = 0;
-    for (double w : w1) used += w != 0.0;
-    CHECK(used <= 9);
-    CHECK(tb.patterns[k].result.bounds_hold);
-  }
-}
-
 TEST_CASE("a pixel certified: the best over every place its peak may take", "[focus]") {
   // The LP at every target sample within a quarter pitch of the focus: the focus itself is
   // one of them, so the certified optimum is at most the sampled one.
@@ -433,58 +325,6 @@ TEST_CASE("a pixel certified: the best over every place its peak may take", "[fo
     CHECK(std::hypot(r.certified_at.x_mm - o.x_mm, r.certified_at.z_mm - o.z_mm) <=
           r.pitch_mm / 4 + 1e-9);
   }
-}
-
-TEST_CASE("a bank: a problem first met mirrored, threads, and the failures' places", "[focus]") {
-  const Setup s = grid_4x4();
-  BankOptions b;
-  b.modes = {"SAI"};
-  b.at = {{3.0, 3.0}, {-3.0, -3.0}};  // the first is solved as its mirror image
-  b.threads = 1;
-  const Bank bank = optimize_bank(s, b);
-  REQUIRE(bank.patterns.size() == 2);
-  CHECK(bank.solves == 1);
-  FocusOptions o;
-  o.x_mm = 3.0;
-  o.z_mm = 3.0;
-  const FocusResult direct = optimize_focus(s, "SAI", o);
-  const BankPattern& p = bank.patterns[0];
-  REQUIRE(p.feasible);
-  CHECK(p.solved);
-  for (std::size_t i = 0; i < 16; ++i)
-    CHECK(std::fabs(direct.weights[i] - p.result.weights[i]) < 1e-6);
-  const Peak& peak = p.result.summary.peaks[receptor_index(s, "SAI")].second;
-  CHECK(std::hypot(peak.x_mm - 3.0, peak.z_mm - 3.0) < 0.5);
-  CHECK(p.result.bounds_hold);
-
-  // The same bank on 1 and on 3 threads: the same numbers.
-  Setup g = s;
-  g.array = ElectrodeArray::grid_of(3, 3, 2.0, 2.0, 1.0, 1.0);
-  BankOptions all;
-  all.modes = {"SAI", "PC"};
-  all.threads = 1;
-  const Bank one = optimize_bank(g, all);
-  all.threads = 3;
-  const Bank three = optimize_bank(g, all);
-  REQUIRE(one.patterns.size() == three.patterns.size());
-  for (std::size_t i = 0; i < one.patterns.size(); ++i) {
-    CHECK(one.patterns[i].feasible == three.patterns[i].feasible);
-    CHECK(one.patterns[i].reason == three.patterns[i].reason);
-    CHECK(one.patterns[i].result.weights == three.patterns[i].result.weights);
-    CHECK(one.patterns[i].result.ratio == three.patterns[i].result.ratio);
-  }
-  // A pixel without a pattern is named by its own place, not its problem's (PC's corners
-  // have none: 4, solved once).
-  int without = 0;
-  for (const BankPattern& q : one.patterns) {
-    if (q.feasible) continue;
-    ++without;
-    const auto [x, z] = one.pixels[q.pixel];
-    const std::string at = "(" + number_text(x) + ", " + number_text(z) + ") mm";
-    INFO(q.reason);
-    CHECK(q.reason.find(at) != std::string::npos);
-  }
-  CHECK(without == 4);
 }
 
 TEST_CASE("a 2-D array's field with pads at zero: the pads that carry current alone", "[focus]") {

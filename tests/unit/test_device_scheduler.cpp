@@ -1,6 +1,6 @@
 // Patterns on the device (protocol 4): the scheduler's rule checked over long randomised
-// runs of the device core, the table's refusals (across patterns too), live amplitudes and
-// the scaling of codes.
+// runs of the device core, the table's refusals (across patterns too, and above the
+// device's throughput) and live amplitudes.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include "device_support.hpp"
 
 using namespace tp::device;
+namespace device = tp::device;
 
 namespace {
 
@@ -72,36 +73,6 @@ struct Seen {
 };
 
 }  // namespace
-
-TEST_CASE("scale_codes: sums stay zero, no code grows, each within one of the exact value",
-          "[device][mix]") {
-  std::mt19937 rng(7);
-  std::uniform_int_distribution<int> code(-2047, 2047), n_of(2, 64);
-  std::uniform_int_distribution<int> scale(0, kFullScale);
-  for (int it = 0; it < 20000; ++it) {
-    const int n = n_of(rng);
-    std::vector<std::int16_t> in(static_cast<std::size_t>(n));
-    int sum = 0;
-    for (int i = 0; i + 1 < n; ++i) {
-      in[static_cast<std::size_t>(i)] = static_cast<std::int16_t>(code(rng) / 2);
-      sum += in[static_cast<std::size_t>(i)];
-    }
-    in.back() = static_cast<std::int16_t>(-sum);
-    const auto s = static_cast<std::uint16_t>(it < 3 ? it * kFullScale / 2 : scale(rng));
-    std::vector<std::int16_t> out(in.size());
-    scale_codes(in.data(), in.size(), s, out.data());
-    int total = 0;
-    for (std::size_t i = 0; i < in.size(); ++i) {
-      const double exact = static_cast<double>(in[i]) * s / kFullScale;
-      REQUIRE(std::abs(out[i] - exact) < 1.0);
-      REQUIRE(std::abs(out[i]) <= std::abs(in[i]));
-      total += out[i];
-    }
-    REQUIRE(total == 0);
-    if (s == kFullScale) REQUIRE(out == in);
-    if (s == 0) REQUIRE(std::all_of(out.begin(), out.end(), [](int c) { return c == 0; }));
-  }
-}
 
 TEST_CASE(
     "the scheduler over long random runs: no overlap, gaps kept, slips within the bound, "
@@ -285,7 +256,7 @@ TEST_CASE("a table's refusals: utilisation, the load across patterns, room, indi
   CHECK(last[2][0] == full / 2);
 }
 
-TEST_CASE("a table whose slip cannot be bounded is refused at start; 256 patterns in turn run",
+TEST_CASE("a table whose slip cannot be bounded is refused at start, 256 patterns in turn run",
           "[device][mix]") {
   Capabilities caps;
   caps.channels = 8;
@@ -333,7 +304,7 @@ TEST_CASE("a table whose slip cannot be bounded is refused at start; 256 pattern
   }
 }
 
-TEST_CASE("utilisation and the mean bound, each alone; the exact slip against a brute force",
+TEST_CASE("utilisation and the mean bound, each alone, the exact slip against a brute force",
           "[device][mix]") {
   Capabilities caps;
   caps.channels = 8;
@@ -491,4 +462,40 @@ TEST_CASE("new codes are delivered as sent: an amplitude scale does not carry ov
   core.advance(5000, [&](const DeliveredPulse& p) { seen.push_back(p.codes[0]); });
   CHECK(seen == std::vector<int>{500, 800});
   CHECK(core.status().weight_updates == 3);  // two codes, one amplitude frame
+}
+
+TEST_CASE("the device refuses to start a table above its throughput", "[device]") {
+  device::Capabilities caps;
+  caps.max_pulse_rate_hz = 1500;
+  device::DeviceCore core(caps);
+  std::vector<std::uint8_t> cfg;
+  device::put_u32(cfg, 7);
+  device::put_u16(cfg, 2);
+  cfg.push_back(8);
+  device::put_u16(cfg, 100);
+  REQUIRE(device::send(core, 1, device::Msg::configure_table, cfg, 0) == device::Result::ok);
+  std::uint8_t seq = 2;
+  for (std::uint16_t i = 0; i < 2; ++i) {
+    device::PatternTiming t;
+    t.period_us = 1000;  // 1000 Hz each: 2000 a second
+    t.phase_us = 500u * i;
+    t.width_us = t.balance_width_us = 50;
+    t.max_pulses = 10;
+    std::vector<std::uint8_t> b;
+    device::put_u32(b, 7);
+    device::put_u16(b, i);
+    device::put_timing(b, t);
+    REQUIRE(device::send(core, seq++, device::Msg::set_pattern, b, 0) == device::Result::ok);
+    std::vector<std::uint8_t> c;
+    device::put_u32(c, 7);
+    device::put_u16(c, i);
+    const auto sparse = device::encode_sparse({100, -100, 0, 0, 0, 0, 0, 0});
+    c.insert(c.end(), sparse.begin(), sparse.end());
+    REQUIRE(device::send(core, seq++, device::Msg::set_codes, c, 0) == device::Result::ok);
+  }
+  std::vector<std::uint8_t> start;
+  device::put_u32(start, 7);
+  CHECK(device::send(core, seq++, device::Msg::start, start, 0) == device::Result::out_of_range);
+  CHECK(core.status().state != device::State::running);
+  CHECK(device::pulse_rate_mHz(nullptr, 0) == 0);
 }

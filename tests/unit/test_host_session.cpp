@@ -251,42 +251,6 @@ TEST_CASE("a stimulus above the device's throughput is refused before anything i
   CHECK(host::run_session(device, m, {}).pulses == 40);
 }
 
-TEST_CASE("the device refuses to start a table above its throughput", "[device]") {
-  device::Capabilities caps;
-  caps.max_pulse_rate_hz = 1500;
-  device::DeviceCore core(caps);
-  std::vector<std::uint8_t> cfg;
-  device::put_u32(cfg, 7);
-  device::put_u16(cfg, 2);
-  cfg.push_back(8);
-  device::put_u16(cfg, 100);
-  REQUIRE(device::send(core, 1, device::Msg::configure_table, cfg, 0) == device::Result::ok);
-  std::uint8_t seq = 2;
-  for (std::uint16_t i = 0; i < 2; ++i) {
-    device::PatternTiming t;
-    t.period_us = 1000;  // 1000 Hz each: 2000 a second
-    t.phase_us = 500u * i;
-    t.width_us = t.balance_width_us = 50;
-    t.max_pulses = 10;
-    std::vector<std::uint8_t> b;
-    device::put_u32(b, 7);
-    device::put_u16(b, i);
-    device::put_timing(b, t);
-    REQUIRE(device::send(core, seq++, device::Msg::set_pattern, b, 0) == device::Result::ok);
-    std::vector<std::uint8_t> c;
-    device::put_u32(c, 7);
-    device::put_u16(c, i);
-    const auto sparse = device::encode_sparse({100, -100, 0, 0, 0, 0, 0, 0});
-    c.insert(c.end(), sparse.begin(), sparse.end());
-    REQUIRE(device::send(core, seq++, device::Msg::set_codes, c, 0) == device::Result::ok);
-  }
-  std::vector<std::uint8_t> start;
-  device::put_u32(start, 7);
-  CHECK(device::send(core, seq++, device::Msg::start, start, 0) == device::Result::out_of_range);
-  CHECK(core.status().state != device::State::running);
-  CHECK(device::pulse_rate_mHz(nullptr, 0) == 0);
-}
-
 // Issue 39: the session stops through its token (a caller's StopSource or a signal's flag),
 // never a global; the output stops first, and the report says which stop it was.
 TEST_CASE("a stop asked before the start sends nothing but identify", "[host][session]") {

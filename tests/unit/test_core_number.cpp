@@ -1,4 +1,4 @@
-// Parsing and formatting: numbers, grids, the JSON document.
+// Numbers (core/number): parsing, grids, formatting and the messages of refused values.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -9,24 +9,14 @@
 #include <random>
 
 #include "core/error.hpp"
-#include "core/text.hpp"
-#include "io/document.hpp"
-#include "core/json.hpp"
 #include "core/number.hpp"
 #include "core/ranges.hpp"
+#include "error_support.hpp"
 
 using namespace tp;
 
-namespace {
-ExitCode code_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return ExitCode::ok;
-}
-}  // namespace
+using tp::test::code_of;
+using tp::test::message_of;
 
 TEST_CASE("parse_finite accepts numbers and refuses everything else", "[io][number]") {
   CHECK(parse_finite("1.5", "v") == 1.5);
@@ -94,17 +84,6 @@ TEST_CASE("format_number writes what printf(\"%.10g\") writes", "[io][number]") 
       return std::string(ref);
     }());
 }
-
-namespace {
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
 
 TEST_CASE("a refused value reads differently from the bound it breaks", "[io][number]") {
   // Issue 38: "0.80000000001 outside [0, 0.8]" printed the value as 0.8.
@@ -177,122 +156,4 @@ TEST_CASE("whole numbers are refused naming the text as given", "[io][number]") 
         "--seed: not a whole number in decimal digits '1.5'");
   CHECK(message_of([] { parse_unsigned("seven", "--seed"); }) == "--seed: not a number 'seven'");
   CHECK(message_of([] { parse_unsigned("", "--seed"); }) == "--seed: empty number");
-}
-
-TEST_CASE("user text in a message is printable: control and non-UTF-8 bytes escaped",
-          "[io][text]") {
-  using namespace std::string_literals;
-  CHECK(printable("plain text, 'quoted' (1/2) \\ kept") == "plain text, 'quoted' (1/2) \\ kept");
-  CHECK(printable("a\nb\rc\td") == "a\\nb\\rc\\td");
-  CHECK(printable("nul\0here"s) == "nul\\x00here");
-  CHECK(printable("\x1b[2J\x07\x7f") == "\\x1B[2J\\x07\\x7F");
-  // UTF-8: kept when valid (2, 3 and 4 bytes), escaped byte by byte when not.
-  CHECK(printable("\xc2\xb5m \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80") ==
-        "\xc2\xb5m \xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80");
-  CHECK(printable("\xff\xfe") == "\\xFF\\xFE");
-  CHECK(printable("\x80") == "\\x80");                             // a stray continuation byte
-  CHECK(printable("\xc3") == "\\xC3");                             // truncated at the end
-  CHECK(printable("\xc3(") == "\\xC3(");                           // truncated before ASCII
-  CHECK(printable("\xc0\xaf") == "\\xC0\\xAF");                    // overlong '/'
-  CHECK(printable("\xe0\x80\xaf") == "\\xE0\\x80\\xAF");           // overlong, 3 bytes
-  CHECK(printable("\xed\xa0\x80") == "\\xED\\xA0\\x80");           // a surrogate
-  CHECK(printable("\xf4\x90\x80\x80") == "\\xF4\\x90\\x80\\x80");  // above U+10FFFF
-  CHECK(printable("\xc2\x9b"
-                  "1m") == "\\xC2\\x9B1m");    // C1 control (CSI)
-  CHECK(printable("\xc2\xa0") == "\xc2\xa0");  // U+00A0 is not a control
-  // Escaping is idempotent (a message escaped twice reads the same), quoting adds quotes.
-  const std::string once = printable("x\x01\xff\n");
-  CHECK(printable(once) == once);
-  CHECK(quoted_text("a\x1b") == "'a\\x1B'");
-  // Every byte string gives printable ASCII and valid UTF-8 only.
-  std::mt19937_64 rng(38);
-  for (int i = 0; i < 2000; ++i) {
-    std::string bytes(static_cast<std::size_t>(rng() % 24), '\0');
-    for (char& c : bytes) c = static_cast<char>(rng() & 0xff);
-    const std::string t = printable(bytes);
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      const auto b = static_cast<unsigned char>(t[k]);
-      REQUIRE((b >= 0x20 && b != 0x7f));
-    }
-    REQUIRE(printable(t) == t);
-  }
-  // tp::Error keeps its message printable, whoever built it.
-  CHECK(message_of([] { bad_input("--model: unknown conductor model '\x1b[31m\xff'"); }) ==
-        "--model: unknown conductor model '\\x1B[31m\\xFF'");
-}
-
-TEST_CASE("documents round-trip and keep extra keys", "[io][document]") {
-  Document d;
-  d.setup.array = ElectrodeArray::uniform(4, 1.5);
-  d.weights = std::vector<double>{1, -1, 0.5, -0.5};
-  d.max_current_mA = 1.5;
-  d.extra["mode"] = "SAI";
-  d.extra["ratio"] = 0.25;
-  const Json j = document_to_json(d);
-  const Document e = document_from_json(Json::parse(j.dump()));
-  CHECK(e.setup.array.positions_mm == d.setup.array.positions_mm);
-  CHECK(*e.setup.array.pitch_mm == 1.5);
-  CHECK(*e.weights == *d.weights);
-  CHECK(e.max_current_mA == 1.5);
-  CHECK(e.extra["mode"] == "SAI");
-  CHECK(e.setup.receptors.size() == 3);
-  CHECK(document_to_json(e).dump() == j.dump());
-}
-
-TEST_CASE("malformed documents are bad input", "[io][document]") {
-  auto bad = [](const char* text) {
-    return code_of([&] { document_from_json(Json::parse(text)); });
-  };
-  CHECK(bad(R"({})") == ExitCode::bad_input);
-  CHECK(bad(R"([1,2])") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 0}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1, "bogus": 1}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1]})") ==
-        ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, "a"]})") ==
-        ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"positions_mm": [0, 0.1]}})") == ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "model": {"conductor": "x"}})") ==
-        ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "receptors": []})") ==
-        ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "format": "other"})") ==
-        ExitCode::bad_input);
-  CHECK(bad(R"({"array": {"electrodes": 2, "pitch_mm": 1}, "weights": [1, -1]})") == ExitCode::ok);
-}
-
-TEST_CASE("an object key given twice is refused, the same key in two objects is not",
-          "[io][json]") {
-  // JSON leaves a repeated key undefined and nlohmann keeps the last silently: a document
-  // or a live frame with {"currents_mA": [...], "currents_mA": [...]} is ambiguous.
-  const auto refused = [](const std::string& text) {
-    try {
-      parse_json_text(text, "test", "text");
-      return std::string();
-    } catch (const Error& e) {
-      CHECK(e.code() == ExitCode::bad_input);
-      return std::string(e.what());
-    }
-  };
-  CHECK(refused(R"({"a": 1, "a": 2})").find("key \"a\" appears twice") != std::string::npos);
-  CHECK(refused(R"({"x": {"b": [1, {"c": 1, "c": 1}]}})").find("\"c\"") != std::string::npos);
-  CHECK(refused(R"({"a": {"b": 1}, "c": {"b": 2}, "b": [{"b": 1}, {"b": 2}]})").empty());
-  // An object of kMaxJsonKeys keys parses; one more key is refused at once (ordered_json
-  // inserts in linear time, so 200,000 keys took 100 s before the cap).
-  std::string big = "{";
-  for (std::size_t i = 0; i < kMaxJsonKeys; ++i)
-    big += (i ? ",\"k" : "\"k") + std::to_string(i) + "\":0";
-  CHECK(refused(big + "}").empty());
-  CHECK(refused(big + ",\"k7\":1}").find("appears twice") == std::string::npos);
-  CHECK(refused(big + ",\"k7\":1}").find("more than 1000 keys") != std::string::npos);
-  std::string huge = "{";
-  for (int i = 0; i < 200000; ++i) huge += (i ? ",\"k" : "\"k") + std::to_string(i) + "\":0";
-  const auto t0 = std::chrono::steady_clock::now();
-  CHECK(refused(huge + "}").find("more than 1000 keys") != std::string::npos);
-  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
-  // A duplicate within the cap is still a duplicate.
-  std::string dup = "{";
-  for (int i = 0; i < 999; ++i) dup += (i ? ",\"k" : "\"k") + std::to_string(i) + "\":0";
-  CHECK(refused(dup + ",\"k998\":1}").find("appears twice") != std::string::npos);
 }
