@@ -918,12 +918,10 @@ class Stimulator {
 
 }  // namespace
 
-PYBIND11_MODULE(_core, m) {
-  m.doc() =
-      "tactile-primaries' library: documents, fields, weights, fibre thresholds, stimuli "
-      "and the stimulator (docs/python.md).";
-  m.attr("__version__") = TP_VERSION;
+namespace {
 
+// BadInput and Failure, the programs' exit 2 and exit 1, from tp::Error and JSON errors.
+void bind_errors(py::module_& m) {
   // Never destroyed: see to_python().
   static auto* bad_input_exc = new py::exception<tp::Error>(m, "BadInput", PyExc_ValueError);
   static auto* failure_exc = new py::exception<tp::Error>(m, "Failure", PyExc_RuntimeError);
@@ -941,7 +939,10 @@ PYBIND11_MODULE(_core, m) {
       (*bad_input_exc)(tp::printable(e.what()).c_str());
     }
   });
+}
 
+// Document: a design document, its JSON and its parts.
+void bind_document(py::module_& m) {
   py::class_<PyDocument>(m, "Document",
                          "A design document (tactile-primaries/1): array, model, receptors, "
                          "weights and whatever else the programs carry along.")
@@ -1011,7 +1012,10 @@ PYBIND11_MODULE(_core, m) {
         return "<tactile_primaries.Document: " + d.doc.setup.array.describe() + ", " +
                d.doc.setup.conductor.model + mode + (d.doc.weights ? ", weights" : "") + ">";
       });
+}
 
+// Stimulus: a checked stimulus or a mix.
+void bind_stimulus(py::module_& m) {
   py::class_<PyStimulus>(m, "Stimulus",
                          "A checked stimulus (make-pulse's) or a mix of patterns (mix-stimuli's).")
       .def_static("from_json", &PyStimulus::from_json, py::arg("text"))
@@ -1037,7 +1041,10 @@ PYBIND11_MODULE(_core, m) {
                                : std::to_string(s.mix.patterns.size()) + " patterns") +
                ">";
       });
+}
 
+// The programs' requests: af-field, optimize-weights, fiber-threshold, make-pulse.
+void bind_programs(py::module_& m) {
   m.def("_af_points", &af_points, py::arg("doc"), py::arg("x_mm"), py::arg("y_mm"),
         py::arg("z_mm") = py::none(), py::arg("amplitude_mA") = py::none());
   m.def("_af_grid_time_s", &af_grid_time_s, py::arg("doc"), py::arg("x0"), py::arg("x1"),
@@ -1081,7 +1088,10 @@ PYBIND11_MODULE(_core, m) {
         py::arg("duration_s") = py::none(), py::arg("count") = py::none(),
         py::arg("profile") = py::none(), py::arg("intensity") = py::none(),
         "make-pulse: a checked, charge-balanced stimulus of the document's weights.");
+}
 
+// _Stimulator: the session a Python Stimulator drives.
+void bind_stimulator(py::module_& m) {
   py::class_<Stimulator>(m, "_Stimulator")
       .def(py::init<const py::object&, int, int, std::optional<py::object>, std::string>(),
            py::arg("port") = "emu", py::arg("baud") = 115200, py::arg("emu_channels") = 8,
@@ -1095,4 +1105,19 @@ PYBIND11_MODULE(_core, m) {
       .def("stop", &Stimulator::stop)
       .def("close", &Stimulator::close)
       .def_property_readonly("running", &Stimulator::running);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() =
+      "tactile-primaries' library: documents, fields, weights, fibre thresholds, stimuli "
+      "and the stimulator (docs/python.md).";
+  m.attr("__version__") = TP_VERSION;
+
+  bind_errors(m);
+  bind_document(m);
+  bind_stimulus(m);
+  bind_programs(m);
+  bind_stimulator(m);
 }
