@@ -6,7 +6,9 @@
 //    close, and renames it over the name only when everything was written;
 //  - a record or a log written as it goes (stimctl --record, calibrate --log) is written
 //    a whole line at a time by one write(2), each checked, so a full disk is an error and a
-//    killed program leaves whole lines behind, never a line cut at a buffer's edge.
+//    killed program leaves whole lines behind, never a line cut at a buffer's edge; only
+//    the line being written when SIGKILL lands may be cut (Linux ends the write at a
+//    page's edge), and only the last.
 //
 // A place that is not a regular file (a terminal, a pipe, /dev/null, /dev/full) is written
 // in place, every write checked; it is never replaced.

@@ -20,7 +20,7 @@ namespace tp::host {
 // (code x step), positive = cathodic; net_charge_nC is the main phase's charge plus the
 // balancing phase's, in whole DAC codes.
 // Each line is written whole as the pulse is delivered (io/files.hpp: LineFile), so a
-// killed emulator or host leaves whole lines; a write that fails (a full disk) is a
+// killed emulator or host leaves whole lines (save perhaps the last); a write that fails (a full disk) is a
 // runtime failure naming the file, thrown once: the record then stays as it is, and the
 // caller stops the output.
 class PulseRecorder {

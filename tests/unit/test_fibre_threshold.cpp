@@ -106,7 +106,7 @@ double reilly_case_b(double tp_ms, bool biphasic, double d_um) {
 
 // Values: ModelDB 239006 readme.html and initA.hoc/initB10.hoc/initB5.hoc (Reilly 2016,
 // "NTC-NEUR"); table in docs/fibres.md.  Tolerance 5 % (the issue's); we are within 1 %.
-TEST_CASE("SENN matches Reilly 2016's point-electrode benchmarks", "[fibre][reilly]") {
+TEST_CASE("SENN matches Reilly 2016's point-electrode benchmarks", "[fibre][reilly][numerics]") {
   struct Case {
     int id;
     double tp_ms;
@@ -125,7 +125,7 @@ TEST_CASE("SENN matches Reilly 2016's point-electrode benchmarks", "[fibre][reil
   }
 }
 
-TEST_CASE("SENN matches Reilly 2016's uniform-field benchmarks", "[fibre][reilly]") {
+TEST_CASE("SENN matches Reilly 2016's uniform-field benchmarks", "[fibre][reilly][numerics]") {
   struct Case {
     int id;
     double tp_ms;

@@ -128,7 +128,7 @@ std::vector<Layer> fingertip_like(double sc_rho) {
 }  // namespace
 
 TEST_CASE("layered: a fingertip stack matches the point response integrated over the rectangle",
-          "[model][layered]") {
+          "[model][layered][numerics]") {
   // An independent path: LayeredHalfSpace::point (its own Hankel rule, and d2/dy2 directly
   // rather than by Laplace) integrated over the 0.5 x 10 mm rectangle by 2-D quadrature.
   for (double sc : {1500.0, 5000.0}) {

@@ -149,7 +149,7 @@ TEST_CASE("a symmetric focus gives symmetric weights (1-D and 2-D)", "[focus]") 
 }
 
 TEST_CASE("a pixel on a layered grid: symmetric, and confirmed by an independent fine grid",
-          "[focus][layered]") {
+          "[focus][layered][numerics]") {
   centre_pixel_of_3x3("layered");  // the built-in fingertip skin
 }
 

@@ -173,7 +173,7 @@ CATCH_TEST_CASE("weights sum to zero and peak at |w| = 1, and the answer is repr
   }
 }
 
-CATCH_TEST_CASE("the default starts lose nothing against all four patterns", "[opt][starts]") {
+CATCH_TEST_CASE("the default starts lose nothing against all four patterns", "[opt][starts][numerics]") {
   // The fast defaults (two pattern starts, one LP seed per mirror pair of electrodes) find
   // the same ratio as all four of the paper's patterns (docs/optimization.md).  Random
   // starts can still help now and then (16 electrodes at 0.5 mm, RA: 2.4e-4 with 4).
@@ -227,7 +227,7 @@ CATCH_TEST_CASE("physics: the PC ratio cannot fall below 1 with equal SAI and PC
   }
 }
 
-CATCH_TEST_CASE("each mode comes within 1% of the certified global optimum", "[opt][global]") {
+CATCH_TEST_CASE("each mode comes within 1% of the certified global optimum", "[opt][global][numerics]") {
   struct Case {
     int n;
     double pitch;
