@@ -21,31 +21,13 @@
 #include "core/number.hpp"
 #include "psych/calibration.hpp"
 #include "render/options.hpp"
+#include "requests/calibrate.hpp"
 
 namespace {
 
 [[noreturn]] void stopped_by_signal(int sig) {
   throw tp::Error(static_cast<tp::ExitCode>(128 + sig),
                   "stopped by " + tp::host::signal_name(sig) + "; output stopped");
-}
-
-// The pixels measured: --per-pixel, --pixel C,R, or the array's centre.
-std::vector<long> pixels(const tp::PixelBank& bank, bool per_pixel, const std::string& pixel) {
-  std::vector<long> pads;
-  if (per_pixel && !pixel.empty()) tp::bad_input("--pixel and --per-pixel: give one");
-  if (per_pixel) {
-    for (long pad = 0; pad < static_cast<long>(bank.pads()); ++pad) pads.push_back(pad);
-  } else if (!pixel.empty()) {
-    const std::vector<double> cr = tp::parse_list(pixel, "--pixel");
-    if (cr.size() != 2 || cr[0] != std::floor(cr[0]) || cr[1] != std::floor(cr[1]) || cr[0] < 0 ||
-        cr[0] >= bank.columns || cr[1] < 0 || cr[1] >= bank.rows)
-      tp::bad_input("--pixel: '" + pixel + "' is not a column,row of the " +
-                    std::to_string(bank.columns) + " x " + std::to_string(bank.rows) + " array");
-    pads.push_back(static_cast<long>(cr[1]) * bank.columns + static_cast<long>(cr[0]));
-  } else {
-    pads.push_back(static_cast<long>(bank.rows / 2) * bank.columns + bank.columns / 2);
-  }
-  return pads;
 }
 
 // One trial: its stimulus delivered while the keys are watched for a stop, then the
@@ -144,14 +126,16 @@ int main(int argc, char** argv) {
 
   return tp::cli::run(app, argc, argv, [&] {
     // Everything checked before the port is opened.
-    if (!responses.empty() && responses != "-")
-      tp::bad_input("--responses: '" + responses + "' (only - , stdin, is supported)");
-    if (port != "emu" && !record.empty())
-      tp::bad_input("--record: only with --port emu (stim-emu has its own)");
-    if (bank_path == "-" && !responses.empty())
-      tp::bad_input("--bank -: stdin carries the responses");
+    tp::CalibrateRequest r;
+    r.bank_path = bank_path;
+    r.port = port;
+    r.record_path = record;
+    r.responses = responses;
+    r.per_pixel = per_pixel;
+    r.pixel = pixel;
+    tp::check_calibrate(r);
     const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(bank_path, "bank"));
-    tp::CalibrationOptions o;
+    tp::CalibrationOptions& o = r.options;
     o.staircase.ceiling_mA = tp::parse_finite(ceiling, "--ceiling");
     o.staircase.start_mA = tp::parse_finite(start, "--start");
     o.staircase.ascend_factor = o.staircase.step_factor = tp::parse_finite(step, "--step");
@@ -163,8 +147,7 @@ int main(int argc, char** argv) {
     o.width_us = o.balance_width_us = tp::parse_finite(width, "--width");
     if (!rates.empty()) tp::parse_rates(rates, o.rate_hz);
     if (!primaries.empty()) o.primaries = tp::parse_primaries(primaries, "--primaries");
-    o.pads = pixels(bank, per_pixel, pixel);
-    tp::Calibration cal(bank, o);  // checks every option
+    tp::Calibration cal = tp::make_calibration(bank, r);  // checks every option
     tp::check_writable(log_path, "--log");  // created once the device has passed its check
 
     const volatile std::sig_atomic_t* flag = tp::host::install_stop_handlers();
@@ -190,7 +173,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "calibrate: %s\n", note.c_str());
     const tp::Profile p = cal.profile();
     bool any = false;
-    for (const auto& r : p.primary) any = any || r.has_value();
+    for (const auto& range : p.primary) any = any || range.has_value();
     if (!any) tp::failure("no primary found (said above): no profile; the log has every trial");
     std::fprintf(stderr, "calibrate: %s\n", cal.summary().c_str());
     tp::cli::write_stdout(tp::dump_json(tp::profile_to_json(p)));

@@ -15,6 +15,7 @@
 #include "core/number.hpp"
 #include "pulse/mix.hpp"
 #include "psych/profile.hpp"
+#include "requests/mix.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -48,57 +49,25 @@ int main(int argc, char** argv) {
   tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
-    if (inputs.size() > tp::device::kMaxPatterns)
-      tp::bad_input(std::to_string(inputs.size()) + " inputs, more than a device holds (" +
-                    std::to_string(tp::device::kMaxPatterns) + " patterns)");
-    int stdin_uses = 0;
-    for (const std::string& f : inputs) stdin_uses += f == "-";
-    if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
-    tp::Mix mix;
-    mix.gap_us = tp::parse_finite(gap, "--gap");
-    for (const std::string& f : inputs) {
-      const tp::Mix one = tp::mix_from_json(tp::read_json(f, "stimulus"));
-      if (!one.single()) tp::bad_input(f + ": already a mix; give its parts");
-      mix.patterns.push_back(one.patterns[0]);
-    }
-    if (intensities.empty() != profile_path.empty())
-      tp::bad_input("--intensities and --profile: give both, or neither");
+    tp::check_mix_inputs(inputs);
+    tp::MixRequest r;
+    r.gap_us = tp::parse_finite(gap, "--gap");
+    for (const std::string& f : inputs)
+      tp::add_mix_input(r, f, tp::mix_from_json(tp::read_json(f, "stimulus")));
+    const auto check_intensities = [&] {
+      tp::check_mix_intensities(r, !intensities.empty(), !profile_path.empty(),
+                                profile_path == "-");
+    };
+    check_intensities();
     if (!intensities.empty()) {
-      if (profile_path == "-" && stdin_uses > 0) tp::bad_input("--profile -: stdin is an input");
-      const std::vector<double> v = tp::parse_list(intensities, "--intensities");
-      if (v.size() != mix.patterns.size())
-        tp::bad_input("--intensities: " + std::to_string(v.size()) + " for " +
-                      std::to_string(mix.patterns.size()) + " inputs");
-      const tp::Profile p = tp::profile_from_json(tp::read_json(profile_path, "profile"),
-                                                  tp::StimulusLimits{}.max_current_mA,
-                                                  std::numeric_limits<long>::max());
-      for (std::size_t i = 0; i < v.size(); ++i) {
-        tp::Stimulus& s = mix.patterns[i];
-        const std::string what = inputs[i];
-        if (!s.carried.contains("mode") || !s.carried["mode"].is_string())
-          tp::bad_input(what + ": names no mode (make-pulse carries optimize-weights' mode)");
-        if (!(s.amplitude_mA > 0)) tp::bad_input(what + ": no amplitude_mA to rescale");
-        const double a = tp::profile_amplitude_mA(p, s.carried["mode"].get<std::string>(), v[i],
-                                                  what + ": --intensities");
-        for (double& c : s.currents_mA) c *= a / s.amplitude_mA;
-        s.amplitude_mA = a;
-      }
+      r.intensities = tp::parse_list(intensities, "--intensities");
+      check_intensities();  // one per input
+      r.profile = tp::profile_from_json(tp::read_json(profile_path, "profile"),
+                                        tp::StimulusLimits{}.max_current_mA,
+                                        std::numeric_limits<long>::max());
     }
-    if (!phases.empty()) {
-      const std::vector<double> p = tp::parse_list(phases, "--phase");
-      if (p.size() != mix.patterns.size())
-        tp::bad_input("--phase: " + std::to_string(p.size()) + " phases for " +
-                      std::to_string(mix.patterns.size()) + " patterns");
-      for (std::size_t i = 0; i < p.size(); ++i) mix.patterns[i].phase_us = p[i];
-    } else {
-      // Staggered: no two first pulses fall due together.
-      double t = 0;
-      for (tp::Stimulus& s : mix.patterns) {
-        s.phase_us = t < s.shape.period_us() ? t : 0;
-        t += s.shape.length_us() + mix.gap_us;
-      }
-    }
-    tp::check_mix(mix, tp::StimulusLimits{});
+    if (!phases.empty()) r.phases_us = tp::parse_list(phases, "--phase");
+    const tp::Mix mix = tp::run_mix(r);
     const tp::MixFigures f = tp::mix_figures(mix);
     double rms = 0, mean = 0;
     for (double v : f.rms_current_mA) rms = std::max(rms, v);

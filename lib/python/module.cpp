@@ -35,6 +35,7 @@
 
 #include "core/error.hpp"
 #include "fibre/report.hpp"
+#include "host/delivery.hpp"
 #include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/transport.hpp"
@@ -642,17 +643,22 @@ class Stimulator {
  public:
   Stimulator(const py::object& port, int baud, int emu_channels, std::optional<py::object> record,
              std::string backend)
-      : port_(path_arg(port)), baud_(baud), backend_(std::move(backend)) {
+  {
+    // stimctl's request (host/delivery), checked as stimctl checks it; CLI11's range checks
+    // of stimctl's flags, with CLI11's messages.
     if (!(baud >= 300 && baud <= 4000000))
       tp::bad_input(cli11_range_message("--baud", baud, 300, 4000000));
     if (!(emu_channels >= 1 && emu_channels <= 64))
       tp::bad_input(cli11_range_message("--emu-channels", emu_channels, 1, 64));
-    if (backend_ != "auto" && backend_ != "libserialport" && backend_ != "posix")
-      tp::bad_input("--backend: " + backend_ + " not in {auto,libserialport,posix}");
-    if (port_ != "emu" && record)
-      tp::bad_input("--record: only with --port emu (stim-emu has its own)");
-    emu_.caps.channels = static_cast<std::uint8_t>(emu_channels);
-    if (record) emu_.record_path = path_arg(*record);
+    if (backend != "auto" && backend != "libserialport" && backend != "posix")
+      tp::bad_input("--backend: " + backend + " not in {auto,libserialport,posix}");
+    req_.port = path_arg(port);
+    req_.baud = baud;
+    req_.backend = std::move(backend);
+    if (record) req_.record_path = path_arg(*record);
+    // emu_channels always has a value here: a port's own channels win.
+    if (req_.port == "emu") req_.emu_channels = emu_channels;
+    tp::host::check_delivery(req_);
   }
   ~Stimulator() {
     // Only when Python destroys it (the GIL held): stop whatever runs.
@@ -669,8 +675,7 @@ class Stimulator {
 
   // Delivers a stimulus; returns the session's report.  Blocks until it ends.
   py::dict deliver(const PyStimulus& s, std::optional<double> duration_s) {
-    tp::host::SessionOptions opt;
-    set_duration(opt, duration_s);
+    tp::host::SessionOptions opt = session_options(false, duration_s);
     tp::check_mix(s.mix, tp::StimulusLimits{});
     claim("deliver");
     std::unique_ptr<SessionRun> run;
@@ -692,9 +697,7 @@ class Stimulator {
 
   // Starts a live session: frames come from set_currents / set_amplitudes until stop().
   void start_live(const PyStimulus& s, std::optional<double> duration_s) {
-    tp::host::SessionOptions opt;
-    opt.live = true;
-    set_duration(opt, duration_s);
+    tp::host::SessionOptions opt = session_options(true, duration_s);
     tp::check_mix(s.mix, tp::StimulusLimits{});
     claim("start_live");
     try {
@@ -754,18 +757,17 @@ class Stimulator {
   }
 
  private:
-  void set_duration(tp::host::SessionOptions& opt, std::optional<double> duration_s) {
-    if (!duration_s) return;
-    if (!(*duration_s > 0 && *duration_s <= opt.limits.max_duration_s))
-      tp::bad_input(
-          "--duration: " + tp::number_beside(*duration_s, 0.0, opt.limits.max_duration_s) +
-          " s outside (0, " + tp::number_text(opt.limits.max_duration_s) + "] s");
-    opt.duration_s = *duration_s;
+  // The session's options as stimctl makes them (its --duration's check and message).
+  tp::host::SessionOptions session_options(bool live, std::optional<double> duration_s) const {
+    tp::host::DeliveryRequest r = req_;
+    r.live = live;
+    r.duration_s = duration_s;
+    return tp::host::delivery_session(r);
   }
 
   void open_locked() {
     if (transport_) return;
-    transport_ = tp::host::open_transport(port_, baud_, emu_, backend_);
+    transport_ = tp::host::open_delivery(req_);
   }
 
   // Takes the port for one operation; bad input when another holds it.
@@ -903,10 +905,7 @@ class Stimulator {
     return !r.error && r.report.end == "stimulus complete";
   }
 
-  std::string port_;
-  int baud_;
-  std::string backend_;
-  tp::host::EmulatorOptions emu_;
+  tp::host::DeliveryRequest req_;
   std::mutex m_;  // busy_, current_, transport_
   std::condition_variable idle_;
   bool busy_ = false;

@@ -1,0 +1,94 @@
+#include "host/delivery.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/number.hpp"
+#include "pulse/thresholds.hpp"
+
+namespace tp::host {
+
+void check_delivery(const DeliveryRequest& r) {
+  if (r.live && r.stimulus_path == "-")
+    bad_input("--live: give the stimulus with --stimulus FILE (stdin carries the frames)");
+  if (r.port != "emu" && !r.record_path.empty())
+    bad_input("--record: only with --port emu (stim-emu has its own)");
+  if (r.port != "emu" && r.emu_channels)
+    bad_input("--emu-channels: only with --port emu (a device reports its own channels)");
+  if (!r.latency_log.empty() && !r.live)
+    bad_input("--latency-log: only with --live (it logs live frames)");
+}
+
+SessionOptions delivery_session(const DeliveryRequest& r) {
+  SessionOptions opt;
+  opt.live = r.live;
+  opt.latency_log = r.latency_log;
+  if (r.duration_s) {
+    opt.duration_s = *r.duration_s;
+    if (!(opt.duration_s > 0 && opt.duration_s <= opt.limits.max_duration_s))
+      bad_input("--duration: " +
+                (r.duration_given.empty()
+                     ? number_beside(opt.duration_s, 0.0, opt.limits.max_duration_s)
+                     : r.duration_given) +
+                " s outside (0, " + number_text(opt.limits.max_duration_s) + "] s");
+  }
+  return opt;
+}
+
+std::unique_ptr<Transport> open_delivery(const DeliveryRequest& r) {
+  EmulatorOptions emu;
+  emu.caps.channels = static_cast<std::uint8_t>(r.emu_channels.value_or(8));
+  emu.record_path = r.record_path;
+  return open_transport(r.port, r.baud, emu, r.backend);
+}
+
+std::string serial_ports_csv() {
+  std::string out = "port,description\n";
+  for (const std::string& p : list_serial_ports()) {
+    const auto tab = p.find('\t');
+    out += p.substr(0, tab) + "," + p.substr(tab + 1) + "\n";
+  }
+  return out;
+}
+
+std::optional<std::string> thresholds_note(const Mix& mix) {
+  std::optional<std::string> against;
+  for (std::size_t p = 0; p < mix.patterns.size(); ++p) {
+    const auto one = stimulus_against_thresholds(mix.patterns[p]);
+    if (one)
+      against = (against ? *against + "; " : std::string()) +
+                (mix.single() ? "" : "pattern " + std::to_string(p) + ": ") + *one;
+  }
+  return against;
+}
+
+std::optional<std::string> preempted_note(const SessionReport& r) {
+  if (!r.preempted) return std::nullopt;
+  return r.port + " was running another session's output (its host is gone): stopped it first";
+}
+
+std::optional<std::string> not_started_note(const SessionReport& r) {
+  if (r.started) return std::nullopt;
+  return r.port + ": " + r.end + " before the output started; nothing delivered";
+}
+
+std::string session_summary(const SessionReport& r, const Mix& mix, bool live) {
+  const Stimulus& s = mix.patterns[0];
+  // What the device's receiver has lost since it started, when it lost anything
+  // (docs/protocol.md, status).
+  std::string lost;
+  if (r.rx_errors || r.line_errors || r.overruns)
+    lost = " (the device's receiver so far: " + std::to_string(r.rx_errors) +
+           " damaged frames, " + std::to_string(r.line_errors) + " bytes with line errors, " +
+           std::to_string(r.overruns) + " overruns)";
+  const std::string rate = mix.single() ? "at " + number_text(s.shape.frequency_hz) + " Hz"
+                                        : "of " + std::to_string(mix.patterns.size()) + " patterns";
+  return r.port + ": " + std::to_string(r.pulses) + " of " + number_text(r.scheduled) +
+         " pulses on " + std::to_string(s.currents_mA.size()) + " channels " + rate + ", peak " +
+         number_text(r.peak_mA) + " mA, " + number_text(std::round(r.seconds * 100) / 100) +
+         " s" + (live ? ", " + std::to_string(r.weight_frames) + " live frames" : "") + ", " +
+         std::to_string(r.retransmissions) + " retransmissions" + lost + "; " + r.end +
+         "; output stopped";
+}
+
+}  // namespace tp::host

@@ -1,0 +1,57 @@
+#pragma once
+// stimctl's request, for the program and the Python module's Stimulator alike
+// (docs/programs.md, stimctl): where a stimulus goes (a port or the emulator), how long,
+// live or not, and what is logged; the combinations checked with the program's messages;
+// the session's options, the transport, and the lines the program says at the end.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "host/session.hpp"
+#include "host/transport.hpp"
+#include "pulse/mix.hpp"
+
+namespace tp::host {
+
+struct DeliveryRequest {
+  std::string port = "emu";  // a serial port's path, or emu (the in-process emulator)
+  int baud = 115200;
+  std::string backend = "auto";  // auto, libserialport or posix
+  std::string stimulus_path = "-";  // the stimulus document, - for stdin
+  bool live = false;                // frames on stdin after starting (needs a stimulus file)
+  std::optional<double> duration_s;  // (0, the host's longest]; the text typed in duration_given
+  std::string duration_given;       // empty: the number (told apart from the bounds) instead
+  std::string record_path;           // emulator only: a JSON line per delivered pulse
+  std::optional<int> emu_channels;   // emulator only [8]
+  std::string latency_log;           // live only: "n t_ns" per frame sent
+};
+
+// The options' combinations, before anything is read: bad input naming the flag
+// (--live, --record, --emu-channels, --latency-log), in that order.
+void check_delivery(const DeliveryRequest& r);
+
+// The session's options (live, the latency log, the duration checked against the host's
+// limits: "--duration: T s outside (0, 3600] s"); no stop, frames or progress yet.
+SessionOptions delivery_session(const DeliveryRequest& r);
+
+// The port, or the emulator with its channels [8] and record.
+std::unique_ptr<Transport> open_delivery(const DeliveryRequest& r);
+
+// --list's output: CSV port,description, one row a serial port.
+std::string serial_ports_csv();
+
+// The amplitude of each pattern against the thresholds its document carries
+// (fiber-threshold's, through make-pulse), said before anything is sent; nothing when no
+// pattern carries any ("pattern P: " before each of a mix's).
+std::optional<std::string> thresholds_note(const Mix& mix);
+
+// What a session's end says, after the program's name: the device was running another
+// session's output (or nothing), the output never started (or nothing), and the summary
+// of a started one (pulses, channels, rate, peak, time, live frames, retransmissions, the
+// receiver's losses, why it ended).
+std::optional<std::string> preempted_note(const SessionReport& r);
+std::optional<std::string> not_started_note(const SessionReport& r);
+std::string session_summary(const SessionReport& r, const Mix& mix, bool live);
+
+}  // namespace tp::host
