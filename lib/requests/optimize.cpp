@@ -9,7 +9,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "core/number.hpp"
-#include "io/reports.hpp"
+#include "requests/optimize_reports.hpp"
 #include "core/ranges.hpp"
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"

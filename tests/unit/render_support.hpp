@@ -7,7 +7,7 @@
 #include <memory>
 #include <random>
 
-#include "io/reports.hpp"
+#include "requests/optimize_reports.hpp"
 #include "model/field.hpp"
 #include "opt/bank.hpp"
 #include "render/render.hpp"
