@@ -1,5 +1,5 @@
-// The device side: framing, the device core's refusals, watchdog and retransmissions,
-// and the host's quantisation.  Includes a long randomised test of the frame decoder.
+// The device core (lib/device/device_core): its refusals, the watchdog, sessions,
+// retransmissions and the counts of every end of an output.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -54,103 +54,6 @@ Result start_output(DeviceCore& core, std::uint64_t start_us, const PulseConfig&
 }
 
 }  // namespace
-
-TEST_CASE("CRC-16/CCITT-FALSE check value", "[device][frame]") {
-  const char* s = "123456789";
-  CHECK(crc16(reinterpret_cast<const std::uint8_t*>(s), 9) == 0x29B1);
-}
-
-TEST_CASE("frames round-trip through stuffing, with flags and escapes in the payload",
-          "[device][frame]") {
-  const Frame f{0x7E, 0x7D, {0x7E, 0x7D, 0x00, 0xFF, 0x7E, 0x20, 0x5E}};
-  std::vector<std::uint8_t> bytes;
-  encode_frame(f, bytes);
-  CHECK(std::count(bytes.begin(), bytes.end(), kFlag) == 2);  // only the delimiters
-  FrameDecoder d;
-  int frames = 0;
-  for (std::uint8_t b : {std::uint8_t{0x13}, std::uint8_t{0x37}}) d.push(b);  // line noise first
-  for (std::uint8_t b : bytes) frames += d.push(b);
-  REQUIRE(frames == 1);
-  CHECK(d.frame().seq == f.seq);
-  CHECK(d.frame().type == f.type);
-  CHECK(d.frame().payload.same_as(f.payload));
-}
-
-TEST_CASE("a damaged frame is dropped and the decoder resynchronises", "[device][frame]") {
-  auto a = frame_bytes(1, Msg::keepalive, {});
-  auto b = frame_bytes(2, Msg::status, {});
-  a[3] ^= 0x01;  // flip one bit of the first frame
-  FrameDecoder d;
-  std::vector<int> seqs;
-  for (auto* v : {&a, &b})
-    for (std::uint8_t x : *v)
-      if (d.push(x)) seqs.push_back(d.frame().seq);
-  CHECK(seqs == std::vector<int>{2});
-  CHECK(d.errors() >= 1);
-}
-
-TEST_CASE("randomised decoder fuzz: no crash, no damaged frame accepted", "[device][frame][fuzz]") {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::mt19937_64 rng(12345);
-  std::uniform_int_distribution<int> byte(0, 255), len(0, 40), pick(0, 99);
-  long accepted_wrong_drop = 0, drop_trials = 0, frames_checked = 0, noise_accepted = 0;
-  // TP_FUZZ_ITERATIONS sets the length (default 1,000,000: a few seconds).
-  const char* env = std::getenv("TP_FUZZ_ITERATIONS");
-  const long iterations = env ? std::atol(env) : 1000000;
-  FrameDecoder d;
-  for (long it = 0; it < iterations; ++it) {
-    d = FrameDecoder{};  // each case on its own, so that every acceptance is attributed right
-    Frame f{static_cast<std::uint8_t>(byte(rng)), static_cast<std::uint8_t>(byte(rng)), {}};
-    for (int i = len(rng); i > 0; --i) f.payload.push_back(static_cast<std::uint8_t>(byte(rng)));
-    std::vector<std::uint8_t> bytes;
-    encode_frame(f, bytes);
-    const int kind = pick(rng);
-    if (kind < 40) {  // 1 to 3 bit flips inside the frame: CRC-16 (distance 4) catches all
-      const int flips = 1 + pick(rng) % 3;
-      std::vector<std::size_t> done;
-      for (int k = 0; k < flips; ++k) {
-        std::size_t pos;
-        do pos = 1 + static_cast<std::size_t>(pick(rng) * 997) % (bytes.size() - 2);
-        while (std::find(done.begin(), done.end(), pos) != done.end());
-        done.push_back(pos);
-        bytes[pos] = static_cast<std::uint8_t>(bytes[pos] ^ (1u << (pick(rng) % 8)));
-      }
-    } else if (kind < 60) {  // a dropped byte
-      bytes.erase(bytes.begin() + 1 +
-                  static_cast<long>(static_cast<std::size_t>(pick(rng) * 31) % (bytes.size() - 2)));
-      ++drop_trials;
-    } else if (kind < 70) {  // pure noise
-      for (auto& b : bytes) b = static_cast<std::uint8_t>(byte(rng));
-    }
-    const bool intact = kind >= 70;
-    bool got = false;
-    for (std::uint8_t b : bytes) {
-      if (!d.push(b)) continue;
-      const bool same = d.frame().seq == f.seq && d.frame().type == f.type &&
-                        d.frame().payload.same_as(f.payload);
-      if (intact) {
-        CHECK(same);
-        got = true;
-      } else if (kind < 40) {
-        FAIL("a frame with 1-3 flipped bits was accepted");
-      } else if (kind < 60 && !same) {
-        ++accepted_wrong_drop;  // only by a CRC collision, ~1/65536
-      } else if (kind >= 60) {
-        ++noise_accepted;  // random bytes that happen to form a valid frame
-      }
-    }
-    if (intact) {
-      CHECK(got);
-      ++frames_checked;
-    }
-  }
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  WARN("decoder fuzz: " << iterations << " cases (" << frames_checked << " intact frames) in "
-                        << secs << " s; frames with a dropped byte accepted by CRC collision: "
-                        << accepted_wrong_drop << " of " << drop_trials
-                        << "; noise runs forming a valid frame: " << noise_accepted);
-  CHECK(accepted_wrong_drop <= drop_trials / 100000);
-}
 
 TEST_CASE("the device refuses what breaks a limit, and a refusal changes nothing",
           "[device][core]") {
@@ -538,21 +441,6 @@ TEST_CASE("the DAC step in integers equals the rounding rule in doubles", "[devi
   CHECK(dac_step_nA(2000, 17) == 0);
 }
 
-TEST_CASE("fixed buffers refuse what does not fit and remember it", "[device][frame]") {
-  FixedBytes<3> b;
-  const std::uint8_t x[4] = {1, 2, 3, 4};
-  b.append(x, 4);
-  CHECK(b.size() == 3);
-  CHECK(b.overflowed());
-  CHECK(b.same_as(std::vector<std::uint8_t>{1, 2, 3}));
-  b.clear();
-  CHECK_FALSE(b.overflowed());
-  // The longest frame fits the device's reply buffer.
-  std::vector<std::uint8_t> out;
-  encode_frame(Frame{0x7E, 0x7D, std::vector<std::uint8_t>(kMaxPayload, 0x7E)}, out);
-  CHECK(out.size() <= kMaxEncodedFrame);
-}
-
 TEST_CASE("the status carries the line's error counts", "[device][core]") {
   DeviceCore core(Capabilities{});
   core.set_line_counts(3, 70000);
@@ -599,127 +487,6 @@ TEST_CASE("balancing codes sum to zero and stay within one code of the exact cha
       CHECK(bal[0] + bal[1] + bal[2] + bal[3] == 0);
       for (int i = 0; i < 4; ++i) CHECK(std::fabs(bal[i] + double(ends[i]) * w / bw) < 1.0);
     }
-}
-
-TEST_CASE("a pulse record is the JSON line the emulator and the firmware write",
-          "[device][record]") {
-  PulseRecord r;
-  r.t_us = 1234567;
-  r.channels = 3;
-  r.main[0] = 1024;
-  r.main[1] = -512;
-  r.main[2] = -512;
-  balance_codes(CodeSpan{r.main, 3}, 200, 800, r.balance);
-  r.step_nA = 977;
-  r.width_us = 200;
-  r.balance_width_us = 800;
-  char line[kMaxRecordLine];
-  const std::string s(line, format_record(r, line));
-  CHECK(s ==
-        "{\"pattern\": 0, \"t_s\": 1.234567, \"slip_us\": 0, \"width_us\": 200, "
-        "\"interphase_us\": 0, \"balance_width_us\": 800, "
-        "\"currents_mA\": [1.000448, -0.500224, -0.500224], \"net_charge_nC\": [0, 0, 0]}\n");
-  r.t_us = 5000;
-  r.pattern = 255;
-  r.slip_us = 350;
-  CHECK(std::string(line, format_record(r, line))
-            .rfind("{\"pattern\": 255, \"t_s\": 0.005, \"slip_us\": 350, ", 0) == 0);
-  r.main[0] = 1023;
-  r.main[2] = -511;
-  balance_codes(CodeSpan{r.main, 3}, 200, 800, r.balance);  // 1023/4: a remainder
-  r.measured = true;
-  r.start_us = 1234569;
-  r.measured_width_us = 200;
-  r.measured_balance_us = 801;
-  r.dropped_before = 2;
-  const std::string m(line, format_record(r, line));
-  const auto j = nlohmann::json::parse(m);
-  CHECK(j["currents_mA"][0].get<double>() == Approx(1023 * 977e-6));
-  // 1023 x 200 - 256 x 800 = -200 code-us: -0.1954 nC, as the DAC delivers it
-  CHECK(j["net_charge_nC"][0].get<double>() == Approx(-200 * 977e-6).margin(1e-6));
-  CHECK(j["start_us"] == 1234569);
-  CHECK(j["balance_width_us"] == 801);
-  CHECK(j["dropped_before"] == 2);
-  // The widest record fits.
-  PulseRecord big;
-  big.t_us = UINT64_MAX / 2;
-  big.pattern = UINT16_MAX;
-  big.slip_us = UINT32_MAX;
-  big.channels = kMaxChannels;
-  for (auto& c : big.main) c = -32767;
-  for (auto& c : big.balance) c = -32767;
-  big.step_nA = 65535;
-  big.width_us = big.balance_width_us = 65535;
-  big.measured = true;
-  big.start_us = UINT64_MAX;
-  big.measured_width_us = big.measured_interphase_us = big.measured_balance_us = UINT32_MAX;
-  big.dropped_before = UINT32_MAX;
-  const std::size_t len = format_record(big, line);
-  CHECK(len <= kMaxRecordLine);
-  // Exactly, digit for digit, past 32 bits (the 64-bit paths of the formatter).
-  const std::string b(line, len);
-  CHECK(b.find("\"t_s\": 9223372036854.775807,") != std::string::npos);
-  CHECK(b.find("\"slip_us\": 4294967295,") != std::string::npos);
-  CHECK(b.find("\"currents_mA\": [-2147.385345, ") != std::string::npos);  // -32767 x 65535 nA
-  // -32767 x 65535 nA x 65535 us, twice: -281457797169150 fC, no trailing zero
-  CHECK(b.find("\"net_charge_nC\": [-281457797.16915, ") != std::string::npos);
-  CHECK(b.find("\"start_us\": 18446744073709551615,") != std::string::npos);
-  CHECK(b.find("\"dropped_before\": 4294967295}") != std::string::npos);
-  CHECK_NOTHROW(nlohmann::json::parse(b));
-  big.start_us = 1000000000;  // nine zeros after the leading digits
-  CHECK(std::string(line, format_record(big, line)).find("\"start_us\": 1000000000,") !=
-        std::string::npos);
-  big.start_us = 4294967296;  // 2^32
-  CHECK(std::string(line, format_record(big, line)).find("\"start_us\": 4294967296,") !=
-        std::string::npos);
-}
-
-TEST_CASE("the firmware's configuration block: defaults, a valid block, and refusals",
-          "[device][config]") {
-  constexpr std::uint32_t bits = (1u << 12) | (1u << 14) | (1u << 16);
-  std::uint8_t erased[kConfigBlockSize];
-  std::fill(std::begin(erased), std::end(erased), std::uint8_t{0xFF});
-  const DeviceConfig d = parse_config_block(erased, 8, bits);
-  CHECK(d.source == DeviceConfig::Source::defaults);
-  CHECK(d.channels == 8);
-  CHECK(d.max_current_uA == 2000);
-  // What `scripts/firmware-config --max-current 1` writes (tests/cli: the same bytes).
-  std::uint8_t block[kConfigBlockSize] = {0x54, 0x50, 0x43, 0x46, 0x01, 0x00, 0x10, 0x00,
-                                          0x08, 0x0c, 0xe8, 0x03, 0x2c, 0x01, 0x56, 0x47};
-  const DeviceConfig c = parse_config_block(block, 8, bits);
-  CHECK(c.source == DeviceConfig::Source::block);
-  CHECK(c.channels == 8);
-  CHECK(c.dac_bits == 12);
-  CHECK(c.max_current_uA == 1000);
-  CHECK(c.watchdog_ms == 300);
-  // Every single-bit error is caught, and leaves a device that delivers nothing.
-  for (std::size_t byte = 0; byte < kConfigBlockSize; ++byte)
-    for (int bit = 0; bit < 8; ++bit) {
-      std::uint8_t bad[kConfigBlockSize];
-      std::copy(std::begin(block), std::end(block), bad);
-      bad[byte] = static_cast<std::uint8_t>(bad[byte] ^ (1u << bit));
-      const DeviceConfig b = parse_config_block(bad, 8, bits);
-      REQUIRE(b.source == DeviceConfig::Source::invalid);
-      REQUIRE(b.max_current_uA == 0);
-    }
-  // A valid CRC over values the hardware cannot honour: refused the same way.
-  auto with = [&](std::size_t at, std::uint8_t v) {
-    std::uint8_t b[kConfigBlockSize];
-    std::copy(std::begin(block), std::end(block), b);
-    b[at] = v;
-    const std::uint16_t crc = crc16(b, 14);
-    b[14] = static_cast<std::uint8_t>(crc & 0xFF);
-    b[15] = static_cast<std::uint8_t>(crc >> 8);
-    return parse_config_block(b, 8, bits);
-  };
-  CHECK(with(8, 9).source == DeviceConfig::Source::invalid);   // 9 channels on an 8-channel DAC
-  CHECK(with(8, 0).source == DeviceConfig::Source::invalid);   // none
-  CHECK(with(9, 13).source == DeviceConfig::Source::invalid);  // a 13-bit DAC is not fitted
-  CHECK(with(9, 16).source == DeviceConfig::Source::block);
-  CHECK(with(11, 0x08).source == DeviceConfig::Source::invalid);  // 2.28 mA: over the bound
-  CHECK(with(13, 0x04).source == DeviceConfig::Source::invalid);  // watchdog 1068 ms
-  // A 4-channel board: its defaults have 4 channels.
-  CHECK(parse_config_block(erased, 4, bits).channels == 4);
 }
 
 TEST_CASE("every end of an output is counted, and an output fault refuses later sessions",

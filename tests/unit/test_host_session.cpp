@@ -1,4 +1,6 @@
-// Sessions deliver what was asked or fail saying so (issue 38): live frames by the rule of
+// Sessions (lib/host/session): the stop flag is honoured before every step that leads to
+// output; a device still running another session's output is stopped first; and sessions
+// deliver what was asked or fail saying so (issue 38): live frames by the rule of
 // the pattern in force, folded when they queue; a device's completion that delivered fewer
 // pulses than scheduled is a failure; a stimulus above the device's throughput is refused
 // before anything is sent, and the device refuses it again at start.
@@ -6,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <cmath>
 #include <deque>
@@ -14,13 +17,16 @@
 
 #include "core/error.hpp"
 #include "device/device_core.hpp"
+#include "device/frame.hpp"
 #include "device_support.hpp"
+#include "error_support.hpp"
 #include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/stimulator.hpp"
 #include "host/transport.hpp"
 
 using namespace tp;
+using tp::test::message_of;
 
 namespace {
 
@@ -36,15 +42,6 @@ Mix mix_of(const Stimulus& s) {
   Mix m;
   m.patterns.push_back(s);
   return m;
-}
-
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // A device core behind an in-memory link whose engine loses every `lose`-th pulse, as a
@@ -102,6 +99,41 @@ class LossyDevice final : public host::Transport {
   std::deque<std::uint8_t> rx_;
   device::FrameDecoder decoder_;
 };
+
+// The in-process emulator, with a tap on the frames the host writes: when the frame of
+// type `trip` is written, the stop flag is raised (as a signal handler would, mid-request).
+class TrippingTransport final : public host::Transport {
+ public:
+  TrippingTransport(device::Msg trip, volatile std::sig_atomic_t& flag)
+      : inner_(host::open_transport("emu", 115200, {})), trip_(trip), flag_(flag) {}
+  std::string name() const override { return "tripping emu"; }
+  void write(const std::uint8_t* data, std::size_t n) override {
+    for (std::size_t i = 0; i < n; ++i)
+      if (decoder_.push(data[i])) {
+        const auto type = static_cast<device::Msg>(decoder_.frame().type);
+        sent.push_back(type);
+        if (type == trip_) flag_ = SIGINT;
+      }
+    inner_->write(data, n);
+  }
+  std::size_t read(std::uint8_t* buf, std::size_t max, int timeout_ms) override {
+    return inner_->read(buf, max, timeout_ms);
+  }
+  std::vector<device::Msg> sent;
+
+ private:
+  std::unique_ptr<host::Transport> inner_;
+  device::Msg trip_;
+  volatile std::sig_atomic_t& flag_;
+  device::FrameDecoder decoder_;
+};
+
+Stimulus test_stimulus() {
+  Stimulus s;
+  s.currents_mA = {0, 0, -0.5, 1, -0.5, 0, 0, 0};
+  s.count = 200;
+  return s;
+}
 
 }  // namespace
 
@@ -305,4 +337,92 @@ TEST_CASE("a stop asked while the output runs stops it, and the device is told",
   REQUIRE(start != device.sent.end());
   CHECK(std::find(start, device.sent.end(), device::Msg::stop) != device.sent.end());
   CHECK(device.sent.back() == device::Msg::status);  // the final status, after the stop
+}
+
+
+TEST_CASE("a signal during identify or configuring starts nothing", "[host][session][signal]") {
+  for (device::Msg trip : {device::Msg::identify, device::Msg::status, device::Msg::configure,
+                           device::Msg::set_weights}) {
+    volatile std::sig_atomic_t flag = 0;
+    TrippingTransport t(trip, flag);
+    host::SessionOptions opt;
+    opt.stop = host::StopToken().with_signals(&flag);
+    const host::SessionReport r = host::run_session(t, test_stimulus(), opt);
+    INFO("signal raised while sending message type " << static_cast<int>(trip));
+    CHECK_FALSE(r.started);
+    CHECK(r.exit_code == 128 + SIGINT);
+    CHECK(std::find(t.sent.begin(), t.sent.end(), device::Msg::start) == t.sent.end());
+    CHECK(r.pulses == 0);
+  }
+  // Raised while start is on the line: the output starts, and is stopped at once.
+  volatile std::sig_atomic_t flag = 0;
+  TrippingTransport t(device::Msg::start, flag);
+  const auto t0 = std::chrono::steady_clock::now();
+  host::SessionOptions opt;
+  opt.stop = host::StopToken().with_signals(&flag);
+  const host::SessionReport r = host::run_session(t, test_stimulus(), opt);
+  CHECK(r.started);
+  CHECK(r.exit_code == 128 + SIGINT);
+  CHECK(t.sent.back() == device::Msg::status);  // the final status, after stop
+  CHECK(std::find(t.sent.begin(), t.sent.end(), device::Msg::stop) != t.sent.end());
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(200));
+}
+
+TEST_CASE("a device still running another session's output is stopped first", "[host][session]") {
+  // One emulator, two clients in turn: the first starts a long stimulus and vanishes
+  // without stopping it (as a killed host), the second must stop it before configuring.
+  auto link = host::open_transport("emu", 115200, {});
+  struct Borrowed final : host::Transport {
+    host::Transport& t;
+    explicit Borrowed(host::Transport& x) : t(x) {}
+    std::string name() const override { return t.name(); }
+    void write(const std::uint8_t* d, std::size_t n) override { t.write(d, n); }
+    std::size_t read(std::uint8_t* b, std::size_t m, int ms) override { return t.read(b, m, ms); }
+  } borrowed{*link};
+  host::StimulatorClient first(borrowed);
+  const auto caps = first.identify();
+  device::PulseConfig cfg;
+  cfg.max_pulses = 100000;
+  first.configure(cfg);
+  first.set_weights(host::quantize_currents(test_stimulus().currents_mA, caps, 2.0));
+  first.start();
+  REQUIRE(first.status().state == device::State::running);
+  Stimulus s = test_stimulus();
+  s.count = 10;
+  const host::SessionReport r = host::run_session(borrowed, s, {});
+  CHECK(r.preempted);
+  CHECK(r.end == "stimulus complete");
+  CHECK(r.pulses == 10);
+}
+
+TEST_CASE("a session whose output another session took over fails, never reports success",
+          "[host][session]") {
+  auto link = host::open_transport("emu", 115200, {});
+  struct Borrowed final : host::Transport {
+    host::Transport& t;
+    explicit Borrowed(host::Transport& x) : t(x) {}
+    std::string name() const override { return t.name(); }
+    void write(const std::uint8_t* d, std::size_t n) override { t.write(d, n); }
+    std::size_t read(std::uint8_t* b, std::size_t m, int ms) override { return t.read(b, m, ms); }
+  } a{*link}, b{*link};
+  host::StimulatorClient first(a), second(b);
+  const auto caps = first.identify();
+  device::PulseConfig cfg;
+  cfg.max_pulses = 100000;
+  const auto codes = host::quantize_currents(test_stimulus().currents_mA, caps, 2.0);
+  first.configure(cfg);
+  first.set_weights(codes);
+  first.start();
+  second.stop();  // a host that ignores the lock stops it and starts its own
+  second.configure(cfg);
+  second.set_weights(codes);
+  second.start();
+  try {
+    first.keepalive();
+    FAIL("the first session's keep-alive reported success");
+  } catch (const Error& e) {
+    CHECK(e.code() == ExitCode::failure);
+    CHECK(std::string(e.what()).find("another session") != std::string::npos);
+  }
+  second.stop();
 }
