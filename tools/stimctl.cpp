@@ -83,9 +83,7 @@ int main(int argc, char** argv) {
     bool progress_shown = false;
     if (tty)
       opt.progress = [&](const tp::host::SessionProgress& p) {
-        std::fprintf(stderr, "\rstimctl: %.1f of %.1f s, %u of %s pulses%s\033[K", p.seconds,
-                     p.expected_s, p.pulses, tp::number_text(p.scheduled).c_str(),
-                     r.live ? (", " + std::to_string(p.frames) + " live frames").c_str() : "");
+        std::fprintf(stderr, "\rstimctl: %s\033[K", tp::host::progress_text(p, r).c_str());
         progress_shown = true;
       };
     // Before the port is opened: from here on every terminating signal is a flag the
@@ -112,7 +110,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "stimctl: %s\n", note->c_str());
       throw tp::Error(static_cast<tp::ExitCode>(report.exit_code), "stopped: " + report.end);
     }
-    std::fprintf(stderr, "stimctl: %s\n", tp::host::session_summary(report, mix, r.live).c_str());
+    std::fprintf(stderr, "stimctl: %s\n", tp::host::session_summary(report, mix, r).c_str());
     if (report.exit_code != 0)
       throw tp::Error(static_cast<tp::ExitCode>(report.exit_code), "stopped: " + report.end);
   });

@@ -1,6 +1,7 @@
 #include "host/delivery.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.hpp"
 #include "core/number.hpp"
@@ -62,6 +63,19 @@ std::optional<std::string> thresholds_note(const Mix& mix) {
   return against;
 }
 
+std::string progress_text(const SessionProgress& p, const DeliveryRequest& req) {
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.1f", p.seconds);
+  char expected[32];
+  std::snprintf(expected, sizeof expected, "%.1f", p.expected_s);
+  const bool open_ended = req.live && !req.duration_s;
+  std::string text = seconds + (open_ended ? std::string() : std::string(" of ") + expected) +
+                     " s, " + std::to_string(p.pulses) +
+                     (open_ended ? std::string() : " of " + number_text(p.scheduled)) + " pulses";
+  if (req.live) text += ", " + std::to_string(p.frames) + " live frames";
+  return text;
+}
+
 std::optional<std::string> preempted_note(const SessionReport& r) {
   if (!r.preempted) return std::nullopt;
   return r.port + " was running another session's output (its host is gone): stopped it first";
@@ -72,7 +86,8 @@ std::optional<std::string> not_started_note(const SessionReport& r) {
   return r.port + ": " + r.end + " before the output started; nothing delivered";
 }
 
-std::string session_summary(const SessionReport& r, const Mix& mix, bool live) {
+std::string session_summary(const SessionReport& r, const Mix& mix, const DeliveryRequest& req) {
+  const bool live = req.live;
   const Stimulus& s = mix.patterns[0];
   // What the device's receiver has lost since it started, when it lost anything
   // (docs/protocol.md, status).
@@ -83,8 +98,9 @@ std::string session_summary(const SessionReport& r, const Mix& mix, bool live) {
            std::to_string(r.overruns) + " overruns)";
   const std::string rate = mix.single() ? "at " + number_text(s.shape.frequency_hz) + " Hz"
                                         : "of " + std::to_string(mix.patterns.size()) + " patterns";
-  return r.port + ": " + std::to_string(r.pulses) + " of " + number_text(r.scheduled) +
-         " pulses on " + std::to_string(s.currents_mA.size()) + " channels " + rate + ", peak " +
+  const std::string of =
+      live && !req.duration_s ? std::string() : " of " + number_text(r.scheduled);
+  return r.port + ": " + std::to_string(r.pulses) + of + " pulses on " + std::to_string(s.currents_mA.size()) + " channels " + rate + ", peak " +
          number_text(r.peak_mA) + " mA, " + number_text(std::round(r.seconds * 100) / 100) +
          " s" + (live ? ", " + std::to_string(r.weight_frames) + " live frames" : "") + ", " +
          std::to_string(r.retransmissions) + " retransmissions" + lost + "; " + r.end +

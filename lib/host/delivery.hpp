@@ -46,12 +46,18 @@ std::string serial_ports_csv();
 // pattern carries any ("pattern P: " before each of a mix's).
 std::optional<std::string> thresholds_note(const Mix& mix);
 
+// The progress line's text while the output runs: "T of E s, N of M pulses" (live: and
+// ", F live frames"); a live session without a duration runs until its input ends, so
+// "T s, N pulses, F live frames".
+std::string progress_text(const SessionProgress& p, const DeliveryRequest& req);
+
 // What a session's end says, after the program's name: the device was running another
 // session's output (or nothing), the output never started (or nothing), and the summary
 // of a started one (pulses, channels, rate, peak, time, live frames, retransmissions, the
-// receiver's losses, why it ended).
+// receiver's losses, why it ended).  A live session without a duration ran until its input
+// ended: its count is the pulses delivered alone ("N pulses", not "N of" the budget's).
 std::optional<std::string> preempted_note(const SessionReport& r);
 std::optional<std::string> not_started_note(const SessionReport& r);
-std::string session_summary(const SessionReport& r, const Mix& mix, bool live);
+std::string session_summary(const SessionReport& r, const Mix& mix, const DeliveryRequest& req);
 
 }  // namespace tp::host

@@ -285,6 +285,15 @@ class SessionRun {
       if (!open_output()) return rep_;
       keep_alive();
       dev_.stop();
+    } catch (const Error& e) {
+      // A failure once the output runs (a bad live frame, a lost link) ends it first, and
+      // says so: what was asked is not what was delivered.
+      const bool stopped = stop_quietly();
+      if (!rep_.started) throw;
+      throw Error(e.code(), std::string(e.what()) +
+                                (stopped ? "; output stopped"
+                                         : "; the device did not answer the stop: its watchdog "
+                                           "ends the output"));
     } catch (...) {
       stop_quietly();
       throw;
@@ -300,12 +309,14 @@ class SessionRun {
     rep_.end = std::move(why.reason);
     rep_.exit_code = why.exit_code;
   }
-  void stop_quietly() noexcept {
-    if (!configured_) return;
+  // True when the device acknowledged the stop (or nothing was configured to stop).
+  bool stop_quietly() noexcept {
+    if (!configured_) return true;
     try {
       dev_.stop();
+      return true;
     } catch (...) {
-      // The device is unreachable; its watchdog stops the output.
+      return false;  // the device is unreachable; its watchdog stops the output
     }
   }
   double elapsed_s() const { return static_cast<double>(monotonic_ns() - t0_) * 1e-9; }

@@ -136,6 +136,10 @@ Mix mix_from_json(const Json& j) {
   if (!j.is_object()) bad_input("stimulus: expected a JSON object");
   Mix m;
   if (!j.contains("format") || j["format"] != kMixFormat) {
+    if (!j.contains("format") || j["format"] != "tactile-primaries/stimulus/1")
+      bad_input(std::string("stimulus: 'format' must be \"tactile-primaries/stimulus/1\" "
+                            "(make-pulse's output) or \"") +
+                kMixFormat + "\" (mix-stimuli's)");
     m.patterns.push_back(stimulus_from_json(j));
     return m;
   }

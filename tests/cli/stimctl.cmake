@@ -6,7 +6,7 @@ set(IN ${CMAKE_CURRENT_SOURCE_DIR}/inputs)
 # rms-as-quantised: RMS 0.99999999 mA in mA, 1.0003 mA as the DAC makes it (1448 codes of
 # 977 nA): the device would refuse it, so the host does first.
 tp_cli_test(stimctl refuses-malformed-json refuses 2 --stdin ${IN}/malformed.json --says "stimulus: malformed JSON in stdin: parse error" -- stimctl --port emu)
-tp_cli_test(stimctl refuses-weights-document refuses 2 --stdin ${IN}/sai-weights.json --says "stimulus: 'format' must be" -- stimctl --port emu)
+tp_cli_test(stimctl refuses-weights-document refuses 2 --stdin ${IN}/sai-weights.json --says "(make-pulse's output) or \"tactile-primaries/stimulus/2\" (mix-stimuli's)" -- stimctl --port emu)
 tp_cli_test(stimctl refuses-over-limit refuses 2 --stdin ${IN}/stimulus-over-limit.json --says "channel 2: current 2.5 mA exceeds the limit of 2 mA" -- stimctl --port emu)
 tp_cli_test(stimctl refuses-unbalanced refuses 2 --stdin ${IN}/stimulus-unbalanced.json --says "channel currents sum to 0.1 mA, not 0" -- stimctl --port emu)
 tp_cli_test(stimctl refuses-rms-as-quantised refuses 2 --stdin ${IN}/stimulus-rms-as-quantised.json --says "as the DAC makes them" -- stimctl --port emu)

@@ -426,3 +426,24 @@ TEST_CASE("a session whose output another session took over fails, never reports
   }
   second.stop();
 }
+
+TEST_CASE("bad input once the output runs stops it first, and the message says so",
+          "[host][session][live]") {
+  // A live frame refused after the start (stimctl: a line of the wrong length): the session
+  // stops the device's output before the error leaves it, and the message ends saying so.
+  struct BadFrame final : host::FrameSource {
+    bool pump(host::LiveState&, int) override {
+      bad_input("input line 1: 2 currents for 8 channels");
+    }
+  } bad;
+  volatile std::sig_atomic_t flag = 0;  // raised by nothing: the host never sends an ack
+  TrippingTransport t(device::Msg::ack, flag);
+  host::SessionOptions opt;
+  opt.live = true;
+  opt.frames = &bad;
+  const std::string said = message_of([&] { host::run_session(t, mix_of(test_stimulus()), opt); });
+  CHECK(said == "input line 1: 2 currents for 8 channels; output stopped");
+  const auto start = std::find(t.sent.begin(), t.sent.end(), device::Msg::start);
+  REQUIRE(start != t.sent.end());
+  CHECK(std::find(start, t.sent.end(), device::Msg::stop) != t.sent.end());
+}
