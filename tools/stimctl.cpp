@@ -108,10 +108,10 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "stimctl: %s\n", note->c_str());
     if (const auto note = tp::host::not_started_note(report)) {
       std::fprintf(stderr, "stimctl: %s\n", note->c_str());
-      throw tp::Error(static_cast<tp::ExitCode>(report.exit_code), "stopped: " + report.end);
+      throw tp::Told(static_cast<tp::ExitCode>(report.exit_code), "stopped: " + report.end);
     }
     std::fprintf(stderr, "stimctl: %s\n", tp::host::session_summary(report, mix, r).c_str());
     if (report.exit_code != 0)
-      throw tp::Error(static_cast<tp::ExitCode>(report.exit_code), "stopped: " + report.end);
+      throw tp::Told(static_cast<tp::ExitCode>(report.exit_code), "stopped: " + report.end);
   });
 }

@@ -170,6 +170,10 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
     if (g_output) g_output->commit();
     g_output.reset();
     return 0;
+  } catch (const Told& e) {
+    g_output.reset();
+    std::fflush(stdout);
+    return static_cast<int>(e.code());
   } catch (const Error& e) {
     return report(program, e.what(), e.code());
   } catch (const CLI::Error& e) {

@@ -26,6 +26,14 @@ class Error : public std::runtime_error {
   ExitCode code_;
 };
 
+// An end the program has already told the user in its own words (stimctl's summary names
+// why the output stopped): the entry point (cli::run) exits with its status and prints no
+// second line.  Anywhere else it is an Error like any other.
+class Told : public Error {
+ public:
+  using Error::Error;
+};
+
 // Bad input or usage: exit status 2.
 [[noreturn]] inline void bad_input(const std::string& message) {
   throw Error(ExitCode::bad_input, message);

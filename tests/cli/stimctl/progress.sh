@@ -30,6 +30,8 @@ grep -qE $'\rstimctl: 0\\.[0-9] of 1\\.5 s, [0-9]+ of 300 pulses' tty.out ||
   fail "no progress line on the terminal: $(cat -v tty.out)"
 grep -qE 'stimctl: emu \(in-process emulator\): [0-9]+ of 300 pulses .*interrupted \(SIGINT\); output stopped' tty.out ||
   fail "no summary of the pulses after Ctrl-C: $(cat -v tty.out)"
+# The summary is the last word: no second "stopped:" line repeats why.
+! grep -q 'stimctl: stopped:' tty.out || fail "a second line after the summary: $(cat -v tty.out)"
 # The summary starts a clean line: the progress line was cleared (\r, then erase).
 grep -q $'\r\e\\[K' tty.out || fail "the progress line was not cleared: $(cat -v tty.out)"
 stimctl --port emu --stimulus stim.json --duration 0.5 2> plain.err || fail "plain: $(cat plain.err)"
