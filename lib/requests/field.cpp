@@ -57,8 +57,8 @@ AfFieldPlan plan_af_field(const Document& doc, const AfFieldRequest& r) {
   if (!doc.weights) bad_input("--weights: the document has none");
   const std::vector<double>& w = *doc.weights;
   check_weight_count(doc, w, "--weights");
-  const double amp = r.amplitude.empty() ? doc.max_current_mA
-                                         : parse_finite(r.amplitude, "--amplitude");
+  const double amp =
+      r.amplitude.empty() ? doc.max_current_mA : parse_finite(r.amplitude, "--amplitude");
   check_af_amplitude(amp);
   check_weight_range(w, "--weights");
   AfFieldPlan plan;

@@ -22,8 +22,8 @@ namespace tp {
 // The values of af-field's options, the texts as given (empty: not given); each is parsed
 // by the checks, in the program's order, so that a bad one is named by its flag.
 struct AfFieldRequest {
-  ArrayOptions array;  // --config, or the array's flags (at least one electrode)
-  ModelOptions model;  // --model, --z, --skin
+  ArrayOptions array;       // --config, or the array's flags (at least one electrode)
+  ModelOptions model;       // --model, --z, --skin
   std::string weights;      // --weights W1,W2,... [the document's; else one cathode on the
                             // electrode nearest the centre]
   std::string amplitude;    // --amplitude, mA [the document's max_current_mA]
