@@ -51,6 +51,7 @@
 #include "pulse/mix.hpp"
 #include "psych/profile.hpp"
 #include "requests/document_options.hpp"
+#include "requests/field.hpp"
 #include "requests/optimize.hpp"
 #include "requests/threshold.hpp"
 #include "version.hpp"
@@ -172,12 +173,8 @@ PyDocument with_model(const PyDocument& in, std::optional<std::string> model,
 std::vector<double> checked_weights(const tp::Document& doc, const std::string& what) {
   if (!doc.weights)
     tp::bad_input("weights: the document has none (optimize-weights writes them; or --weights)");
-  if (doc.weights->size() != doc.setup.array.size())
-    tp::bad_input(what + ": expected " + std::to_string(doc.setup.array.size()) +
-                  " values (one per electrode), got " + std::to_string(doc.weights->size()));
-  for (std::size_t i = 0; i < doc.weights->size(); ++i)
-    tp::ranges::check((*doc.weights)[i], tp::ranges::weight,
-                      what + " item " + std::to_string(i + 1));
+  tp::check_weight_count(doc, *doc.weights, what);  // af-field's checks (requests/field)
+  tp::check_weight_range(*doc.weights, what);
   return *doc.weights;
 }
 
@@ -250,7 +247,7 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
   const tp::Document& doc = d.doc;
   const std::vector<double> w = checked_weights(doc, "weights");
   const double amp = amplitude_mA ? finite_arg(*amplitude_mA, "--amplitude") : doc.max_current_mA;
-  tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
+  tp::check_af_amplitude(amp);
   std::vector<Array*> arrays{&x, &y};
   if (z) arrays.push_back(&*z);
   const Points pts(arrays);
@@ -281,8 +278,7 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
       z_hi = i ? std::max(z_hi, v[2]) : v[2];
     }
   });
-  std::vector<double> currents;
-  for (double wi : w) currents.push_back(wi * amp);
+  const std::vector<double> currents = tp::af_currents_mA(w, amp);
   py::array_t<double> h(pts.shape), v(pts.shape);
   if (n == 0) return {h, v};
   tp::check_model_depth(doc.setup, y_hi, "y_mm: the deepest point,");
@@ -370,9 +366,8 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
 // CSV), in seconds.
 double af_grid_time_s(const PyDocument& d, double x0, double x1, double dx, double y0, double y1,
                       double dy) {
-  const std::vector<double> w = checked_weights(d.doc, "weights");
-  std::vector<double> currents;
-  for (double wi : w) currents.push_back(wi * d.doc.max_current_mA);
+  const std::vector<double> currents =
+      tp::af_currents_mA(checked_weights(d.doc, "weights"), d.doc.max_current_mA);
   const tp::Axis x{x0, x1, dx}, y{y0, y1, dy};
   py::gil_scoped_release release;
   const auto t0 = std::chrono::steady_clock::now();
@@ -394,13 +389,9 @@ double af_grid_time_s(const PyDocument& d, double x0, double x1, double dx, doub
 py::object summarize(const PyDocument& d, std::optional<double> amplitude_mA) {
   const std::vector<double> w = checked_weights(d.doc, "weights");
   const double amp = amplitude_mA ? finite_arg(*amplitude_mA, "--amplitude") : d.doc.max_current_mA;
-  if (d.doc.setup.array.two_d())
-    tp::refuse_plane_z(d.doc, tp::ModelOptions{},
-                            "to --summary under a 2-D array (its fibres fill every z; the "
-                            "plane places af-field's x-y section only)");
-  tp::ranges::check(amp, tp::ranges::amplitude_mA, "--amplitude");
-  std::vector<double> currents;
-  for (double wi : w) currents.push_back(wi * amp);
+  if (d.doc.setup.array.two_d()) tp::refuse_summary_plane_z(d.doc, tp::ModelOptions{});
+  tp::check_af_amplitude(amp);
+  const std::vector<double> currents = tp::af_currents_mA(w, amp);
   tp::Json j;
   {
     py::gil_scoped_release release;

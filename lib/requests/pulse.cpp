@@ -1,10 +1,12 @@
 #include "requests/pulse.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/number.hpp"
 #include "core/ranges.hpp"
+#include "pulse/thresholds.hpp"
 
 namespace tp {
 
@@ -63,6 +65,68 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
     if (doc.extra.contains(key)) s.carried[key] = doc.extra[key];
   check_stimulus(s, limits);
   return s;
+}
+
+PulseRequest pulse_request_of(const Document& doc, const MakePulseOptions& o) {
+  PulseRequest r;
+  if (o.input == "-" && o.profile == "-") bad_input("--profile -: stdin carries the weights");
+  if (!o.amplitude.empty()) r.amplitude_mA = parse_finite(o.amplitude, "--amplitude");
+  if (!o.intensity.empty()) r.intensity = parse_finite(o.intensity, "--intensity");
+  if (!o.profile.empty() && r.intensity && !r.amplitude_mA && doc.weights)
+    r.profile = profile_from_json(read_json(o.profile, "profile"), doc.max_current_mA,
+                                  std::numeric_limits<long>::max());
+  else if (!o.profile.empty() && r.amplitude_mA)
+    bad_input("give --amplitude MA, or --intensity V with --profile");
+  else if (!o.profile.empty() && !r.intensity)
+    bad_input("--profile: needs --intensity");
+  r.frequency_hz = parse_finite(o.frequency, "--frequency");
+  r.width_us = parse_finite(o.width, "--width");
+  if (!o.balance_width.empty())
+    r.balance_width_us = parse_finite(o.balance_width, "--balance-width");
+  r.interphase_us = parse_finite(o.interphase, "--interphase");
+  if (!o.count.empty()) r.count = parse_integer(o.count, "--count");
+  if (!o.duration.empty()) r.duration_s = parse_finite(o.duration, "--duration");
+  return r;
+}
+
+MakePulsePlan plan_make_pulse(const Document& doc, const MakePulseOptions& o) {
+  MakePulsePlan plan;
+  plan.stimulus = make_stimulus(doc, pulse_request_of(doc, o));
+  const Stimulus& s = plan.stimulus;
+  // The amplitude against the thresholds the document carries (fiber-threshold's).
+  const auto against = stimulus_against_thresholds(s);
+  // Every option is checked before anything is printed, on stderr or stdout.
+  plan.csv = o.csv;
+  if (o.csv) {
+    plan.csv_pulses = parse_integer(o.csv_pulses, "--csv-pulses");
+    if (plan.csv_pulses < 1 || plan.csv_pulses > 100000)
+      bad_input("--csv-pulses: " + o.csv_pulses + " outside [1, 100000]");
+  }
+  const SafetyFigures f = safety_figures(s);
+  plan.notes.push_back(std::to_string(s.currents_mA.size()) + " channels, " +
+                       std::to_string(s.count) + " pulses at " + number_text(s.shape.frequency_hz) +
+                       " Hz; peak " + number_text(f.peak_current_mA) + " mA, charge/phase " +
+                       number_text(f.max_charge_per_phase_nC) + " nC, " +
+                       number_text(f.max_charge_density_uC_per_cm2) + " uC/cm2, RMS " +
+                       number_text(f.max_rms_current_mA) + " mA, net charge " +
+                       number_text(f.max_net_charge_nC) + " nC");
+  if (against) plan.notes.push_back(*against);
+  return plan;
+}
+
+void write_make_pulse(const MakePulsePlan& plan, const ByteSink& out) {
+  const Stimulus& s = plan.stimulus;
+  if (!plan.csv) {
+    out(dump_json(stimulus_to_json(s)));
+    return;
+  }
+  std::vector<std::string> header{"t_us"};
+  for (std::size_t i = 0; i < s.currents_mA.size(); ++i)
+    header.push_back("ch" + std::to_string(i) + "_mA");
+  CsvWriter csv(out);
+  csv.header(header);
+  for (const auto& row : waveform_points(s, plan.csv_pulses)) csv.row(row);
+  csv.flush();
 }
 
 }  // namespace tp

@@ -3,7 +3,10 @@
 // pulse become a checked stimulus (docs/programs.md, make-pulse).
 
 #include <optional>
+#include <string>
+#include <vector>
 
+#include "io/csv.hpp"
 #include "io/document.hpp"
 #include "pulse/stimulus.hpp"
 #include "psych/profile.hpp"
@@ -30,5 +33,38 @@ struct PulseRequest {
 // is not one of amplitude or intensity-with-profile, or when the stimulus breaks a limit
 // (check_stimulus).  Carries the document's mode and thresholds.
 Stimulus make_stimulus(const Document& doc, const PulseRequest& r);
+
+// make-pulse's options, the texts of its flags as given (empty: not given); each is parsed
+// by plan_make_pulse(), in the program's order, so that a bad one is named by its flag.
+struct MakePulseOptions {
+  std::string input = "-";  // --input: the weights document (- for stdin)
+  std::string amplitude, intensity;
+  std::string profile;  // --profile FILE (- for stdin): the person's calibration
+  std::string frequency = "200", width = "200", balance_width, interphase = "0";
+  std::string duration, count;
+  bool csv = false;              // --format csv: the waveform's corners (else the JSON)
+  std::string csv_pulses = "3";  // --csv-pulses: the pulses drawn by --format csv
+};
+
+// The options as a PulseRequest for `doc` (read from options.input): --profile - refused
+// when stdin carries the weights, the profile read (against the document's current limit)
+// only with --intensity and without --amplitude, --profile refused beside --amplitude or
+// without --intensity, then the pulse's numbers parsed.
+PulseRequest pulse_request_of(const Document& doc, const MakePulseOptions& o);
+
+// What make-pulse prints, every check done first: the stimulus, the CSV's pulses (with
+// --format csv, 1 to 100000), and the lines for stderr (after "make-pulse: "): the safety
+// figures, then the amplitude against the document's thresholds when it carries them.
+struct MakePulsePlan {
+  Stimulus stimulus;
+  bool csv = false;
+  long csv_pulses = 0;
+  std::vector<std::string> notes;
+};
+MakePulsePlan plan_make_pulse(const Document& doc, const MakePulseOptions& o);
+
+// The stimulus document (JSON, one call) or the waveform's corners (CSV: t_us, then a
+// column a channel, chI_mA) through `out`.
+void write_make_pulse(const MakePulsePlan& plan, const ByteSink& out);
 
 }  // namespace tp

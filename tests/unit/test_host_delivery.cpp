@@ -62,7 +62,7 @@ TEST_CASE("delivery: the options' combinations, each refused naming its flag", "
         "--latency-log: only with --live (it logs live frames)");
 }
 
-TEST_CASE("delivery: the duration within (0, the host's longest], quoted as typed",
+TEST_CASE("delivery: the duration above 0 and at most the host's longest, quoted as typed",
           "[host][delivery]") {
   host::DeliveryRequest r;
   CHECK(host::delivery_session(r).duration_s < 0);  // the stimulus' own
