@@ -13,6 +13,7 @@
 #include "cli/entry.hpp"
 #include "core/error.hpp"
 #include "core/number.hpp"
+#include "core/text.hpp"
 #include "pulse/mix.hpp"
 #include "psych/profile.hpp"
 #include "requests/mix.hpp"
@@ -73,9 +74,10 @@ int main(int argc, char** argv) {
     for (double v : f.rms_current_mA) rms = std::max(rms, v);
     for (double v : f.mean_current_mA) mean = std::max(mean, v);
     std::fprintf(stderr,
-                 "mix-stimuli: %zu patterns on %zu channels, %s s; per electrode at most RMS %s "
+                 "mix-stimuli: %s on %zu channels, %s s; per electrode at most RMS %s "
                  "mA, mean %s mA; pulses and gaps %s %% of the time, deferral at most %s us\n",
-                 mix.patterns.size(), mix.patterns[0].currents_mA.size(),
+                 tp::count_text(mix.patterns.size(), "pattern").c_str(),
+                 mix.patterns[0].currents_mA.size(),
                  tp::number_text(mix.duration_s()).c_str(), tp::number_text(rms).c_str(),
                  tp::number_text(mean).c_str(),
                  tp::number_text(std::round(f.utilisation * 1000) / 10).c_str(),

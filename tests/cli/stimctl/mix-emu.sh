@@ -6,6 +6,10 @@ make_mix mix.json
 stimctl --port emu --duration 2 --record rec.jsonl < mix.json 2> err.txt || fail "stimctl: $(cat err.txt)"
 check_mix_record rec.jsonl mix.json '[[59, 61], [399, 401]]'
 grep -q "460 of 460 pulses on 8 channels of 2 patterns" err.txt || fail "summary: $(cat err.txt)"
+grep -q "^mix-stimuli: 2 patterns on 8 channels" mix.err || fail "mix-stimuli's line: $(cat mix.err)"
+# A mix of one input is one pattern, said so.
+mix-stimuli ra.json > one.json 2> one.err || fail "mix-stimuli of one: $(cat one.err)"
+grep -q "^mix-stimuli: 1 pattern on 8 channels" one.err || fail "mix-stimuli of one: $(cat one.err)"
 echo "ok: $(cat err.txt)"
 make_mix mix0.json --phase 0,0
 stimctl --port emu --duration 2 --record rec0.jsonl < mix0.json 2> err0.txt || fail "stimctl: $(cat err0.txt)"
