@@ -92,6 +92,20 @@ std::array<std::optional<PrimaryRange>, 3> ranges_from_json(const Json& j, const
 
 }  // namespace
 
+void check_profile_fits(const Profile& p, std::size_t pads,
+                        const std::optional<std::pair<int, int>>& grid, const std::string& theirs) {
+  if (!p.carried.contains("array")) return;
+  const Json& a = p.carried["array"];
+  bool same = a.is_object() && a.contains("columns") && a.contains("rows") &&
+              a["columns"].is_number_integer() && a["rows"].is_number_integer();
+  if (same) {
+    const long columns = a["columns"].get<long>(), rows = a["rows"].get<long>();
+    same = columns > 0 && rows > 0 && static_cast<std::size_t>(columns * rows) == pads &&
+           (!grid || (columns == grid->first && rows == grid->second));
+  }
+  if (!same) bad_input("profile: calibrated on an array of " + a.dump() + ", " + theirs);
+}
+
 Profile profile_from_json(const Json& j, double max_mA, long pads) {
   if (!j.is_object()) bad_input("profile: expected a JSON object");
   if (!j.contains("format") || j["format"] != kProfileFormat)

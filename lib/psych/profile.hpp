@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "core/json.hpp"
 #include "model/primaries.hpp"
@@ -48,6 +49,14 @@ inline constexpr const char* kProfileFormat = "tactile-primaries/profile/1";
 // and comfort in [threshold, max_current_mA], the counts and spreads not negative, pixels
 // as pad indices below `pads`.  Bad input naming the field at fault.
 Profile profile_from_json(const Json& j, double max_current_mA, long pads);
+
+// A profile calibrated on an array carries its columns and rows (calibrate writes them):
+// it fits only an array of as many pads, and of that grid where the other side has one
+// (grid: its columns and rows; nullopt: a count of pads alone).  Bad input
+// "profile: calibrated on an array of {...}, " + theirs ("the bank's is 8 x 8").  A
+// profile that carries no array fits any.
+void check_profile_fits(const Profile& p, std::size_t pads,
+                        const std::optional<std::pair<int, int>>& grid, const std::string& theirs);
 Json profile_to_json(const Profile& p);
 
 }  // namespace tp

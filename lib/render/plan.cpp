@@ -16,14 +16,10 @@ void check_plan_inputs(const PixelBank& bank, const Profile& profile, const PadI
                        const RenderOptions& o) {
   check_render_options(o);
   // A profile calibrated on an array (calibrate writes its size) fits only that array.
-  if (profile.carried.contains("array")) {
-    const Json& a = profile.carried["array"];
-    const bool same = a.is_object() && a.contains("columns") && a.contains("rows") &&
-                      a["columns"] == bank.columns && a["rows"] == bank.rows;
-    if (!same)
-      bad_input("profile: calibrated on an array of " + a.dump() + ", the bank's is " +
-                std::to_string(bank.columns) + " x " + std::to_string(bank.rows));
-  }
+  check_profile_fits(profile, static_cast<std::size_t>(bank.columns) * bank.rows,
+                     std::make_pair(bank.columns, bank.rows),
+                     "the bank's is " + std::to_string(bank.columns) + " x " +
+                         std::to_string(bank.rows));
   if (image.columns != bank.columns || image.rows != bank.rows)
     bad_input("image: " + std::to_string(image.columns) + " x " + std::to_string(image.rows) +
               " pixels for a bank of " + std::to_string(bank.columns) + " x " +

@@ -1,6 +1,7 @@
 #include "requests/mix.hpp"
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace tp {
 
@@ -43,6 +44,8 @@ void rescale(std::vector<Stimulus>& patterns, const MixRequest& r) {
     if (!s.carried.contains("mode") || !s.carried["mode"].is_string())
       bad_input(what + ": names no mode (make-pulse carries optimize-weights' mode)");
     if (!(s.amplitude_mA > 0)) bad_input(what + ": no amplitude_mA to rescale");
+    check_profile_fits(*r.profile, s.currents_mA.size(), std::nullopt,
+                       what + "'s is " + count_text(s.currents_mA.size(), "channel"));
     const double a = profile_amplitude_mA(*r.profile, s.carried["mode"].get<std::string>(), v[i],
                                           what + ": --intensities");
     for (double& c : s.currents_mA) c *= a / s.amplitude_mA;

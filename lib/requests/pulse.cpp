@@ -27,6 +27,12 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
       bad_input(
           "--intensity: the weights document names no mode (optimize-weights "
           "--mode writes it)");
+    // A person's range measured on another array is not this array's.
+    const ElectrodeArray& a = doc.setup.array;
+    check_profile_fits(*r.profile, a.size(),
+                       a.grid() ? std::make_optional(std::make_pair(a.columns, a.rows))
+                                : std::nullopt,
+                       "the weights' array is " + a.describe());
     amp = profile_amplitude_mA(*r.profile, doc.extra["mode"].get<std::string>(), *r.intensity,
                                "--intensity");
   } else {

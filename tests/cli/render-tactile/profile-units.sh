@@ -22,3 +22,13 @@ jq 'del(.primaries.SAI)' profile.json > nosai.json
 refuses 2 --says "no range for SAI" --stdin "$TP_INPUTS/sai-weights.json" -- make-pulse --profile nosai.json --intensity 0.5
 refuses 2 --says "2 for 1 inputs" -- mix-stimuli --profile profile.json --intensities 0.5,0.5 sai.json
 refuses 2 --says "give both" -- mix-stimuli --intensities 0.5 sai.json
+# A profile calibrated on another array (calibrate writes its columns and rows) is refused,
+# by make-pulse against the weights' array and by mix-stimuli against each input's channels.
+jq '.array = {"columns": 8, "rows": 8}' profile.json > grid-profile.json
+refuses 2 --says 'calibrated on an array of {"columns":8,"rows":8}, the weights'"'"' array is 8 electrodes' \
+  --stdin "$TP_INPUTS/sai-weights.json" -- make-pulse --profile grid-profile.json --intensity 0.5
+refuses 2 --says "calibrated on an array of {\"columns\":8,\"rows\":8}, sai.json's is 8 channels" \
+  -- mix-stimuli --profile grid-profile.json --intensities 0.5 sai.json
+jq '.array = {"columns": 8, "rows": 1}' profile.json > row-profile.json
+mix-stimuli --profile row-profile.json --intensities 0.5 sai.json > /dev/null 2> err.txt ||
+  fail "a profile of the inputs' 8 channels: $(cat err.txt)"
