@@ -82,6 +82,18 @@ TEST_CASE("request: run_render's document, warnings and refusals", "[render][req
   CHECK_THROWS_WITH(run_render(r, b), Catch::Contains("shorter than one period of RA"));
 }
 
+namespace {
+
+// A 6 x 6 bank's shape without its patterns (for what reads only its size and limit).
+PixelBank bank_of_6x6() {
+  PixelBank b;
+  b.columns = b.rows = 6;
+  b.entry.resize(36);
+  return b;
+}
+
+}  // namespace
+
 TEST_CASE("request: render-tactile's flags, their combinations, defaults and inputs",
           "[render][request]") {
   using Catch::Contains;
@@ -132,7 +144,7 @@ TEST_CASE("request: render-tactile's flags, their combinations, defaults and inp
   balance.width = "100";
   CHECK(render_request(balance).options.balance_width_us == 100.0);
   // After the bank: the comfort factor only without a profile, and in range.
-  const PixelBank& b = bank6();
+  const PixelBank b = bank_of_6x6();
   RenderSpec c = s;
   c.comfort_factor = "20";
   RenderRequest r = render_request(c);
@@ -147,7 +159,7 @@ TEST_CASE("request: render-tactile's flags, their combinations, defaults and inp
 }
 
 TEST_CASE("request: the images as the output asks them", "[render][request]") {
-  const PixelBank& b = bank6();
+  const PixelBank b = bank_of_6x6();
   RenderSpec s;
   s.sequence = true;
   s.images = {"-"};
