@@ -15,32 +15,19 @@
 
 #include "core/error.hpp"
 #include "error_support.hpp"
+#include "render_support.hpp"
 #include "psych/calibration.hpp"
 #include "requests/calibrate.hpp"
 #include "runs/calibration_run.hpp"
 
 using namespace tp;
+using tp::render_test::two_pads;
 using tp::test::code_of;
 using tp::test::message_of;
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
 
 namespace {
-
-// Two pixels in a row, each primary's pattern +1 at its own pad and -1 at the other's.
-PixelBank two_pads() {
-  PixelBank b;
-  b.columns = 2;
-  b.rows = 1;
-  b.pad_area_mm2 = 1;
-  b.entry.resize(2);
-  for (std::size_t pad = 0; pad < 2; ++pad)
-    for (auto& e : b.entry[pad]) {
-      e.present = e.feasible = true;
-      e.weights = pad == 0 ? std::vector<double>{1, -1} : std::vector<double>{-1, 1};
-    }
-  return b;
-}
 
 // An observer who feels what is above threshold_mA and finds too strong what is above
 // comfort_mA, reading the level from the trial's line as a person hears it; or who says
