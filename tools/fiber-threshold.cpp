@@ -9,37 +9,16 @@
 #include <cstdio>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "cli/array_options.hpp"
 #include "cli/entry.hpp"
 #include "cli/fibre_options.hpp"
 #include "cli/progress.hpp"
-#include "core/error.hpp"
 #include "fibre/population.hpp"
 #include "io/document.hpp"
 #include "core/files.hpp"
 #include "core/json.hpp"
-#include "core/number.hpp"
 #include "requests/threshold.hpp"
-
-namespace {
-
-// stdin can be read once: at most one of the weights document, --stimulus, --skin.
-void check_one_stdin_reader(const tp::cli::ArrayOptions& given, const std::string& source,
-                            const tp::cli::FibreOptions& fibre,
-                            const tp::cli::ModelOptions& conductor) {
-  std::vector<std::string> readers;
-  if (source == "-")
-    readers.push_back(given.config.empty() ? "the weights document (no --config)" : "--config -");
-  if (fibre.stimulus == "-") readers.push_back("--stimulus -");
-  if (conductor.skin == "-") readers.push_back("--skin -");
-  if (readers.size() > 1)
-    tp::bad_input(readers[0] + " and " + readers[1] +
-                  " both read stdin, which can be read once: give the other as a file");
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -53,21 +32,21 @@ int main(int argc, char** argv) {
   tp::cli::ArrayOptions array;
   tp::cli::ModelOptions conductor;
   conductor.flag = "--conductor";
-  tp::cli::FibreOptions fibre;
-  std::string weights, widths, at, recruitment;
+  tp::ThresholdText typed;
+  std::string recruitment;
   long population = 0;
   std::uint64_t seed = 1;
   bool sd = false;
   auto* o_config = tp::cli::add_array_options(
       app, array, "Weights document (optimize-weights' JSON; - for stdin) [stdin]");
-  auto* o_w = app.add_option("--weights", weights,
+  auto* o_w = app.add_option("--weights", typed.weights,
                              "Comma-separated weights, one per electrode (positive = cathodic), "
                              "instead of a document")
                   ->type_name("W1,W2,...");
   o_config->excludes(o_w);
   tp::cli::add_model_options(app, conductor);
-  tp::cli::add_fibre_options(app, fibre, "--model");
-  app.add_option("--at", at,
+  tp::cli::add_fibre_options(app, typed.fibre, "--model");
+  app.add_option("--at", typed.at,
                  "2-D arrays: the point X,Z (mm) the fibres pass through [the document's "
                  "focus, optimize-weights --at]")
       ->type_name("X,Z");
@@ -88,30 +67,22 @@ int main(int argc, char** argv) {
   app.add_flag("--strength-duration", sd,
                "Print a strength-duration table (CSV: receptor,width_us,threshold_mA,charge_nC,"
                "rheobase_mA,chronaxie_us; rheobase and chronaxie from Weiss's law)");
-  app.add_option("--widths", widths,
+  app.add_option("--widths", typed.widths,
                  "--strength-duration: main phase widths, us, 1 to 10000 "
                  "[20,50,100,200,500,1000,2000]")
       ->type_name("US1,US2,...");
   tp::cli::add_output_option(app);
 
   return tp::cli::run(app, argc, argv, [&] {
+    typed.config = array.config;
+    typed.skin = conductor.skin;
     tp::cli::ArrayOptions source = array;
-    if (source.config.empty() && weights.empty()) source.config = "-";
-    check_one_stdin_reader(array, source.config, fibre, conductor);
+    source.config = tp::threshold_document_source(typed);
     tp::Document doc = tp::cli::load_document(source, 1);
-    if (!weights.empty()) doc.weights = tp::parse_list(weights, "--weights");
-
     tp::ThresholdRequest r;
     r.conductor = conductor;
-    r.fibre = tp::cli::fibre_values(fibre);
-    if (!at.empty()) {
-      r.at_mm = tp::parse_list(at, "--at");
-      r.at_text = at;
-    }
     r.strength_duration = sd;
-    // --widths is parsed where it applies, so that without --strength-duration it is told so.
-    if (!widths.empty())
-      r.widths_us = sd ? tp::parse_list(widths, "--widths") : std::vector<double>{};
+    tp::parse_threshold_text(typed, doc, r);
     if (app.count("--population")) r.population = population;
     if (app.count("--seed")) r.seed = seed;
     r.recruitment = recruitment;

@@ -14,7 +14,6 @@
 #include "cli/entry.hpp"
 #include "cli/fibre_options.hpp"
 #include "cli/progress.hpp"
-#include "core/number.hpp"
 #include "requests/optimize.hpp"
 
 namespace {
@@ -22,21 +21,19 @@ namespace {
 struct Flags {
   tp::cli::ArrayOptions array;
   tp::cli::ModelOptions model;
-  std::string mode, max_current, min_af, format = "json";
+  tp::OptimizeText text;  // --mode, the numbers, --at and the fibre's flags
+  std::string format = "json";
   int random_starts = 0, pattern_starts = 2;
   bool timing = false, certify = false, no_header = false, header_only = false;
   std::string objective = "af";
-  tp::cli::FibreOptions fibre;
   int max_evaluations = 12;
-  std::vector<std::string> at;
-  std::string radius, spill;
   bool bank = false;
   int neighbourhood = 0;
 };
 
 // Declares the flags, bound to f.
 void declare(CLI::App& app, Flags& f) {
-  app.add_option("--mode", f.mode,
+  app.add_option("--mode", f.text.modes,
                  "Target receptor: RA, SAI or PC (any name in the receptor table); several, "
                  "comma-separated, with --format csv: one row each; with --bank, the modes of "
                  "the bank [every receptor's]")
@@ -44,10 +41,10 @@ void declare(CLI::App& app, Flags& f) {
   tp::cli::add_array_options(app, f.array,
                              "Document with array, model and receptors (JSON; - for stdin)");
   tp::cli::add_model_options(app, f.model);
-  app.add_option("--max-current", f.max_current,
+  app.add_option("--max-current", f.text.max_current_mA,
                  "Current limit per electrode, mA, at most 2 [the document's, or 2]")
       ->type_name("MA");
-  app.add_option("--min-target-af", f.min_af,
+  app.add_option("--min-target-af", f.text.min_target_af,
                  "Trade selectivity for efficiency: the target's largest AF at the current limit "
                  "must reach this, V/ms [0: the paper's problem]")
       ->type_name("V/MS");
@@ -75,21 +72,21 @@ void declare(CLI::App& app, Flags& f) {
                  "from the AF optimum, never worse than it (JSON, one mode)")
       ->check(CLI::IsMember({"af", "threshold"}));
   auto* fibre_group = app.add_option_group("threshold objective");
-  tp::cli::add_fibre_options(*fibre_group, f.fibre, "--fibre-model");
+  tp::cli::add_fibre_options(*fibre_group, f.text.fibre, "--fibre-model");
   tp::cli::add_integer(*fibre_group, "--max-evaluations", f.max_evaluations,
                        "Whole threshold searches, 10 to 10000 [12: about 3 s on 2 cores for the "
                        "paper's array; more polish by Nelder-Mead on whole searches, about 0.2 s "
                        "each]",
                        10, 10000);
-  app.add_option("--at", f.at,
+  app.add_option("--at", f.text.at,
                  "A pixel: the target's largest AF at this place on the skin, X (a 1-D array) or "
                  "X,Z (a 2-D array), mm, within the array's extent plus one pitch; the target's AF "
                  "beyond --radius stays at most --spill of its peak")
       ->type_name("X[,Z]");
-  app.add_option("--radius", f.radius,
+  app.add_option("--radius", f.text.radius_mm,
                  "A pixel's radius, mm, beyond a quarter pitch, at most 1000 [one pitch]")
       ->type_name("MM");
-  app.add_option("--spill", f.spill,
+  app.add_option("--spill", f.text.spill,
                  "A pixel's target's largest AF beyond the radius over its peak, in (0, 1] [0.3]")
       ->type_name("S");
   app.add_flag("--bank", f.bank,
@@ -108,18 +105,11 @@ void declare(CLI::App& app, Flags& f) {
   tp::cli::add_output_option(app);
 }
 
-// The request of the flags given: numbers parsed (bad input names the flag), --stimulus's path.
+// The request of the flags given: the texts parsed by the library (bad input names the
+// flag), the others as given.
 tp::OptimizeRequest request_of(const CLI::App& app, const Flags& f) {
   tp::OptimizeRequest r;
-  for (std::size_t a = 0; !f.mode.empty();) {  // several, comma-separated
-    const std::size_t b = f.mode.find(',', a);
-    r.modes.push_back(f.mode.substr(a, b == std::string::npos ? std::string::npos : b - a));
-    if (b == std::string::npos) break;
-    a = b + 1;
-  }
-  if (!f.max_current.empty()) r.max_current_mA = tp::parse_finite(f.max_current, "--max-current");
-  if (!f.min_af.empty()) r.min_target_af = tp::parse_finite(f.min_af, "--min-target-af");
-  r.given.min_target_af = f.min_af;
+  tp::parse_optimize_text(f.text, r);
   if (app.count("--pattern-starts")) r.pattern_starts = f.pattern_starts;
   if (app.count("--random-starts")) r.random_starts = f.random_starts;
   r.csv = f.format == "csv";
@@ -128,18 +118,12 @@ tp::OptimizeRequest request_of(const CLI::App& app, const Flags& f) {
   r.timing = f.timing;
   r.certify = f.certify;
   if (f.objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
-  r.fibre = tp::cli::fibre_values(f.fibre);
   r.fibre_model_given = app.count("--fibre-model") > 0;
   r.offsets_given = app.count("--offsets") > 0;
   if (app.count("--max-evaluations")) r.max_evaluations = f.max_evaluations;
-  for (const std::string& p : f.at) r.at_mm.push_back(tp::parse_list(p, "--at"));
-  r.given.at = f.at;
-  if (!f.radius.empty()) r.radius_mm = tp::parse_finite(f.radius, "--radius");
-  r.given.radius = f.radius;
-  if (!f.spill.empty()) r.spill = tp::parse_finite(f.spill, "--spill");
   r.bank = f.bank;
   if (app.count("--neighbourhood")) r.neighbourhood = f.neighbourhood;
-  if (app.count("--threads")) r.threads = f.fibre.threads;
+  if (app.count("--threads")) r.threads = f.text.fibre.threads;
   r.plane_z_given = !f.model.plane_z.empty();
   return r;
 }

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "cli/entry.hpp"
-#include "core/error.hpp"
 #include "host/line_reader.hpp"
 #include "core/json.hpp"
 #include "core/number.hpp"
@@ -44,33 +43,6 @@ void for_each_stdin_frame(const tp::PixelBank& bank, F&& f) {
 // "render-tactile: warning: ...", a line, for a warning (none for none).
 std::string warning_text(const std::string& warning) {
   return warning.empty() ? "" : "render-tactile: warning: " + warning + "\n";
-}
-
-// The PNG images on the bank's pads, each read and checked; a sequence's kept as
-// SequenceFrames keeps them (not returned, so memory does not grow with their number).
-// `note`: one line when some pixel was not opaque (composited onto black), else empty.
-std::vector<tp::PadIntensities> read_images(const std::vector<std::string>& paths,
-                                            const tp::PixelBank& bank, bool resample,
-                                            tp::SequenceFrames* kept, std::string& note) {
-  std::vector<tp::PadIntensities> out;
-  std::size_t translucent = 0;  // images with a pixel not opaque
-  for (const std::string& f : paths) {
-    const tp::RgbImage im = tp::read_png(f);
-    if (im.translucent > 0 && translucent++ == 0)
-      note = "image '" + f + "': " + tp::count_text(im.translucent, "pixel") + " of " +
-             std::to_string(im.rgb.size() / 3) + " not opaque";
-    tp::PadIntensities p = tp::pad_intensities(im, bank.columns, bank.rows, resample);
-    if (kept) {
-      kept->add(p, f);
-    } else {
-      out.push_back(std::move(p));
-    }
-  }
-  if (translucent > 0)
-    note = "render-tactile: note: " + note +
-           (translucent > 1 ? " (and " + tp::count_text(translucent - 1, "image") + " more)" : "") +
-           ": composited onto black (transparent is 0)\n";
-  return out;
 }
 
 // Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
@@ -104,18 +76,13 @@ void play_frames(const tp::Sequence& seq, const tp::Profile& profile, const tp::
                tp::number_text(fps).c_str());
 }
 
-// The flags as given (text, parsed in the request's order), and the options whose use is
-// checked against one another.
-struct Flags {
-  std::string bank_path, profile_path, rates, duration, crosstalk = "0.1", width = "200", balance,
-                                                        frames_for, fps_text = "30", comfort_factor;
-  std::vector<std::string> images;
-  bool resample = false, plan_only = false, sequence = false;
-  CLI::Option *rates_option = nullptr, *duration_option = nullptr, *crosstalk_option = nullptr,
-              *plan_option = nullptr, *fps_option = nullptr;
+// The options whose use is checked against one another: whether each was given.
+struct Given {
+  CLI::Option *rates = nullptr, *duration = nullptr, *crosstalk = nullptr, *plan = nullptr,
+              *fps = nullptr;
 };
 
-void declare_flags(CLI::App& app, Flags& f) {
+void declare_flags(CLI::App& app, tp::RenderSpec& f, Given& given) {
   app.add_option(
          "images", f.images,
          "The picture: a PNG (any colour type and depth, read as the 8-bit RGB it "
@@ -133,17 +100,17 @@ void declare_flags(CLI::App& app, Flags& f) {
   app.add_option("--comfort-factor", f.comfort_factor,
                  "Without --profile: comfort = this x the model's threshold, 1.1 to 10 [2]")
       ->type_name("K");
-  f.rates_option = app.add_option("--rates", f.rates,
+  given.rates = app.add_option("--rates", f.rates,
                                   "Requested rate per primary, each once, Hz, 0.1 to 1000 "
                                   "[RA:30,SAI:200,PC:250]")
                        ->type_name("P:HZ,...");
-  f.duration_option =
+  given.duration =
       app.add_option("--duration", f.duration,
                      "Seconds, (0, 3600], at least one period of every pattern, never clamped [a "
                      "still image: 1; a sequence: its frames and one more frame period at --fps, "
                      "or 3600 for frames on stdin]")
           ->type_name("S");
-  f.crosstalk_option =
+  given.crosstalk =
       app.add_option("--crosstalk", f.crosstalk,
                      "Largest crosstalk between patterns that fire together, 0 to 1 [0.1]")
           ->type_name("X");
@@ -153,7 +120,7 @@ void declare_flags(CLI::App& app, Flags& f) {
       ->type_name("US");
   app.add_flag("--resample", f.resample,
                "Resample an image of another size to the array's (area-weighted)");
-  f.plan_option =
+  given.plan =
       app.add_flag("--plan", f.plan_only,
                    "Print the plan (groups, slots, rates) as JSON instead of the stimulus; for "
                    "arrays larger than a device");
@@ -167,94 +134,15 @@ void declare_flags(CLI::App& app, Flags& f) {
                  "frames for the sequence's stimulus FILE (made for this bank, under a profile "
                  "of no higher comfort), one every 1/--fps s")
       ->type_name("FILE");
-  f.fps_option = app.add_option("--fps", f.fps_text,
+  given.fps = app.add_option("--fps", f.fps,
                                 "Frames per second (--sequence, --frames), 0.1 to 1000 [30]")
                      ->type_name("FPS");
   tp::cli::add_output_option(app);
 }
 
-// What would do nothing is refused, not ignored: --fps paces --frames and sets the default
-// duration of --sequence's frames, nothing else; --frames plays a stimulus already made,
-// and streams (each frame to stdout when it is due, for stimctl --live; a file written
-// whole at the end would hold them back until the stream is over).
-void check_flag_use(const CLI::App& app, const Flags& f) {
-  if (f.fps_option->count() > 0 && f.frames_for.empty() &&
-      (!f.sequence || !f.duration.empty() || f.images.empty()))
-    tp::bad_input("--fps: applies to --frames, and to --sequence's frames without --duration");
-  for (const CLI::Option* opt :
-       {f.rates_option, f.duration_option, f.crosstalk_option, f.plan_option})
-    if (!f.frames_for.empty() && opt->count() > 0)
-      tp::bad_input(opt->get_name() +
-                    ": --frames plays the sequence's stimulus as it was made; give it to "
-                    "--sequence");
-  if (!f.frames_for.empty() && app.count("--output") > 0)
-    tp::bad_input(
-        "--output: --frames writes live frames to stdout as they are due (for "
-        "stimctl --live), not a document; pipe them");
-}
-
-// The request's options from the flags, each parsed and checked; the duration as given,
-// never clamped (out of range is refused here, and by the plan when it holds no pulse of
-// some pattern).
-tp::RenderRequest request_from_flags(const Flags& f) {
-  tp::RenderRequest r;
-  r.sequence = f.sequence;
-  r.plan_only = f.plan_only;
-  tp::RenderOptions& o = r.options;
-  if (!f.rates.empty()) tp::parse_rates(f.rates, o.rate_hz);
-  r.fps = tp::parse_finite(f.fps_text, "--fps");
-  if (!(r.fps >= 0.1 && r.fps <= 1000))
-    tp::bad_input("--fps: " + f.fps_text + " outside [0.1, 1000]");
-  if (!f.duration.empty()) r.duration_s = tp::parse_finite(f.duration, "--duration");
-  o.duration_s = tp::render_duration_s(r, f.images.size());
-  o.crosstalk = tp::parse_finite(f.crosstalk, "--crosstalk");
-  o.width_us = tp::parse_finite(f.width, "--width");
-  o.balance_width_us =
-      f.balance.empty() ? o.width_us : tp::parse_finite(f.balance, "--balance-width");
-  tp::check_render_options(o);
-  return r;
-}
-
-// The images and stdin as the kind of output asks them.
-void check_inputs_given(const Flags& f) {
-  if (f.sequence && !f.frames_for.empty()) tp::bad_input("--sequence and --frames: give one");
-  if (!f.sequence && f.frames_for.empty() && f.images.size() != 1)
-    tp::bad_input(tp::count_text(f.images.size(), "image") + ": a still image takes one");
-  if (!f.frames_for.empty() && f.images.empty())
-    tp::bad_input("--frames: no frames (images, or - for JSON lines on stdin)");
-  int stdin_uses = (f.bank_path == "-") + (f.profile_path == "-") + (f.frames_for == "-");
-  for (const std::string& image : f.images) stdin_uses += image == "-";
-  if (stdin_uses > 1) tp::bad_input("- (stdin) given more than once");
-}
-
-// The person's profile (--profile, read under the bank's current limit), or the comfort
-// factor for the model's.
-void profile_from_flags(const Flags& f, const tp::PixelBank& bank, tp::RenderRequest& r) {
-  if (!f.profile_path.empty() && !f.comfort_factor.empty())
-    tp::bad_input("--comfort-factor: applies without --profile only");
-  if (!f.comfort_factor.empty())
-    r.comfort_factor = tp::parse_finite(f.comfort_factor, "--comfort-factor");
-  if (!(r.comfort_factor >= 1.1 && r.comfort_factor <= 10))
-    tp::bad_input("--comfort-factor: " + f.comfort_factor + " outside [1.1, 10]");
-  if (!f.profile_path.empty())
-    r.profile =
-        tp::profile_from_json(tp::read_json(f.profile_path, "profile"),
-                              r.options.limits.max_current_mA, static_cast<long>(bank.pads()));
-}
-
-// --frames: the sequence's stimulus read and checked against the bank and profile, the
-// PNG frames' amplitudes all checked first (frames on stdin: as they come), then played.
-void play(const Flags& f, const tp::RenderRequest& r, const tp::PixelBank& bank,
-          const std::vector<tp::PadIntensities>& frames, const std::string& note) {
-  const tp::RenderProfile p = tp::render_profile(r, bank);
-  const tp::Sequence seq = tp::sequence_from_json(tp::read_json(f.frames_for, "stimulus"), bank,
-                                                  p.profile, "--frames " + f.frames_for);
-  std::vector<std::vector<double>> out;
-  for (std::size_t k = 0; k < frames.size(); ++k)
-    out.push_back(tp::frame_amplitudes(seq, p.profile, frames[k], f.images[k]));
-  std::fputs((warning_text(p.warning) + note).c_str(), stderr);
-  const bool live_input = f.images.size() == 1 && f.images[0] == "-";
-  play_frames(seq, p.profile, bank, out, live_input, r.fps);
+// "render-tactile: note: ...", a line, for a note (none for none).
+std::string note_text(const std::string& note) {
+  return note.empty() ? "" : "render-tactile: note: " + note + "\n";
 }
 
 }  // namespace
@@ -270,41 +158,32 @@ int main(int argc, char** argv) {
       "stderr; no lit pixel is dropped).  Prints one stimulus document of the groups "
       "(stimctl plays it), or with --plan the plan.  docs/rendering.md.",
       "render-tactile"};
-  Flags f;
-  declare_flags(app, f);
+  tp::RenderSpec f;
+  Given given;
+  declare_flags(app, f, given);
 
   return tp::cli::run(app, argc, argv, [&] {
-    check_flag_use(app, f);
-    tp::RenderRequest r = request_from_flags(f);
-    check_inputs_given(f);
+    f.rates_given = given.rates->count() > 0;
+    f.duration_given = given.duration->count() > 0;
+    f.crosstalk_given = given.crosstalk->count() > 0;
+    f.plan_given = given.plan->count() > 0;
+    f.fps_given = given.fps->count() > 0;
+    f.output_given = app.count("--output") > 0;
+    tp::RenderRequest r = tp::render_request(f);
     const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(f.bank_path, "bank"));
-    tp::fit_to_bank(r, bank);
-    profile_from_flags(f, bank, r);
-    // The images, all read and checked before anything is printed (frames on stdin: as
-    // they come, each checked before it is written).  A sequence's frames are kept as
-    // SequenceFrames keeps them, so memory does not grow with their number.
-    std::vector<tp::PadIntensities> frames;
-    std::string note;  // composited transparency, said with the warning
-    const bool from_stdin = f.images.size() == 1 && f.images[0] == "-";
-    if (f.sequence) r.frames.emplace(bank.columns, bank.rows);
-    if (f.sequence && from_stdin) {
-      for_each_stdin_frame(bank, [&](const tp::PadIntensities& im, const std::string& where) {
-        r.frames->add(im, where);
-      });
-      if (r.frames->count() == 0) tp::bad_input("--sequence -: no frames on stdin");
-    } else if (!(from_stdin && !f.frames_for.empty())) {
-      frames = read_images(f.images, bank, f.resample, f.sequence ? &*r.frames : nullptr, note);
-    }
+    tp::fit_spec_to_bank(f, bank, r);
+    const tp::RenderImages images = tp::render_images(f, bank, r, [&](const tp::FrameSink& sink) {
+      for_each_stdin_frame(bank, sink);
+    });
     if (!f.frames_for.empty()) {
-      play(f, r, bank, frames, note);
+      const tp::FramesToPlay play = tp::frames_to_play(f, r, bank, images.frames);
+      std::fputs((warning_text(play.profile.warning) + note_text(images.note)).c_str(), stderr);
+      play_frames(play.sequence, play.profile.profile, bank, play.amplitudes,
+                  tp::images_from_stdin(f), r.fps);
       return;
     }
-    if (!f.sequence) {
-      r.image = frames[0];
-      r.image_name = f.images[0];
-    }
     const tp::RenderResult out = tp::run_render(r, bank);
-    std::fputs((warning_text(out.warning) + note).c_str(), stderr);
+    std::fputs((warning_text(out.warning) + note_text(images.note)).c_str(), stderr);
     if (!out.lowered.empty()) std::fprintf(stderr, "render-tactile: %s\n", out.lowered.c_str());
     std::fprintf(stderr, "render-tactile: %s; planned in %s ms\n",
                  tp::plan_summary(out.plan).c_str(),

@@ -43,23 +43,6 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
   add_integer(app, "--threads", o.threads, "Threads, 1 to 256 [every core]", 1, 256);
 }
 
-tp::FibreOptions fibre_values(const FibreOptions& o) {
-  tp::FibreOptions v;
-  v.model = o.model;
-  v.geometry = o.geometry;
-  v.stimulus = o.stimulus;
-  if (!o.width.empty()) v.width_us = parse_finite(o.width, "--width");
-  if (!o.balance_width.empty()) v.balance_width_us = parse_finite(o.balance_width, "--balance-width");
-  if (!o.interphase.empty()) v.interphase_us = parse_finite(o.interphase, "--interphase");
-  v.monophasic = o.monophasic;
-  v.offsets = o.offsets;
-  if (!o.tolerance.empty()) v.tolerance = parse_finite(o.tolerance, "--tolerance");
-  v.tolerance_text = o.tolerance;
-  v.threads = o.threads;
-  v.model_flag = o.model_flag;
-  return v;
-}
-
 FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>& weights) {
   return tp::apply_fibre_options(fibre_values(o), weights);
 }

@@ -14,23 +14,12 @@
 namespace tp::cli {
 
 // The flags' texts (numbers parsed by fibre_values, naming the flag).
-struct FibreOptions {
-  std::string model = "mrg";
-  std::string geometry = "straight";
-  std::string stimulus;
-  std::string width, interphase, balance_width;
-  bool monophasic = false;
-  int offsets = 8;
-  std::string tolerance;
-  int threads = 0;
-  std::string model_flag = "--model";  // set by add_fibre_options, for messages
-};
+using FibreOptions = tp::FibreText;
 
 // model_flag: "--model" (fiber-threshold) or "--fibre-model" (optimize-weights).
 void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_flag);
 
-// The values of the flags (bad input names a flag whose text is not a finite number).
-tp::FibreOptions fibre_values(const FibreOptions& o);
+using tp::fibre_values;
 
 using tp::FibreSetup;
 // tp::apply_fibre_options over the flags' values.

@@ -4,8 +4,10 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/json.hpp"
 #include "core/number.hpp"
 #include "core/ranges.hpp"
+#include "render/options.hpp"
 
 namespace tp {
 
@@ -80,6 +82,141 @@ RenderResult run_render(const RenderRequest& request, const PixelBank& bank) {
                  : r.sequence ? sequence_to_json(out.plan, bank)
                               : mix_to_json(out.plan.mix);
   return out;
+}
+
+namespace {
+
+// What would do nothing is refused, not ignored: --fps paces --frames and sets the default
+// duration of --sequence's frames, nothing else; --frames plays a stimulus already made,
+// and streams (each frame to stdout when it is due, for stimctl --live; a file written
+// whole at the end would hold them back until the stream is over).
+void check_flag_use(const RenderSpec& s) {
+  if (s.fps_given && s.frames_for.empty() &&
+      (!s.sequence || !s.duration.empty() || s.images.empty()))
+    bad_input("--fps: applies to --frames, and to --sequence's frames without --duration");
+  const std::pair<const char*, bool> given[] = {{"--rates", s.rates_given},
+                                                {"--duration", s.duration_given},
+                                                {"--crosstalk", s.crosstalk_given},
+                                                {"--plan", s.plan_given}};
+  for (const auto& [name, is_given] : given)
+    if (!s.frames_for.empty() && is_given)
+      bad_input(std::string(name) +
+                ": --frames plays the sequence's stimulus as it was made; give it to "
+                "--sequence");
+  if (!s.frames_for.empty() && s.output_given)
+    bad_input(
+        "--output: --frames writes live frames to stdout as they are due (for "
+        "stimctl --live), not a document; pipe them");
+}
+
+// The request's options from the spec, each parsed and checked; the duration as given,
+// never clamped (out of range is refused here, and by the plan when it holds no pulse of
+// some pattern).
+RenderRequest request_from_spec(const RenderSpec& s) {
+  RenderRequest r;
+  r.sequence = s.sequence;
+  r.plan_only = s.plan_only;
+  RenderOptions& o = r.options;
+  if (!s.rates.empty()) parse_rates(s.rates, o.rate_hz);
+  r.fps = parse_finite(s.fps, "--fps");
+  if (!(r.fps >= 0.1 && r.fps <= 1000)) bad_input("--fps: " + s.fps + " outside [0.1, 1000]");
+  if (!s.duration.empty()) r.duration_s = parse_finite(s.duration, "--duration");
+  o.duration_s = render_duration_s(r, s.images.size());
+  o.crosstalk = parse_finite(s.crosstalk, "--crosstalk");
+  o.width_us = parse_finite(s.width, "--width");
+  o.balance_width_us = s.balance.empty() ? o.width_us : parse_finite(s.balance, "--balance-width");
+  check_render_options(o);
+  return r;
+}
+
+// The images and stdin as the kind of output asks them.
+void check_inputs_given(const RenderSpec& s) {
+  if (s.sequence && !s.frames_for.empty()) bad_input("--sequence and --frames: give one");
+  if (!s.sequence && s.frames_for.empty() && s.images.size() != 1)
+    bad_input(count_text(s.images.size(), "image") + ": a still image takes one");
+  if (!s.frames_for.empty() && s.images.empty())
+    bad_input("--frames: no frames (images, or - for JSON lines on stdin)");
+  int stdin_uses = (s.bank_path == "-") + (s.profile_path == "-") + (s.frames_for == "-");
+  for (const std::string& image : s.images) stdin_uses += image == "-";
+  if (stdin_uses > 1) bad_input("- (stdin) given more than once");
+}
+
+// The PNG images on the bank's pads, each read and checked; a sequence's kept as
+// SequenceFrames keeps them (not returned).  `note` as render_images says.
+std::vector<PadIntensities> read_images(const std::vector<std::string>& paths,
+                                        const PixelBank& bank, bool resample,
+                                        SequenceFrames* kept, std::string& note) {
+  std::vector<PadIntensities> out;
+  std::size_t translucent = 0;  // images with a pixel not opaque
+  for (const std::string& f : paths) {
+    const RgbImage im = read_png(f);
+    if (im.translucent > 0 && translucent++ == 0)
+      note = "image '" + f + "': " + count_text(im.translucent, "pixel") + " of " +
+             std::to_string(im.rgb.size() / 3) + " not opaque";
+    PadIntensities p = pad_intensities(im, bank.columns, bank.rows, resample);
+    if (kept) {
+      kept->add(p, f);
+    } else {
+      out.push_back(std::move(p));
+    }
+  }
+  if (translucent > 0)
+    note += (translucent > 1 ? " (and " + count_text(translucent - 1, "image") + " more)" : "") +
+            ": composited onto black (transparent is 0)";
+  return out;
+}
+
+}  // namespace
+
+RenderRequest render_request(const RenderSpec& s) {
+  check_flag_use(s);
+  RenderRequest r = request_from_spec(s);
+  check_inputs_given(s);
+  return r;
+}
+
+void fit_spec_to_bank(const RenderSpec& s, const PixelBank& bank, RenderRequest& r) {
+  fit_to_bank(r, bank);
+  if (!s.profile_path.empty() && !s.comfort_factor.empty())
+    bad_input("--comfort-factor: applies without --profile only");
+  if (!s.comfort_factor.empty())
+    r.comfort_factor = parse_finite(s.comfort_factor, "--comfort-factor");
+  if (!(r.comfort_factor >= 1.1 && r.comfort_factor <= 10))
+    bad_input("--comfort-factor: " + s.comfort_factor + " outside [1.1, 10]");
+  if (!s.profile_path.empty())
+    r.profile = profile_from_json(read_json(s.profile_path, "profile"),
+                                  r.options.limits.max_current_mA, static_cast<long>(bank.pads()));
+}
+
+bool images_from_stdin(const RenderSpec& s) { return s.images.size() == 1 && s.images[0] == "-"; }
+
+RenderImages render_images(const RenderSpec& s, const PixelBank& bank, RenderRequest& r,
+                           const StdinFrames& read_stdin) {
+  RenderImages out;
+  const bool from_stdin = images_from_stdin(s);
+  if (s.sequence) r.frames.emplace(bank.columns, bank.rows);
+  if (s.sequence && from_stdin) {
+    read_stdin([&](const PadIntensities& im, const std::string& where) { r.frames->add(im, where); });
+    if (r.frames->count() == 0) bad_input("--sequence -: no frames on stdin");
+  } else if (!(from_stdin && !s.frames_for.empty())) {
+    out.frames = read_images(s.images, bank, s.resample, s.sequence ? &*r.frames : nullptr, out.note);
+  }
+  if (!s.sequence && s.frames_for.empty()) {
+    r.image = out.frames[0];
+    r.image_name = s.images[0];
+  }
+  return out;
+}
+
+FramesToPlay frames_to_play(const RenderSpec& s, const RenderRequest& r, const PixelBank& bank,
+                            const std::vector<PadIntensities>& frames) {
+  RenderProfile p = render_profile(r, bank);
+  Sequence seq = sequence_from_json(read_json(s.frames_for, "stimulus"), bank, p.profile,
+                                    "--frames " + s.frames_for);
+  std::vector<std::vector<double>> out;
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    out.push_back(frame_amplitudes(seq, p.profile, frames[k], s.images[k]));
+  return {std::move(p), std::move(seq), std::move(out)};
 }
 
 }  // namespace tp

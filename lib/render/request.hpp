@@ -5,8 +5,10 @@
 // stimulus, or its plan, and what to say about it.  The front end reads the files and
 // writes the output; the request holds values.
 
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "render/model_profile.hpp"
 #include "render/render.hpp"
@@ -58,5 +60,56 @@ struct RenderResult {
 // render-tactile's flags), plans it and checks the mix as a device would (unless it is
 // only a plan for more pads than a stimulator drives).  Bad input, too, when nothing is lit.
 RenderResult run_render(const RenderRequest& r, const PixelBank& bank);
+
+// render-tactile's flags as given: their text (parsed in the request's order), and which
+// were given at all (counted as given even at their defaults), for the combinations that
+// would do nothing and are refused.
+struct RenderSpec {
+  std::vector<std::string> images;  // PNGs, - for stdin (JSON-line frames with a sequence)
+  std::string bank_path, profile_path, comfort_factor, rates, duration, crosstalk = "0.1",
+              width = "200", balance, frames_for, fps = "30";
+  bool resample = false, plan_only = false, sequence = false;
+  bool rates_given = false, duration_given = false, crosstalk_given = false,
+       plan_given = false, fps_given = false, output_given = false;
+};
+
+// The request from the spec, before any file is read: the flags' combinations (what would
+// do nothing is refused, not ignored), each option parsed and checked, then the images
+// and stdin as the kind of output asks them; bad input naming the flag.
+RenderRequest render_request(const RenderSpec& s);
+
+// The request fitted to the bank (fit_to_bank), then the person's profile (--profile,
+// read under the bank's current limit) or the comfort factor for the model's.
+void fit_spec_to_bank(const RenderSpec& s, const PixelBank& bank, RenderRequest& r);
+
+// Whether the frames (or the one image) come from stdin: the images are just "-".
+bool images_from_stdin(const RenderSpec& s);
+
+// The frames on stdin (JSON lines, read by the front end): `frame` is called with each,
+// checked, and its name for messages ("frame N"), in order.
+using FrameSink = std::function<void(const PadIntensities&, const std::string&)>;
+using StdinFrames = std::function<void(const FrameSink& frame)>;
+
+// The images the request renders, read and checked before anything is written: a still's
+// into r.image; a sequence's into r.frames (as SequenceFrames keeps them, so memory does
+// not grow with their number; from stdin through `read_stdin`); --frames' PNGs returned,
+// their amplitudes to be played (from stdin: none, read as they come).  `note`: when some
+// pixel was not opaque, what was composited onto black, else empty.
+struct RenderImages {
+  std::vector<PadIntensities> frames;  // --frames' PNG frames
+  std::string note;
+};
+RenderImages render_images(const RenderSpec& s, const PixelBank& bank, RenderRequest& r,
+                           const StdinFrames& read_stdin);
+
+// --frames: the sequence's stimulus (its file) read and checked against the bank and the
+// profile, and each PNG frame's amplitudes, all checked before the first is played.
+struct FramesToPlay {
+  RenderProfile profile;
+  Sequence sequence;
+  std::vector<std::vector<double>> amplitudes;  // the PNG frames'
+};
+FramesToPlay frames_to_play(const RenderSpec& s, const RenderRequest& r, const PixelBank& bank,
+                            const std::vector<PadIntensities>& frames);
 
 }  // namespace tp

@@ -3,7 +3,10 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/files.hpp"
+#include "core/json.hpp"
 #include "core/number.hpp"
+#include "render/options.hpp"
 
 namespace tp {
 
@@ -13,6 +16,27 @@ void check_calibrate(const CalibrateRequest& r) {
   if (r.port != "emu" && !r.record_path.empty())
     bad_input("--record: only with --port emu (stim-emu has its own)");
   if (r.bank_path == "-" && !r.responses.empty()) bad_input("--bank -: stdin carries the responses");
+}
+
+PixelBank calibration_bank(const CalibrateRequest& r) {
+  check_calibrate(r);
+  return pixel_bank_from_json(read_json(r.bank_path, "bank"));
+}
+
+CalibrationOptions calibration_options(const CalibrationSpec& s) {
+  CalibrationOptions o;
+  o.staircase.ceiling_mA = parse_finite(s.ceiling_mA, "--ceiling");
+  o.staircase.start_mA = parse_finite(s.start_mA, "--start");
+  o.staircase.ascend_factor = o.staircase.step_factor = parse_finite(s.step, "--step");
+  o.staircase.max_step_up = parse_finite(s.max_step, "--max-step");
+  o.staircase.down = s.down;
+  o.staircase.reversals = s.reversals;
+  o.staircase.max_trials = s.max_trials;
+  o.trial_s = parse_finite(s.trial_s, "--trial-duration");
+  o.width_us = o.balance_width_us = parse_finite(s.width_us, "--width");
+  if (!s.rates.empty()) parse_rates(s.rates, o.rate_hz);
+  if (!s.primaries.empty()) o.primaries = parse_primaries(s.primaries, "--primaries");
+  return o;
 }
 
 std::vector<long> calibration_pads(const PixelBank& bank, const CalibrateRequest& r) {
@@ -34,9 +58,11 @@ std::vector<long> calibration_pads(const PixelBank& bank, const CalibrateRequest
 }
 
 Calibration make_calibration(const PixelBank& bank, const CalibrateRequest& r) {
-  CalibrationOptions o = r.options;
+  CalibrationOptions o = calibration_options(r.spec);
   o.pads = calibration_pads(bank, r);
-  return Calibration(bank, o);
+  Calibration cal(bank, o);
+  check_writable(r.log_path, "--log");
+  return cal;
 }
 
 }  // namespace tp

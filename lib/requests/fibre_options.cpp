@@ -90,4 +90,21 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
   return f;
 }
 
+FibreOptions fibre_values(const FibreText& t) {
+  FibreOptions v;
+  v.model = t.model;
+  v.geometry = t.geometry;
+  v.stimulus = t.stimulus;
+  if (!t.width.empty()) v.width_us = parse_finite(t.width, "--width");
+  if (!t.balance_width.empty()) v.balance_width_us = parse_finite(t.balance_width, "--balance-width");
+  if (!t.interphase.empty()) v.interphase_us = parse_finite(t.interphase, "--interphase");
+  v.monophasic = t.monophasic;
+  v.offsets = t.offsets;
+  if (!t.tolerance.empty()) v.tolerance = parse_finite(t.tolerance, "--tolerance");
+  v.tolerance_text = t.tolerance;
+  v.threads = t.threads;
+  v.model_flag = t.model_flag;
+  return v;
+}
+
 }  // namespace tp

@@ -32,6 +32,24 @@ struct FibreOptions {
   std::string model_flag = "--model";  // the fibre model's flag, for messages
 };
 
+// The fibre flags as typed (cli/fibre_options.hpp declares them): numbers parsed by
+// fibre_values, naming the flag.
+struct FibreText {
+  std::string model = "mrg";
+  std::string geometry = "straight";
+  std::string stimulus;
+  std::string width, interphase, balance_width;
+  bool monophasic = false;
+  int offsets = 8;
+  std::string tolerance;
+  int threads = 0;
+  std::string model_flag = "--model";  // set by cli::add_fibre_options, for messages
+};
+
+// The values of the flags (bad input names a flag whose text is not a finite number, in
+// the order --width, --balance-width, --interphase, --tolerance).
+FibreOptions fibre_values(const FibreText& t);
+
 struct FibreSetup {
   std::unique_ptr<fibre::FibreModel> model;
   tp::PulseSpec pulse;

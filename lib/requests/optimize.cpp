@@ -411,6 +411,24 @@ OptimizeOutput run_threshold(const OptimizePlan& p, const std::string& mode) {
 
 }  // namespace
 
+void parse_optimize_text(const OptimizeText& t, OptimizeRequest& r) {
+  for (std::size_t a = 0; !t.modes.empty();) {  // several, comma-separated
+    const std::size_t b = t.modes.find(',', a);
+    r.modes.push_back(t.modes.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  if (!t.max_current_mA.empty()) r.max_current_mA = parse_finite(t.max_current_mA, "--max-current");
+  if (!t.min_target_af.empty()) r.min_target_af = parse_finite(t.min_target_af, "--min-target-af");
+  r.given.min_target_af = t.min_target_af;
+  r.fibre = fibre_values(t.fibre);
+  for (const std::string& p : t.at) r.at_mm.push_back(parse_list(p, "--at"));
+  r.given.at = t.at;
+  if (!t.radius_mm.empty()) r.radius_mm = parse_finite(t.radius_mm, "--radius");
+  r.given.radius = t.radius_mm;
+  if (!t.spill.empty()) r.spill = parse_finite(t.spill, "--spill");
+}
+
 void check_optimize(const Document& doc, const OptimizeRequest& r) {
   plan_optimize(doc, r);
 }

@@ -68,6 +68,20 @@ struct OptimizeOutput {
   std::vector<std::string> notes;
 };
 
+// optimize-weights' flags as typed: --mode's comma-separated names, the numbers and the
+// threshold objective's fibre flags.
+struct OptimizeText {
+  std::string modes;  // "SAI,PC"
+  std::string max_current_mA, min_target_af, radius_mm, spill;
+  std::vector<std::string> at;  // each X or X,Z
+  FibreText fibre;
+};
+
+// The modes, the numbers (bad input naming the flag whose text is not a number, in the
+// order --max-current, --min-target-af, the fibre's, --at, --radius, --spill), the texts
+// the messages quote, and the fibre options' values, into r; the rest of r as it was.
+void parse_optimize_text(const OptimizeText& t, OptimizeRequest& r);
+
 // Every check of the options against the document, in the program's order, without work:
 // bad input names the flag (the message optimize-weights prints after its name).  The
 // threshold objective's fibre options are checked by run_optimize() with the AF optimum's

@@ -221,6 +221,31 @@ std::vector<double> strength_duration_widths(std::vector<double> ws,
   return ws;
 }
 
+std::string threshold_document_source(const ThresholdText& t) {
+  const std::string source = t.config.empty() && t.weights.empty() ? "-" : t.config;
+  std::vector<std::string> readers;  // stdin can be read once
+  if (source == "-")
+    readers.push_back(t.config.empty() ? "the weights document (no --config)" : "--config -");
+  if (t.fibre.stimulus == "-") readers.push_back("--stimulus -");
+  if (t.skin == "-") readers.push_back("--skin -");
+  if (readers.size() > 1)
+    bad_input(readers[0] + " and " + readers[1] +
+              " both read stdin, which can be read once: give the other as a file");
+  return source;
+}
+
+void parse_threshold_text(const ThresholdText& t, Document& doc, ThresholdRequest& r) {
+  if (!t.weights.empty()) doc.weights = parse_list(t.weights, "--weights");
+  r.fibre = fibre_values(t.fibre);
+  if (!t.at.empty()) {
+    r.at_mm = parse_list(t.at, "--at");
+    r.at_text = t.at;
+  }
+  // --widths is parsed where it applies, so that without --strength-duration it is told so.
+  if (!t.widths.empty())
+    r.widths_us = r.strength_duration ? parse_list(t.widths, "--widths") : std::vector<double>{};
+}
+
 ThresholdPlan plan_thresholds(Document doc, const ThresholdRequest& r) {
   ThresholdPlan p;
   apply_model_options(doc, r.conductor);

@@ -42,6 +42,27 @@ struct ThresholdRequest {
   std::string recruitment;
 };
 
+// fiber-threshold's flags as typed, and the ones that say where its inputs come from.
+struct ThresholdText {
+  std::string config;   // --config as given (empty: not given)
+  std::string skin;     // --skin as given (-: stdin)
+  std::string weights;  // --weights W1,W2,... instead of a document
+  std::string at;       // --at X,Z
+  std::string widths;   // --widths US1,US2,... (with --strength-duration only)
+  FibreText fibre;      // --model, the pulse, ... (--stimulus -: stdin)
+};
+
+// Where the weights document comes from: --config, else stdin unless --weights gives the
+// weights ("": the array from the default document).  Bad input when stdin would be read
+// by more than one of the document, --stimulus and --skin (naming the first two).
+std::string threshold_document_source(const ThresholdText& t);
+
+// The texts into the request and the document: --weights' values as doc's weights, the
+// fibre options' values, --at (quoted as given by messages), and --widths where they apply
+// (r.strength_duration set first; without it, given and empty, which the plan refuses).
+// Bad input names the flag whose text is not a number, in that order.
+void parse_threshold_text(const ThresholdText& t, Document& doc, ThresholdRequest& r);
+
 enum class ThresholdMode { thresholds, strength_duration, population };
 
 // A checked request: what run_thresholds() does and everything it needs.

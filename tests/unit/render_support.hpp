@@ -39,6 +39,22 @@ inline const PixelBank& bank6() {
   return b;
 }
 
+// A bank of two pixels in a row, each primary's pattern +1 at its own pad and -1 at the
+// other's (as make-pulse checks it: balanced, within every limit at 1 mA): calibration's.
+inline PixelBank two_pads() {
+  PixelBank b;
+  b.columns = 2;
+  b.rows = 1;
+  b.pad_area_mm2 = 1;
+  b.entry.resize(2);
+  for (std::size_t pad = 0; pad < 2; ++pad)
+    for (auto& e : b.entry[pad]) {
+      e.present = e.feasible = true;
+      e.weights = pad == 0 ? std::vector<double>{1, -1} : std::vector<double>{-1, 1};
+    }
+  return b;
+}
+
 // A 6 x 6 image, all dark.
 inline PadIntensities dark6() {
   PadIntensities im;

@@ -1,5 +1,7 @@
 // render-tactile's request (lib/render/request.hpp): the duration's defaults, the bank's
-// limits, and run_render's document, the same as the plan's own steps give.
+// limits, and run_render's document, the same as the plan's own steps give; the flags as
+// given (RenderSpec): their combinations, defaults and refusals, and the inputs each output
+// asks (render_images).
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
@@ -78,4 +80,109 @@ TEST_CASE("request: run_render's document, warnings and refusals", "[render][req
   r.image.value[14] = {1.0, 0, 0};
   r.duration_s = 0.01;
   CHECK_THROWS_WITH(run_render(r, b), Catch::Contains("shorter than one period of RA"));
+}
+
+namespace {
+
+// A 6 x 6 bank's shape without its patterns (for what reads only its size and limit).
+PixelBank bank_of_6x6() {
+  PixelBank b;
+  b.columns = b.rows = 6;
+  b.entry.resize(36);
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("request: render-tactile's flags, their combinations, defaults and inputs",
+          "[render][request]") {
+  using Catch::Contains;
+  RenderSpec s;
+  s.images = {"a.png"};
+  // The defaults: a still of 1 s, crosstalk 0.1, both phases 200 us, 30 fps.
+  const RenderRequest d = render_request(s);
+  CHECK(!d.sequence);
+  CHECK(d.options.duration_s == 1.0);
+  CHECK(d.options.crosstalk == 0.1);
+  CHECK(d.options.width_us == 200.0);
+  CHECK(d.options.balance_width_us == 200.0);
+  CHECK(d.fps == 30.0);
+  // What would do nothing is refused, naming the flag, before any number is read.
+  RenderSpec f = s;
+  f.fps_given = true;
+  f.fps = "x";
+  CHECK_THROWS_WITH(render_request(f), Contains("--fps: applies to --frames"));
+  f.sequence = true;  // a sequence's frames without --duration: --fps sets their duration
+  CHECK_THROWS_WITH(render_request(f), Contains("--fps: not a number 'x'"));
+  f.fps = "2000";
+  CHECK_THROWS_WITH(render_request(f), Contains("--fps: 2000 outside [0.1, 1000]"));
+  f.fps = "10";
+  f.images = {"a.png", "b.png", "c.png", "d.png"};
+  CHECK(render_request(f).options.duration_s == 0.5);  // 4 frames and one period at 10 fps
+  RenderSpec frames = s;
+  frames.frames_for = "seq.json";
+  frames.crosstalk_given = true;
+  CHECK_THROWS_WITH(render_request(frames),
+                    Contains("--crosstalk: --frames plays the sequence's stimulus as it was made"));
+  frames.crosstalk_given = false;
+  frames.output_given = true;
+  CHECK_THROWS_WITH(render_request(frames), Contains("--output: --frames writes live frames"));
+  frames.output_given = false;
+  frames.sequence = true;
+  CHECK_THROWS_WITH(render_request(frames), Contains("--sequence and --frames: give one"));
+  // The inputs the output asks: a still one image, stdin once.
+  RenderSpec two = s;
+  two.images = {"a.png", "b.png"};
+  CHECK_THROWS_WITH(render_request(two), Contains("2 images: a still image takes one"));
+  RenderSpec twice = s;
+  twice.images = {"-"};
+  twice.bank_path = "-";
+  CHECK_THROWS_WITH(render_request(twice), Contains("- (stdin) given more than once"));
+  CHECK(images_from_stdin(twice));
+  CHECK(!images_from_stdin(s));
+  RenderSpec balance = s;
+  balance.width = "100";
+  CHECK(render_request(balance).options.balance_width_us == 100.0);
+  // After the bank: the comfort factor only without a profile, and in range.
+  const PixelBank b = bank_of_6x6();
+  RenderSpec c = s;
+  c.comfort_factor = "20";
+  RenderRequest r = render_request(c);
+  CHECK_THROWS_WITH(fit_spec_to_bank(c, b, r), Contains("--comfort-factor: 20 outside [1.1, 10]"));
+  c.comfort_factor = "3";
+  fit_spec_to_bank(c, b, r);
+  CHECK(r.comfort_factor == 3.0);
+  CHECK(!r.profile);
+  c.profile_path = "profile.json";
+  CHECK_THROWS_WITH(fit_spec_to_bank(c, b, r),
+                    Contains("--comfort-factor: applies without --profile only"));
+}
+
+TEST_CASE("request: the images as the output asks them", "[render][request]") {
+  const PixelBank b = bank_of_6x6();
+  RenderSpec s;
+  s.sequence = true;
+  s.images = {"-"};
+  RenderRequest r = render_request(s);
+  // A sequence's frames on stdin, through the front end's reader, kept as frames.
+  const RenderImages in = render_images(s, b, r, [&](const FrameSink& sink) {
+    sink(dark6(), "frame 1");
+    sink(dark6(), "frame 2");
+  });
+  REQUIRE(r.frames);
+  CHECK(r.frames->count() == 2);
+  CHECK(in.frames.empty());
+  CHECK(in.note.empty());
+  RenderRequest none = render_request(s);
+  CHECK_THROWS_WITH(render_images(s, b, none, [](const FrameSink&) {}),
+                    Catch::Contains("--sequence -: no frames on stdin"));
+  // --frames from stdin: nothing read now (each frame as it comes, while playing).
+  RenderSpec play = s;
+  play.sequence = false;
+  play.frames_for = "seq.json";
+  RenderRequest p = render_request(play);
+  bool read = false;
+  CHECK(render_images(play, b, p, [&](const FrameSink&) { read = true; }).frames.empty());
+  CHECK(!read);
+  CHECK(!p.frames);
 }

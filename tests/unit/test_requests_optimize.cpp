@@ -303,3 +303,51 @@ CATCH_TEST_CASE("the threshold objective: never worse than the AF optimum it sta
   CATCH_CHECK_THROWS_WITH(run_optimize(d, r),
                           "--fibre-model: unknown fibre model 'hh' (mrg or senn)");
 }
+
+CATCH_TEST_CASE("optimize-weights' typed flags are parsed in its order and named", "[requests][optimize]") {
+  auto message = [](const OptimizeText& t) {
+    OptimizeRequest r;
+    try {
+      parse_optimize_text(t, r);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  OptimizeText t;
+  t.modes = "SAI,PC,,RA";
+  t.max_current_mA = "1.5";
+  t.min_target_af = "2";
+  t.at = {"0.5", "1,2"};
+  t.radius_mm = "3";
+  t.spill = "0.2";
+  t.fibre.width = "100";
+  OptimizeRequest r;
+  r.bank = true;  // kept
+  parse_optimize_text(t, r);
+  CATCH_CHECK(r.modes == std::vector<std::string>{"SAI", "PC", "", "RA"});
+  CATCH_CHECK(r.max_current_mA == 1.5);
+  CATCH_CHECK(r.min_target_af == 2.0);
+  CATCH_CHECK(r.at_mm == std::vector<std::vector<double>>{{0.5}, {1, 2}});
+  CATCH_CHECK(r.given.at == t.at);
+  CATCH_CHECK(r.radius_mm == 3.0);
+  CATCH_CHECK(r.given.radius == "3");
+  CATCH_CHECK(r.spill == 0.2);
+  CATCH_CHECK(r.fibre.width_us == 100.0);
+  CATCH_CHECK(r.bank);
+  OptimizeRequest none;
+  parse_optimize_text(OptimizeText{}, none);
+  CATCH_CHECK(none.modes.empty());
+  CATCH_CHECK(!none.max_current_mA);
+  CATCH_CHECK(!none.radius_mm);
+  CATCH_CHECK(none.fibre.model == "mrg");
+  // The first text that is not a number, in the program's order.
+  t.spill = "x";
+  CATCH_CHECK(message(t) == "--spill: not a number 'x'");
+  t.fibre.tolerance = "tight";
+  CATCH_CHECK(message(t) == "--tolerance: not a number 'tight'");
+  t.min_target_af = "high";
+  CATCH_CHECK(message(t) == "--min-target-af: not a number 'high'");
+  t.max_current_mA = "nan";
+  CATCH_CHECK_THAT(message(t), Catch::Contains("--max-current"));
+}

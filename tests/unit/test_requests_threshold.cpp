@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -285,4 +286,64 @@ TEST_CASE("the thresholds' document replaces what an earlier run left",
   CHECK(j["threshold_ratio"].is_object());
   REQUIRE_FALSE(out.notes.empty());
   CHECK(out.notes[0].rfind("mrg, 200 us biphasic", 0) == 0);
+}
+
+TEST_CASE("fiber-threshold's typed flags: the document's source, stdin once, the numbers",
+          "[requests][threshold]") {
+  auto message = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  ThresholdText t;
+  CHECK(threshold_document_source(t) == "-");  // no --config: the document on stdin
+  t.weights = "1,-1";
+  CHECK(threshold_document_source(t).empty());  // --weights: the default array
+  t.config = "doc.json";
+  CHECK(threshold_document_source(t) == "doc.json");
+  ThresholdText both;
+  both.fibre.stimulus = "-";
+  CHECK(message([&] { threshold_document_source(both); }) ==
+        "the weights document (no --config) and --stimulus - both read stdin, which can be "
+        "read once: give the other as a file");
+  both.config = "-";
+  both.skin = "-";
+  CHECK(message([&] { threshold_document_source(both); }) ==
+        "--config - and --stimulus - both read stdin, which can be read once: give the other "
+        "as a file");
+  both.fibre.stimulus = "s.json";
+  CHECK(message([&] { threshold_document_source(both); }) ==
+        "--config - and --skin - both read stdin, which can be read once: give the other as a "
+        "file");
+  // The numbers: the weights into the document, the at as typed, the widths where they apply.
+  Document doc;
+  ThresholdRequest r;
+  t.weights = "0,1,-1";
+  t.at = "1.5,2";
+  t.widths = "100,50";
+  t.fibre.width = "150";
+  parse_threshold_text(t, doc, r);
+  CHECK(doc.weights == std::vector<double>{0, 1, -1});
+  CHECK(r.at_mm == std::vector<double>{1.5, 2});
+  CHECK(r.at_text == "1.5,2");
+  CHECK(r.fibre.width_us == 150.0);
+  REQUIRE(r.widths_us);
+  CHECK(r.widths_us->empty());  // given without --strength-duration: the plan says so
+  ThresholdRequest no_at = r;
+  no_at.at_mm.reset();
+  CHECK_THAT(refusal(weights_document(), no_at), Catch::Contains("--widths"));
+  ThresholdRequest sd;
+  sd.strength_duration = true;
+  parse_threshold_text(t, doc, sd);
+  CHECK(sd.widths_us == std::vector<double>{100, 50});
+  // The first text that is not a number, in this order.
+  t.widths = "w";
+  t.at = "a";
+  t.fibre.tolerance = "tol";
+  CHECK(message([&] { parse_threshold_text(t, doc, sd); }) == "--tolerance: not a number 'tol'");
+  t.weights = "x";
+  CHECK(message([&] { parse_threshold_text(t, doc, sd); }) == "--weights item 1: not a number 'x'");
 }
