@@ -16,6 +16,7 @@
 #include "fibre/report.hpp"
 #include "fibre/threshold.hpp"
 #include "model/field.hpp"
+#include "fibre_support.hpp"
 #include "opt/threshold_objective.hpp"
 
 using namespace tp;
@@ -262,13 +263,7 @@ TEST_CASE("A run does not depend on what the simulator ran before", "[fibre][mrg
 }
 
 namespace {
-struct PaperCase {
-  Setup setup;
-  std::vector<double> w{0, 0, -0.5, 1, -0.5, 0, 0, 0};
-  std::unique_ptr<Conductor> conductor = make_conductor(setup.conductor, setup.array);
-  std::unique_ptr<FibreModel> model = make_fibre_model("mrg");
-  const Receptor& sai() const { return setup.receptors[1]; }
-};
+using tp::test::PaperCase;
 double sai_threshold(const PaperCase& p, const std::vector<double>& w, const Waveform& wf,
                      unsigned threads = 1, std::size_t offsets = 4) {
   ThresholdSettings s;

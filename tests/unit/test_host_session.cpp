@@ -128,6 +128,15 @@ class TrippingTransport final : public host::Transport {
   device::FrameDecoder decoder_;
 };
 
+// One link lent to several clients in turn (as hosts that come and go on one device).
+struct Borrowed final : host::Transport {
+  host::Transport& t;
+  explicit Borrowed(host::Transport& x) : t(x) {}
+  std::string name() const override { return t.name(); }
+  void write(const std::uint8_t* d, std::size_t n) override { t.write(d, n); }
+  std::size_t read(std::uint8_t* b, std::size_t m, int ms) override { return t.read(b, m, ms); }
+};
+
 Stimulus test_stimulus() {
   Stimulus s;
   s.currents_mA = {0, 0, -0.5, 1, -0.5, 0, 0, 0};
@@ -372,13 +381,7 @@ TEST_CASE("a device still running another session's output is stopped first", "[
   // One emulator, two clients in turn: the first starts a long stimulus and vanishes
   // without stopping it (as a killed host), the second must stop it before configuring.
   auto link = host::open_transport("emu", 115200, {});
-  struct Borrowed final : host::Transport {
-    host::Transport& t;
-    explicit Borrowed(host::Transport& x) : t(x) {}
-    std::string name() const override { return t.name(); }
-    void write(const std::uint8_t* d, std::size_t n) override { t.write(d, n); }
-    std::size_t read(std::uint8_t* b, std::size_t m, int ms) override { return t.read(b, m, ms); }
-  } borrowed{*link};
+  Borrowed borrowed{*link};
   host::StimulatorClient first(borrowed);
   const auto caps = first.identify();
   device::PulseConfig cfg;
@@ -398,13 +401,7 @@ TEST_CASE("a device still running another session's output is stopped first", "[
 TEST_CASE("a session whose output another session took over fails, never reports success",
           "[host][session]") {
   auto link = host::open_transport("emu", 115200, {});
-  struct Borrowed final : host::Transport {
-    host::Transport& t;
-    explicit Borrowed(host::Transport& x) : t(x) {}
-    std::string name() const override { return t.name(); }
-    void write(const std::uint8_t* d, std::size_t n) override { t.write(d, n); }
-    std::size_t read(std::uint8_t* b, std::size_t m, int ms) override { return t.read(b, m, ms); }
-  } a{*link}, b{*link};
+  Borrowed a{*link}, b{*link};
   host::StimulatorClient first(a), second(b);
   const auto caps = first.identify();
   device::PulseConfig cfg;

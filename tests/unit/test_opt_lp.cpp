@@ -15,38 +15,10 @@
 #include "core/error.hpp"
 #include "opt/lp.hpp"
 #include "opt/minimax.hpp"
+#include "opt_support.hpp"
 
 using namespace tp;
-
-namespace {
-
-// Runs f with stdout redirected to a temporary file; returns what was written there.
-template <class F>
-std::string stdout_of(F f) {
-  std::fflush(stdout);
-  FILE* tmp = std::tmpfile();
-  const int saved = ::dup(1);
-  ::dup2(::fileno(tmp), 1);
-  try {
-    f();
-  } catch (...) {
-    std::fflush(stdout);
-    ::dup2(saved, 1);
-    ::close(saved);
-    std::fclose(tmp);
-    throw;
-  }
-  std::fflush(stdout);
-  ::dup2(saved, 1);
-  ::close(saved);
-  std::rewind(tmp);
-  std::string out;
-  for (int c; (c = std::fgetc(tmp)) != EOF;) out += static_cast<char>(c);
-  std::fclose(tmp);
-  return out;
-}
-
-}  // namespace
+using tp::test::stdout_of;
 
 CATCH_TEST_CASE("the target-point LP meets its constraints and is optimal among random weights",
                 "[opt][lp]") {

@@ -17,8 +17,10 @@
 #include "core/error.hpp"
 #include "opt/lp.hpp"
 #include "opt/minimax.hpp"
+#include "opt_support.hpp"
 
 using namespace tp;
+using tp::test::stdout_of;
 
 namespace {
 
@@ -196,34 +198,6 @@ CATCH_TEST_CASE("unknown modes and too-small arrays are bad input", "[opt]") {
   s.array = ElectrodeArray::uniform(1, 1.0);
   CATCH_CHECK_THROWS_AS(optimize_mode(s, "SAI", OptimizeOptions{}), Error);
 }
-
-namespace {
-// Runs f with stdout redirected to a temporary file; returns what was written there.
-template <class F>
-std::string stdout_of(F f) {
-  std::fflush(stdout);
-  FILE* tmp = std::tmpfile();
-  const int saved = ::dup(1);
-  ::dup2(::fileno(tmp), 1);
-  try {
-    f();
-  } catch (...) {
-    std::fflush(stdout);
-    ::dup2(saved, 1);
-    ::close(saved);
-    std::fclose(tmp);
-    throw;
-  }
-  std::fflush(stdout);
-  ::dup2(saved, 1);
-  ::close(saved);
-  std::rewind(tmp);
-  std::string out;
-  for (int c; (c = std::fgetc(tmp)) != EOF;) out += static_cast<char>(c);
-  std::fclose(tmp);
-  return out;
-}
-}  // namespace
 
 CATCH_TEST_CASE("optimize with absurd physical constants: an answer or an error, never abort",
                 "[opt][lp][glpk]") {

@@ -15,24 +15,14 @@
 #include "fibre/report.hpp"
 #include "fibre/threshold.hpp"
 #include "model/field.hpp"
+#include "fibre_support.hpp"
 #include "opt/threshold_objective.hpp"
 #include "opt/threshold_standin.hpp"
 
 using namespace tp;
 using namespace tp::fibre;
 
-namespace {
-
-// The paper's array and SAI pattern (docs/fibres.md), with the MRG fibre.
-struct PaperCase {
-  Setup setup;
-  std::vector<double> w{0, 0, -0.5, 1, -0.5, 0, 0, 0};
-  std::unique_ptr<Conductor> conductor = make_conductor(setup.conductor, setup.array);
-  std::unique_ptr<FibreModel> model = make_fibre_model("mrg");
-  const Receptor& sai() const { return setup.receptors[1]; }
-};
-
-}  // namespace
+using tp::test::PaperCase;
 
 TEST_CASE("The linear stand-in: superposition, calibration, nearby weights", "[fibre][mrg]") {
   // The paper's SAI pattern and weights near it: after one whole search, the stand-in
