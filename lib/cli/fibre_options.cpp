@@ -1,7 +1,6 @@
 #include "cli/fibre_options.hpp"
 
 #include "cli/entry.hpp"
-#include "core/number.hpp"
 
 namespace tp::cli {
 
