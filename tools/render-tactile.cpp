@@ -5,75 +5,21 @@
 //   render-tactile --bank bank.json --profile profile.json --duration 2 picture.png
 //     | stimctl --port emu --emu-channels 64   (one line)
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <thread>
-#include <vector>
 
 #include "cli/entry.hpp"
-#include "host/line_reader.hpp"
 #include "core/json.hpp"
 #include "core/number.hpp"
 #include "render/request.hpp"
+#include "runs/frame_playback.hpp"
 
 namespace {
-
-// Each JSON-line frame on stdin ({"rgb": [...]}, blank lines skipped), checked, in order,
-// with its name ("frame N") for messages.
-template <class F>
-void for_each_stdin_frame(const tp::PixelBank& bank, F&& f) {
-  tp::host::LineReader in(0);
-  std::string line;
-  for (;;) {
-    if (in.next(line)) {
-      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      const std::string where = "frame " + std::to_string(in.lines());
-      f(tp::frame_from_json(tp::parse_json_text(line, where, "its line"), bank.columns, bank.rows,
-                            where),
-        where);
-      continue;
-    }
-    if (in.at_end()) return;
-    in.fill(1000);
-  }
-}
 
 // "render-tactile: warning: ...", a line, for a warning (none for none).
 std::string warning_text(const std::string& warning) {
   return warning.empty() ? "" : "render-tactile: warning: " + warning + "\n";
-}
-
-// Writes {"amplitudes": [...]} frames, frame k at k / fps s after the first; PNG frames
-// given (already checked), or JSON lines read from stdin, each checked before it is
-// written.  After the last, holds it one frame period (so the device delivers it) and ends.
-void play_frames(const tp::Sequence& seq, const tp::Profile& profile, const tp::PixelBank& bank,
-                 const std::vector<std::vector<double>>& given, bool from_stdin, double fps) {
-  using clock = std::chrono::steady_clock;
-  const auto period =
-      std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / fps));
-  const clock::time_point t0 = clock::now();
-  std::size_t k = 0;
-  auto emit = [&](const std::vector<double>& a) {
-    std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
-    std::string text = "{\"amplitudes\": [";
-    // Every digit (the shortest text that reads back as the same double): a frame at full
-    // intensity asks exactly the pattern's configured amplitude, never 1e-11 above it.
-    for (std::size_t i = 0; i < a.size(); ++i) text += (i ? ", " : "") + tp::Json(a[i]).dump();
-    tp::cli::write_stdout(text + "]}\n");
-    ++k;
-  };
-  if (!from_stdin) {
-    for (const auto& a : given) emit(a);
-  } else {
-    for_each_stdin_frame(bank, [&](const tp::PadIntensities& f, const std::string& where) {
-      emit(tp::frame_amplitudes(seq, profile, f, where));
-    });
-  }
-  if (k > 0) std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);
-  std::fprintf(stderr, "render-tactile: %s at %s fps\n", tp::count_text(k, "frame").c_str(),
-               tp::number_text(fps).c_str());
 }
 
 // The options whose use is checked against one another: whether each was given.
@@ -173,13 +119,17 @@ int main(int argc, char** argv) {
     const tp::PixelBank bank = tp::pixel_bank_from_json(tp::read_json(f.bank_path, "bank"));
     tp::fit_spec_to_bank(f, bank, r);
     const tp::RenderImages images = tp::render_images(f, bank, r, [&](const tp::FrameSink& sink) {
-      for_each_stdin_frame(bank, sink);
+      tp::runs::for_each_frame_line(0, bank, sink);
     });
     if (!f.frames_for.empty()) {
       const tp::FramesToPlay play = tp::frames_to_play(f, r, bank, images.frames);
       std::fputs((warning_text(play.profile.warning) + note_text(images.note)).c_str(), stderr);
-      play_frames(play.sequence, play.profile.profile, bank, play.amplitudes,
-                  tp::images_from_stdin(f), r.fps);
+      const std::size_t n = tp::runs::play_frames(
+          {play.sequence, play.profile.profile, bank, r.fps}, play.amplitudes,
+          tp::images_from_stdin(f) ? 0 : -1, [](const std::string& line) {
+            tp::cli::write_stdout(line);
+          });
+      std::fprintf(stderr, "render-tactile: %s\n", tp::runs::playback_summary(n, r.fps).c_str());
       return;
     }
     const tp::RenderResult out = tp::run_render(r, bank);

@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
     tp::host::LineSource lines(STDIN_FILENO);  // live mode's frames: JSON lines on stdin
     if (r.live) opt.frames = &lines;
     const auto transport = tp::host::open_delivery(r);
-    tp::host::arm_emergency_stop(transport->native_handle());
+    const tp::host::EmergencyStopArmed armed(transport->native_handle());
     if (against) std::fprintf(stderr, "stimctl: %s\n", against->c_str());
     struct ClearProgress {  // however the run ends, the next message starts a clean line
       const bool& shown;
@@ -101,7 +101,6 @@ int main(int argc, char** argv) {
       }
     } clear_progress{progress_shown};
     const tp::host::SessionReport report = tp::host::run_session(*transport, mix, opt);
-    tp::host::arm_emergency_stop(-1);
     if (progress_shown) std::fprintf(stderr, "\r\033[K");
     progress_shown = false;
     if (const auto note = tp::host::preempted_note(report))

@@ -27,6 +27,16 @@ const int* stop_signals(int& count);
 // After the port is open: a crash writes a stop frame to this descriptor (-1: none).
 void arm_emergency_stop(int fd);
 
+// arm_emergency_stop(fd) for as long as it lives, disarmed (-1) however its scope ends:
+// declared after the transport, so that it is disarmed before the port is closed.
+class EmergencyStopArmed {
+ public:
+  explicit EmergencyStopArmed(int fd) { arm_emergency_stop(fd); }
+  ~EmergencyStopArmed() { arm_emergency_stop(-1); }
+  EmergencyStopArmed(const EmergencyStopArmed&) = delete;
+  EmergencyStopArmed& operator=(const EmergencyStopArmed&) = delete;
+};
+
 // "SIGINT", "SIGRTMIN+3", ...
 std::string signal_name(int sig);
 

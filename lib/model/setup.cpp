@@ -153,6 +153,37 @@ void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, 
   }
 }
 
+void check_points(const Setup& setup, const Conductor& conductor, const PointBox& box,
+                  const std::function<void(const PointVisitor&)>& each) {
+  const ElectrodeArray& a = setup.array;
+  const ConductorParams& c = setup.conductor;
+  const double dx = std::max(std::fabs(box.x1_mm - a.x_min_mm()), std::fabs(a.x_max_mm() - box.x0_mm));
+  double reach = dx;
+  if (box.has_z || a.two_d()) {
+    const double zl = box.has_z ? box.z0_mm : c.plane_z_mm, zh = box.has_z ? box.z1_mm : c.plane_z_mm;
+    reach = std::hypot(dx, std::max(std::fabs(zh - a.z_min_mm()), std::fabs(a.z_max_mm() - zl)));
+  } else if (c.plane_z_mm != 0.0) {
+    reach = std::hypot(dx, c.plane_z_mm);
+  }
+  conductor.check_reach(reach, box.y0_mm, box.y1_mm, "a point");
+  const double d = conductor.buried_source_depth_mm();
+  if (!(d > 0.0)) return;
+  const double near_mm = kNearest_mm * (1.0 - kRounding);
+  each([&](double x, double y, double z) {
+    for (std::size_t e = 0; e < a.size(); ++e) {
+      const double r = std::sqrt(std::pow(x - a.positions_mm[e], 2) + std::pow(y - d, 2) +
+                                 std::pow(z - a.z_of(e), 2));
+      if (r < near_mm)
+        bad_input("point (" + number_text(x) + ", " + number_text(y) + ") mm is " +
+                  number_text(r) + " mm from a point source (model.source_depth_mm " +
+                  number_text(d) + " mm under the electrode at " + number_text(a.positions_mm[e]) +
+                  " mm), nearer than the smallest depth (" + number_text(kNearest_mm) +
+                  " mm), where the field is singular or beyond its documented bound: move the "
+                  "points or the source");
+    }
+  });
+}
+
 Region fibre_region(const Setup& setup, const Receptor& r) {
   const ElectrodeArray& a = setup.array;
   if (a.two_d()) {

@@ -3,6 +3,7 @@
 // checks of a setup, of a grid or plane of it, and of where a receptor's fibres lie, made
 // before any work.  The field over a setup is model/field.hpp.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,17 @@ void check_grid(const Setup& setup, const Conductor& conductor, const Axis& x, c
 // The same for af-field's plane at depth y_mm, over x by z.
 void check_plane(const Setup& setup, const Conductor& conductor, const Axis& x, const Axis& z,
                  double y_mm);
+
+// The same for points anywhere (Python's af_points): `box` the ranges they fill (x, y, and
+// z when given, else the fibres' plane), `each` calls back with every point (z: the
+// plane's when the points have none).  The messages name "a point".
+struct PointBox {
+  double x0_mm, x1_mm, y0_mm, y1_mm, z0_mm, z1_mm;
+  bool has_z;
+};
+using PointVisitor = std::function<void(double x_mm, double y_mm, double z_mm)>;
+void check_points(const Setup& setup, const Conductor& conductor, const PointBox& box,
+                  const std::function<void(const PointVisitor&)>& each);
 
 // Where the fibres of one receptor lie: the rectangle [x0, x1] x [y0, y1] (y0 == y1 for a
 // single depth line) in the plane z = plane_z_mm of a 1-D array; under a 2-D array the box

@@ -24,7 +24,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -49,7 +48,6 @@
 #include "core/ranges.hpp"
 #include "requests/pulse.hpp"
 #include "pulse/mix.hpp"
-#include "psych/profile.hpp"
 #include "requests/document_options.hpp"
 #include "requests/field.hpp"
 #include "requests/optimize.hpp"
@@ -290,39 +288,12 @@ std::pair<py::array_t<double>, py::array_t<double>> af_points(const PyDocument& 
                   "layered");
   if (!has_z && s.array.two_d()) tp::bad_input("z_mm: the array is 2-D: give the points' z");
   // The layered model's reach, and a buried point source's singularity (af-field's checks).
-  {
-    const tp::ElectrodeArray& a = s.array;
-    const double dx = std::max(std::fabs(x_hi - a.x_min_mm()), std::fabs(a.x_max_mm() - x_lo));
-    double reach = dx;
-    if (has_z || a.two_d()) {
-      const double zl = has_z ? z_lo : s.conductor.plane_z_mm,
-                   zh = has_z ? z_hi : s.conductor.plane_z_mm;
-      reach = std::hypot(dx, std::max(std::fabs(zh - a.z_min_mm()), std::fabs(a.z_max_mm() - zl)));
-    } else if (s.conductor.plane_z_mm != 0.0) {
-      reach = std::hypot(dx, s.conductor.plane_z_mm);
-    }
-    field.conductor().check_reach(reach, y_lo, y_hi, "a point");
-    if (s.conductor.model == "point3d" && s.conductor.source_depth_mm > 0.0) {
-      const double near_mm = tp::ranges::depth_mm.lo * (1.0 - 1e-9);  // af-field's rounding
-      pts.for_each([&](std::size_t, const double* p) {
-        for (std::size_t e = 0; e < a.size(); ++e) {
-          const double zp = has_z ? p[2] : s.conductor.plane_z_mm;
-          const double r = std::sqrt(std::pow(p[0] - a.positions_mm[e], 2) +
-                                     std::pow(p[1] - s.conductor.source_depth_mm, 2) +
-                                     std::pow(zp - a.z_of(e), 2));
-          if (r < near_mm)
-            tp::bad_input("point (" + tp::number_text(p[0]) + ", " + tp::number_text(p[1]) +
-                          ") mm is " + tp::number_text(r) + " mm from a point source " +
-                          "(model.source_depth_mm " + tp::number_text(s.conductor.source_depth_mm) +
-                          " mm under the electrode at " + tp::number_text(a.positions_mm[e]) +
-                          " mm), nearer than the smallest depth (" +
-                          tp::number_text(tp::ranges::depth_mm.lo) +
-                          " mm), where the field is singular or beyond its documented bound: "
-                          "move the points or the source");
-        }
-      });
-    }
-  }
+  tp::check_points(s, field.conductor(), {x_lo, x_hi, y_lo, y_hi, z_lo, z_hi, has_z},
+                   [&](const tp::PointVisitor& visit) {
+                     pts.for_each([&](std::size_t, const double* p) {
+                       visit(p[0], p[1], has_z ? p[2] : s.conductor.plane_z_mm);
+                     });
+                   });
   double* hp = h.mutable_data();
   double* vp = v.mutable_data();
   // The arrays are the caller's and the GIL is released: another thread could change them
@@ -580,8 +551,7 @@ PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, d
   r.intensity = intensity;
   if (profile) {
     if (!d.doc.weights) tp::bad_input("weights document: no 'weights'");
-    r.profile = tp::profile_from_json(tp::read_json(path_arg(*profile), "profile"),
-                                      d.doc.max_current_mA, std::numeric_limits<long>::max());
+    r.profile = tp::pulse_profile(d.doc, path_arg(*profile));
   }
   r.frequency_hz = frequency_hz;
   r.width_us = width_us;

@@ -93,7 +93,11 @@ void apply_model_options(Document& doc, const ModelOptions& o) {
 }
 
 void refuse_plane_z(const Document& doc, const ModelOptions& o, const std::string& why) {
-  if (!o.plane_z.empty()) bad_input("--z: does not apply " + why);
+  refuse_plane_z(doc, !o.plane_z.empty(), why);
+}
+
+void refuse_plane_z(const Document& doc, bool z_given, const std::string& why) {
+  if (z_given) bad_input("--z: does not apply " + why);
   if (std::find(doc.model_settings.begin(), doc.model_settings.end(), "plane_z_mm") !=
       doc.model_settings.end())
     bad_input("model.plane_z_mm: does not apply " + why);

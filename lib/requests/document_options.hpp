@@ -34,5 +34,7 @@ void apply_model_options(Document& doc, const ModelOptions& o);
 // Refuses (bad input) a fibre plane (--z, or the document's model.plane_z_mm) where it
 // would be ignored, saying `why`.
 void refuse_plane_z(const Document& doc, const ModelOptions& o, const std::string& why);
+// The same where the program's --z was applied already: z_given, whether it was given.
+void refuse_plane_z(const Document& doc, bool z_given, const std::string& why);
 
 }  // namespace tp

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "core/number.hpp"
+#include "requests/document_options.hpp"
 #include "requests/optimize_reports.hpp"
 #include "core/ranges.hpp"
 #include "opt/bank.hpp"
@@ -80,15 +81,10 @@ void check_values(const OptimizeRequest& r) {
 void check_array(const Document& doc, const OptimizeRequest& r) {
   const ElectrodeArray& a = doc.setup.array;
   if (a.size() < 2) bad_input("array: optimisation needs at least 2 electrodes");
-  if (a.two_d()) {
-    const std::string why =
-        "under a 2-D array (its fibres fill every z; the plane places af-field's x-y section "
-        "only)";
-    if (r.plane_z_given) bad_input("--z: does not apply " + why);
-    if (std::find(doc.model_settings.begin(), doc.model_settings.end(), "plane_z_mm") !=
-        doc.model_settings.end())
-      bad_input("model.plane_z_mm: does not apply " + why);
-  }
+  if (a.two_d())
+    refuse_plane_z(doc, r.plane_z_given,
+                   "under a 2-D array (its fibres fill every z; the plane places af-field's x-y "
+                   "section only)");
   if (a.two_d() && r.at_mm.empty() && !r.bank)
     bad_input("array: " + a.describe() + " is 2-D: give a pixel's place, --at X,Z (or --bank)");
   if (r.modes.empty() && !r.bank) bad_input("--mode: required (RA, SAI, PC, ...)");

@@ -73,14 +73,18 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
   return s;
 }
 
+Profile pulse_profile(const Document& doc, const std::string& path) {
+  return profile_from_json(read_json(path, "profile"), doc.max_current_mA,
+                           std::numeric_limits<long>::max());
+}
+
 PulseRequest pulse_request_of(const Document& doc, const MakePulseOptions& o) {
   PulseRequest r;
   if (o.input == "-" && o.profile == "-") bad_input("--profile -: stdin carries the weights");
   if (!o.amplitude.empty()) r.amplitude_mA = parse_finite(o.amplitude, "--amplitude");
   if (!o.intensity.empty()) r.intensity = parse_finite(o.intensity, "--intensity");
   if (!o.profile.empty() && r.intensity && !r.amplitude_mA && doc.weights)
-    r.profile = profile_from_json(read_json(o.profile, "profile"), doc.max_current_mA,
-                                  std::numeric_limits<long>::max());
+    r.profile = pulse_profile(doc, o.profile);
   else if (!o.profile.empty() && r.amplitude_mA)
     bad_input("give --amplitude MA, or --intensity V with --profile");
   else if (!o.profile.empty() && !r.intensity)

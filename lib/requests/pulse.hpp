@@ -46,6 +46,10 @@ struct MakePulseOptions {
   std::string csv_pulses = "3";  // --csv-pulses: the pulses drawn by --format csv
 };
 
+// The person's profile (FILE, - for stdin) for --intensity with `doc`'s weights, read
+// against the document's current limit.
+Profile pulse_profile(const Document& doc, const std::string& path);
+
 // The options as a PulseRequest for `doc` (read from options.input): --profile - refused
 // when stdin carries the weights, the profile read (against the document's current limit)
 // only with --intensity and without --amplitude, --profile refused beside --amplitude or

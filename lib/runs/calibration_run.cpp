@@ -70,15 +70,13 @@ void run_trial(Calibration& cal, host::Transport& transport, Respondent& person,
   log.line(calibration_log_row(cal.trials().back(), columns, r.pulses, r.peak_mA));
 }
 
-// The port (the emulator with the bank's pads unless told), its emergency stop armed.
+// The port (the emulator with the bank's pads unless told).
 std::unique_ptr<host::Transport> open_port(const CalibrateRequest& r, const PixelBank& bank) {
   host::EmulatorOptions emu;
   emu.caps.channels = static_cast<std::uint8_t>(r.emu_channels > 0 ? r.emu_channels
                                                                     : static_cast<int>(bank.pads()));
   emu.record_path = r.record_path;
-  auto transport = host::open_transport(r.port, r.baud, emu);
-  host::arm_emergency_stop(transport->native_handle());
-  return transport;
+  return host::open_transport(r.port, r.baud, emu);
 }
 
 // What was found, for stderr: the notes, then the summary; a runtime failure (after the
@@ -99,6 +97,7 @@ Profile run_calibration(const CalibrateRequest& r, const PixelBank& bank, Calibr
                         Respondent& person, const volatile std::sig_atomic_t* flag,
                         const std::function<void(const std::string&)>& tell) {
   const auto transport = open_port(r, bank);
+  const host::EmergencyStopArmed armed(transport->native_handle());  // until the port closes
   // Every trial at the ceiling against the device's capabilities, as each trial's session
   // will check it (run_watched's count is the stimulus's own), before the first is sent.
   const device::Capabilities caps = host::StimulatorClient(*transport).identify();
@@ -107,7 +106,6 @@ Profile run_calibration(const CalibrateRequest& r, const PixelBank& bank, Calibr
   log.line(calibration_log_header());
   person.say("calibrate: " + cal.length_text() + "\n");
   while (!cal.done()) run_trial(cal, *transport, person, log, flag, bank.columns);
-  host::arm_emergency_stop(-1);
   log.close();
   return finish(cal, tell);
 }

@@ -76,6 +76,14 @@ def test_af_field_refuses_points_and_shapes(sai_doc):
         tp.af_field(sai_doc, [0.0], [0.5], [0.0])  # line2d has no z
     with pytest.raises(tp.BadInput, match="--amplitude"):
         tp.af_field(sai_doc, [0.0], [0.5], amplitude_mA=1e9)
+    # A point at a buried source (the conductor says where its sources are; model/setup).
+    buried = tp.Document.from_json(
+        '{"array": {"electrodes": 3, "pitch_mm": 1}, "weights": [1, -2, 1],'
+        ' "model": {"conductor": "point3d", "source_depth_mm": 3}}')
+    assert tp.af_field(buried, [0.0], [2.0])[0].shape == (1,)
+    with pytest.raises(tp.BadInput, match=r"^point \(1, 2\.995\) mm is 0\.005 mm from a point "
+                                          r"source \(model\.source_depth_mm 3 mm under the electrode at 1 mm\)"):
+        tp.af_field(buried, [0.0, 1.0], [2.0, 2.995])
 
 
 def test_flag_level_checks_say_what_the_programs_say(sai_doc, sai_json):
