@@ -10,24 +10,27 @@
 namespace tp {
 namespace {
 
-void in_range(double v, double lo, double hi, bool lo_open, const std::string& what) {
+// "--flag: V unit outside [lo, hi] unit" (the flag calibrate sets it with).
+void in_range(double v, double lo, double hi, bool lo_open, const std::string& flag,
+              const std::string& unit = "") {
   const bool ok = (lo_open ? v > lo : v >= lo) && v <= hi;
+  const std::string u = unit.empty() ? "" : " " + unit;
   if (!ok)
-    bad_input(what + " " + number_beside(v, lo, hi) + " outside " + (lo_open ? "(" : "[") +
-              number_text(lo) + ", " + number_text(hi) + "]");
+    bad_input(flag + ": " + number_beside(v, lo, hi) + u + " outside " + (lo_open ? "(" : "[") +
+              number_text(lo) + ", " + number_text(hi) + "]" + u);
 }
 
 }  // namespace
 
 void check_staircase_options(const StaircaseOptions& o) {
-  in_range(o.ceiling_mA, 0, 2, true, "ceiling");
-  in_range(o.start_mA, kMinLevel_mA, o.ceiling_mA, false, "start level");
-  in_range(o.max_step_up, 1, 2, true, "largest step up");
-  in_range(o.ascend_factor, 1, o.max_step_up, true, "ascending step");
-  in_range(o.step_factor, 1, o.max_step_up, true, "staircase step");
-  in_range(o.down, 1, 3, false, "down count");
-  in_range(o.reversals, 4, 30, false, "reversals");
-  in_range(o.max_trials, 10, 1000, false, "trial limit");
+  in_range(o.ceiling_mA, 0, 2, true, "--ceiling", "mA");
+  in_range(o.start_mA, kMinLevel_mA, o.ceiling_mA, false, "--start", "mA");
+  in_range(o.max_step_up, 1, 2, true, "--max-step");
+  in_range(o.ascend_factor, 1, o.max_step_up, true, "--step");
+  in_range(o.step_factor, 1, o.max_step_up, true, "--step");
+  in_range(o.down, 1, 3, false, "--down");
+  in_range(o.reversals, 4, 30, false, "--reversals");
+  in_range(o.max_trials, 10, 1000, false, "--max-trials");
 }
 
 Staircase::Staircase(const StaircaseOptions& o) : o_(o) {

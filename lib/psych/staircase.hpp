@@ -48,7 +48,8 @@ struct StaircaseOptions {
   int reversals = 8;            // to end the staircase, 4 to 30
   int max_trials = 80;          // in all, both phases, 10 to 1000
 };
-// Throws tp::Error (bad input) naming the first value outside its range.
+// Throws tp::Error (bad input) naming the first value outside its range by calibrate's flag
+// ("--ceiling: 2.5 mA outside (0, 2] mA").
 void check_staircase_options(const StaircaseOptions& o);
 
 // What ended a run.

@@ -118,15 +118,15 @@ TEST_CASE("staircase options outside their ranges are bad input", "[psych][stair
       CHECK_THAT(e.what(), Catch::Matchers::StartsWith(says));
     }
   };
-  refused([](StaircaseOptions& o) { o.ceiling_mA = 2.5; }, "ceiling 2.5 outside (0, 2]");
-  refused([](StaircaseOptions& o) { o.start_mA = 1.2; }, "start level 1.2 outside [0.001, 1]");
-  refused([](StaircaseOptions& o) { o.start_mA = 4.9e-324; }, "start level ");
-  refused([](StaircaseOptions& o) { o.ascend_factor = 1.6; }, "ascending step 1.6 outside");
-  refused([](StaircaseOptions& o) { o.step_factor = 1.0; }, "staircase step 1 outside");
-  refused([](StaircaseOptions& o) { o.max_step_up = 3; }, "largest step up 3 outside");
-  refused([](StaircaseOptions& o) { o.down = 4; }, "down count 4 outside [1, 3]");
-  refused([](StaircaseOptions& o) { o.reversals = 2; }, "reversals 2 outside [4, 30]");
-  refused([](StaircaseOptions& o) { o.start_mA = std::nan(""); }, "start level ");
+  refused([](StaircaseOptions& o) { o.ceiling_mA = 2.5; }, "--ceiling: 2.5 mA outside (0, 2] mA");
+  refused([](StaircaseOptions& o) { o.start_mA = 1.2; }, "--start: 1.2 mA outside [0.001, 1] mA");
+  refused([](StaircaseOptions& o) { o.start_mA = 4.9e-324; }, "--start: ");
+  refused([](StaircaseOptions& o) { o.ascend_factor = 1.6; }, "--step: 1.6 outside");
+  refused([](StaircaseOptions& o) { o.step_factor = 1.0; }, "--step: 1 outside");
+  refused([](StaircaseOptions& o) { o.max_step_up = 3; }, "--max-step: 3 outside (1, 2]");
+  refused([](StaircaseOptions& o) { o.down = 4; }, "--down: 4 outside [1, 3]");
+  refused([](StaircaseOptions& o) { o.reversals = 2; }, "--reversals: 2 outside [4, 30]");
+  refused([](StaircaseOptions& o) { o.start_mA = std::nan(""); }, "--start: ");
 }
 
 TEST_CASE("a run never dwells at the ceiling, nor goes under the floor", "[psych][staircase]") {

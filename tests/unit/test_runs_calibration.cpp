@@ -121,7 +121,7 @@ TEST_CASE("calibrate's typed options are parsed with their flags' names", "[requ
   r.log_path = "x.csv";
   const PixelBank b = two_pads();
   CHECK(code_of([&] { make_calibration(b, r); }) == ExitCode::bad_input);
-  CHECK_THAT(message_of([&] { make_calibration(b, r); }), Contains("ceiling 2.5 outside (0, 2]"));
+  CHECK_THAT(message_of([&] { make_calibration(b, r); }), Contains("--ceiling: 2.5 mA outside (0, 2] mA"));
   r.spec.ceiling_mA = "1";
   r.log_path = "/nonexistent/dir/x.csv";
   CHECK_THAT(message_of([&] { make_calibration(b, r); }),

@@ -69,7 +69,8 @@ tail -n +2 seen.csv | cut -d, -f9 | "${cal[@]}" --log again.csv --output again.j
 cmp -s seen.csv again.csv && cmp -s seen.json again.json || fail "the log's answers again: another session"
 echo "ok: the log's answers again: the same $n trials and profile"
 # Bad input before anything is sent.
-refuses 2 --says "ceiling 2.5 outside" -- calibrate --bank "$BANK" --log x.csv --ceiling 2.5 --responses -
+refuses 2 --says "calibrate: --ceiling: 2.5 mA outside (0, 2] mA" -- calibrate --bank "$BANK" --log x.csv --ceiling 2.5 --responses -
+refuses 2 --says "calibrate: --start: 1.5 mA outside [0.001, 1] mA" -- calibrate --bank "$BANK" --log x.csv --start 1.5 --responses -
 refuses 2 --says "--pixel" -- calibrate --bank "$BANK" --log x.csv --pixel 8,0 --responses -
 refuses 2 --says "not a primary" -- calibrate --bank "$BANK" --log x.csv --primaries XY --responses -
 refuses 2 --says "--responses" -- calibrate --bank "$BANK" --log x.csv --responses file.txt
