@@ -430,6 +430,16 @@ PyDocument optimize_weights(
 // ---------------------------------------------------------------------------------------
 // fiber-threshold.
 
+// The program's stderr warnings ("warning: ..." notes) as Python warnings (UserWarning),
+// so that filters and pytest see them; an error raised by a filter ("error") propagates.
+void warn_notes(const std::vector<std::string>& notes) {
+  const std::string prefix = "warning: ";
+  for (const std::string& note : notes)
+    if (note.compare(0, prefix.size(), prefix) == 0 &&
+        PyErr_WarnEx(PyExc_UserWarning, note.substr(prefix.size()).c_str(), 1) != 0)
+      throw py::error_already_set();
+}
+
 // A CSV table (what fiber-threshold prints with --strength-duration or --population) as
 // its columns: {header: [values]}, a number as a float, an empty cell None, text (and the
 // names in the receptor and class columns) a str.
@@ -504,6 +514,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
     py::gil_scoped_release release;
     out = tp::run_thresholds(std::move(doc), r);
   }
+  warn_notes(out.notes);
   if (out.document) return to_python(*out.document);
   if (!population) return csv_columns(out.table);
   py::dict both;

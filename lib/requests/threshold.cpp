@@ -88,6 +88,36 @@ std::string cut_end_warning(const fibre::ThresholdReport& rep) {
          "alone (docs/fibres.md, \"Cut ends\")";
 }
 
+// A mode whose target does not fire first (docs/fibres.md, "Is each mode a primary?"):
+// the document's mode names a receptor, and another fires at or below its threshold, or
+// it does not fire while another does.  Empty otherwise.
+std::string target_first_warning(const Json& extra, const fibre::ThresholdReport& rep) {
+  const auto mode = extra.find("mode");
+  if (mode == extra.end() || !mode->is_string()) return "";
+  const std::string target = mode->get<std::string>();
+  const fibre::ReceptorThreshold* mine = nullptr;
+  const fibre::ReceptorThreshold* first = nullptr;  // the lowest other threshold
+  for (const auto& t : rep.receptors) {
+    if (t.receptor == target) {
+      mine = &t;
+    } else if (t.threshold_mA && (!first || *t.threshold_mA < *first->threshold_mA)) {
+      first = &t;
+    }
+  }
+  if (!mine || !first) return "";
+  if (mine->threshold_mA && *mine->threshold_mA < *first->threshold_mA) return "";
+  char b[160];
+  if (mine->threshold_mA)
+    std::snprintf(b, sizeof b, " (%.4g mA, %s %.4g mA)", *first->threshold_mA, target.c_str(),
+                  *mine->threshold_mA);
+  else
+    std::snprintf(b, sizeof b, " (%.4g mA; %s does not fire)", *first->threshold_mA,
+                  target.c_str());
+  return "warning: " + target + " mode: " + first->receptor + " fires first" + b +
+         ": the pattern is not a primary for " + target +
+         " (docs/fibres.md, \"Is each mode a primary?\")";
+}
+
 ThresholdOutput run_receptor_thresholds(const ThresholdPlan& p) {
   const FibreSetup& f = p.fibre;
   const auto rep =
@@ -102,6 +132,8 @@ ThresholdOutput run_receptor_thresholds(const ThresholdPlan& p) {
   out.notes.push_back(thresholds_line(rep, f));
   const std::string warning = cut_end_warning(rep);
   if (!warning.empty()) out.notes.push_back(warning);
+  const std::string not_first = target_first_warning(p.doc.extra, rep);
+  if (!not_first.empty()) out.notes.push_back(not_first);
   if (f.stimulus) {  // the stimulus's amplitude in units of each threshold
     double amp = 0.0;
     for (double c : f.stimulus->currents_mA) amp = std::max(amp, std::fabs(c));

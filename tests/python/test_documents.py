@@ -1,6 +1,7 @@
 """Documents and the functions against the programs: byte-identical JSON where the
 program writes JSON, equal numbers where it writes CSV."""
 import json
+import warnings
 
 import numpy as np
 
@@ -142,6 +143,23 @@ def test_fiber_threshold_equals_the_programs(sai_json):
                             tolerance=0.05)
     assert py == cli
     assert py["thresholds"]["receptors"]["RA"]["stem"] in ("-x", "+x")
+
+
+def test_fiber_threshold_warns_as_the_program_does():
+    # The program's stderr warnings are UserWarnings, word for word: the PC mode's target
+    # does not fire first on the paper's array; the SAI mode's does (no warning).
+    pc = tp.optimize_weights(tp.Document.create(), "PC")
+    _, err, _ = run("fiber-threshold", stdin=pc.to_json().encode())
+    said = [l.removeprefix("fiber-threshold: warning: ") for l in err.splitlines()
+            if l.startswith("fiber-threshold: warning: ")]
+    assert len(said) == 1 and said[0].startswith("PC mode: SAI fires first")
+    with pytest.warns(UserWarning) as w:
+        tp.fiber_threshold(pc)
+    assert [str(x.message) for x in w] == said
+    sai = tp.optimize_weights(tp.Document.create(), "SAI")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tp.fiber_threshold(sai)
 
 
 def columns(csv):
