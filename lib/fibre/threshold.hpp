@@ -60,6 +60,21 @@ struct ThresholdSettings {
   double dt_ms = 0.005;               // time step, at most 5 us
   std::size_t offsets = 8;            // horizontal fibres: node alignments per internode, 1 to 64
   std::size_t extra_internodes = 10;  // vertical fibres: below the receptor's range
+  // How far each fibre runs beyond the pads, in units of the default extension
+  // (docs/fibres.md, "Cut ends"): a horizontal fibre's on each side (the lateral margin
+  // plus five internodes), an afferent's stem toward -x and toward +x (the same), a straight
+  // vertical fibre's internodes below its receptor (extra_internodes).  receptor_threshold
+  // doubles the one at which the winner fired, when it fired at a cut end.
+  struct Reach {
+    double minus_x = 1.0, plus_x = 1.0, below = 1.0;
+    bool operator==(const Reach& o) const {
+      return minus_x == o.minus_x && plus_x == o.plus_x && below == o.below;
+    }
+  };
+  Reach reach;
+  // Lengthen a fibre whose action potential started at a cut end and search it again,
+  // until it starts inside (docs/fibres.md, "Cut ends"); false: report it (at_cut_end).
+  bool lengthen = true;
   double delay_ms = 0.1;              // rest before the pulse
   double after_ms = 0;                // simulated after the pulse (0: enough to propagate)
   unsigned threads = 0;               // 0: every core
@@ -101,6 +116,11 @@ struct ReceptorThreshold {
   // vertical fibre's terminal nor an afferent's ending): the threshold then depends on
   // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").
   bool at_cut_end = false;
+  std::string cut_end_reason;  // at_cut_end: why the fibre was not lengthened further
+  // The fibre's reach at the threshold reported (settings.reach, lengthened by the search),
+  // and the searches it took (1: the fibre as asked).
+  ThresholdSettings::Reach reach;
+  std::size_t searches = 0;
   Spot spot;                   // the placement that gave the threshold
   std::vector<Spot> tried;     // every placement tried
   std::size_t placements = 0;  // fibre positions tried
