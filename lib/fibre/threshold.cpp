@@ -198,9 +198,9 @@ ReceptorThreshold search_receptor(const FibreModel& model, const Setup& setup,
   return out;
 }
 
-// At most this many doublings of one fibre's reach (64 default extensions: 0.6 m beyond
-// the pads for the default margin; the bounds on nodes and potentials stop it sooner).
-constexpr int kMaxDoublings = 6;
+// A fibre's reach at most (64 default extensions: 0.6 m beyond the pads for the default
+// margin; the bounds on nodes and potentials stop it sooner).
+constexpr double kMaxReach = 64.0;
 
 // The reach one doubling further where the threshold's action potential started: an
 // afferent's stem on its side, a straight vertical fibre's deep end, a horizontal fibre's
@@ -248,18 +248,17 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   // ends").  Only such receptors search again.
   ThresholdSettings longer = s;
   const bool afferent = is_afferent(r, s);
-  for (int k = 0; s.lengthen && out.threshold_mA && out.at_cut_end; ++k) {
-    if (k == kMaxDoublings) {
-      out.cut_end_reason = "still at a cut end with its fibre " +
-                           number_text(std::ldexp(1.0, kMaxDoublings)) +
-                           " times as far beyond the pads";
-      break;
-    }
+  while (s.lengthen && out.threshold_mA && out.at_cut_end) {
     if (r.fibre.orientation == Orientation::vertical && !afferent && s.extra_internodes == 0) {
-      out.cut_end_reason = "its deep end cannot be moved (no internodes below the receptor)";
+      out.cut_end_reason = "its deep end cannot be moved (no internodes asked below the receptor)";
       break;
     }
     longer.reach = doubled_reach(out, r, longer, afferent);
+    if (std::max({longer.reach.minus_x, longer.reach.plus_x, longer.reach.below}) > kMaxReach) {
+      out.cut_end_reason = "still at a cut end " + number_text(kMaxReach) +
+                           " times as far beyond the pads as by default";
+      break;
+    }
     const std::string why = why_not_searched(model, setup, conductor, r, waveform, longer);
     if (!why.empty()) {
       out.cut_end_reason = "cannot be lengthened further: " + why;
