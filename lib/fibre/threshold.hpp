@@ -25,7 +25,9 @@
 // and z, and refined twice around the best sample.
 // An action potential counts when it reaches the sixth node from each end of a horizontal
 // fibre, or the sixth node from the deep end of a vertical one or of an afferent's stem
-// (above -20 mV).
+// (above -20 mV).  When the winner's started within five nodes of a cut end, the fibre is
+// doubled beyond the pads there and searched again, until it starts inside (docs/fibres.md,
+// "Cut ends"; settings.reach and lengthen).
 //
 // The parts: the search over any potential (search.hpp: AmplitudeSearch), the placements
 // (placements.hpp: the fibres, one plan that counts and generates the placements, their
@@ -67,9 +69,6 @@ struct ThresholdSettings {
   // doubles the one at which the winner fired, when it fired at a cut end.
   struct Reach {
     double minus_x = 1.0, plus_x = 1.0, below = 1.0;
-    bool operator==(const Reach& o) const {
-      return minus_x == o.minus_x && plus_x == o.plus_x && below == o.below;
-    }
   };
   Reach reach;
   // Lengthen a fibre whose action potential started at a cut end and search it again,
@@ -114,7 +113,8 @@ struct ReceptorThreshold {
   // The action potential started within five nodes of a cut end of the simulated fibre (a
   // horizontal fibre's ends, a vertical fibre's deep end, an afferent's stem end; not a
   // vertical fibre's terminal nor an afferent's ending): the threshold then depends on
-  // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").
+  // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").  With
+  // settings.lengthen only when the fibre could not be lengthened further (cut_end_reason).
   bool at_cut_end = false;
   std::string cut_end_reason;  // at_cut_end: why the fibre was not lengthened further
   // The fibre's reach at the threshold reported (settings.reach, lengthened by the search),
