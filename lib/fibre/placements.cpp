@@ -277,7 +277,8 @@ FibreShape fibre_shape(const FibreModel& model, const Setup& setup, const Recept
         static_cast<std::size_t>(std::ceil((r.depth_max_mm - r.depth_min_mm) / f.L_mm - 1e-9)) +
         below_internodes(s) + 1;
   } else {  // the region, five internodes each side and the reach's extensions beyond
-    const double more = (s.reach.minus_x + s.reach.plus_x - 2.0) * default_extension_mm(setup, f.L_mm);
+    const double more =
+        (s.reach.minus_x + s.reach.plus_x - 2.0) * default_extension_mm(setup, f.L_mm);
     f.nodes = static_cast<std::size_t>(
                   std::ceil((f.region.x1_mm - f.region.x0_mm + more) / f.L_mm - 1e-9)) +
               12;
