@@ -74,9 +74,9 @@ struct ThresholdSettings {
   // Lengthen a fibre whose action potential started at a cut end and search it again,
   // until it starts inside (docs/fibres.md, "Cut ends"); false: report it (at_cut_end).
   bool lengthen = true;
-  double delay_ms = 0.1;              // rest before the pulse
-  double after_ms = 0;                // simulated after the pulse (0: enough to propagate)
-  unsigned threads = 0;               // 0: every core
+  double delay_ms = 0.1;  // rest before the pulse
+  double after_ms = 0;    // simulated after the pulse (0: enough to propagate)
+  unsigned threads = 0;   // 0: every core
   // 2-D arrays: the point (x, z) in mm the fibres pass through (required there; a pixel's
   // place); 1-D arrays: not used.
   std::optional<std::array<double, 2>> through_mm;
