@@ -39,6 +39,23 @@ std::vector<int> afferent_directions(const ThresholdSettings& s) {
   return {-1, 1};
 }
 
+double default_extension_mm(const Setup& setup, double internode_mm) {
+  return setup.lateral_margin_mm + 5.0 * internode_mm;
+}
+
+std::array<double, 2> horizontal_span_mm(const Setup& setup, const Receptor& r,
+                                         const ThresholdSettings& s, double internode_mm) {
+  const Region g = fibre_region(setup, r);
+  const double e = default_extension_mm(setup, internode_mm);
+  return {g.x0_mm - 5.0 * internode_mm - (s.reach.minus_x - 1.0) * e,
+          g.x1_mm + 5.0 * internode_mm + (s.reach.plus_x - 1.0) * e};
+}
+
+std::size_t below_internodes(const ThresholdSettings& s) {
+  return static_cast<std::size_t>(
+      std::llround(static_cast<double>(s.extra_internodes) * s.reach.below));
+}
+
 // ---- The plan ----
 
 namespace {
@@ -56,7 +73,7 @@ PlacementPlan::PlacementPlan(const Setup& setup, const Receptor& r, const Thresh
   z_mm_ = two_d ? (*s.through_mm)[1] : 0.0;
   if (is_afferent(r, s)) fibres_ = afferent_directions(s).size();
   if (!vertical) {
-    left_mm_ = fibre_region(setup, r).x0_mm - 5.0 * internode_mm;
+    left_mm_ = horizontal_span_mm(setup, r, s, internode_mm)[0];
     if (s.fixed_offset_mm) {
       kind_ = Kind::one_horizontal;
       fixed_ = *s.fixed_offset_mm;
@@ -180,14 +197,16 @@ std::array<double, 2> ending_range_mm(const Setup& setup, const ThresholdSetting
 }
 
 // An afferent's stem, from the bend: from the farthest ending it serves, past the far side
-// of the pads plus the lateral margin (where horizontal fibres end) by five internodes.
+// of the pads plus the lateral margin (where horizontal fibres end) by five internodes, and
+// by (reach - 1) default extensions more.
 double afferent_stem_mm(const Setup& setup, const ThresholdSettings& s, double L_mm,
                         int direction) {
   const auto [lo, hi] = ending_range_mm(setup, s);
   const double m = setup.lateral_margin_mm;
   const double span =
       direction < 0 ? hi - (setup.array.x_min_mm() - m) : (setup.array.x_max_mm() + m) - lo;
-  return std::max(span, 0.0) + 5.0 * L_mm;
+  const double reach = direction < 0 ? s.reach.minus_x : s.reach.plus_x;
+  return std::max(span, 0.0) + 5.0 * L_mm + (reach - 1.0) * default_extension_mm(setup, L_mm);
 }
 
 }  // namespace
@@ -256,10 +275,13 @@ FibreShape fibre_shape(const FibreModel& model, const Setup& setup, const Recept
   } else if (f.vertical) {
     f.nodes =
         static_cast<std::size_t>(std::ceil((r.depth_max_mm - r.depth_min_mm) / f.L_mm - 1e-9)) +
-        s.extra_internodes + 1;
-  } else {
-    f.nodes =
-        static_cast<std::size_t>(std::ceil((f.region.x1_mm - f.region.x0_mm) / f.L_mm - 1e-9)) + 12;
+        below_internodes(s) + 1;
+  } else {  // the region, five internodes each side and the reach's extensions beyond
+    const double more =
+        (s.reach.minus_x + s.reach.plus_x - 2.0) * default_extension_mm(setup, f.L_mm);
+    f.nodes = static_cast<std::size_t>(
+                  std::ceil((f.region.x1_mm - f.region.x0_mm + more) / f.L_mm - 1e-9)) +
+              12;
   }
   if (f.nodes < 12) f.nodes = 12;
   return f;
@@ -356,7 +378,7 @@ void check_simulated_reach(const Setup& setup, const Conductor& conductor, const
     reach_mm = x_max - x_min + 1.5 * pitch_mm;
     bottom_mm = r.depth_min_mm + static_cast<double>(f.nodes) * f.L_mm;
   } else {
-    const double first_mm = f.region.x0_mm - 6.0 * f.L_mm;
+    const double first_mm = horizontal_span_mm(setup, r, s, f.L_mm)[0] - f.L_mm;
     const double last_mm = first_mm + static_cast<double>(f.nodes + 1) * f.L_mm;
     reach_mm = std::max(std::fabs(last_mm - x_min), std::fabs(x_max - first_mm));
     if (f.two_d) reach_mm = with_z(reach_mm, 0.0);

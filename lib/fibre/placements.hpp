@@ -66,6 +66,15 @@ class PlacementPlan {
 // for one electrode); a 2-D grid's smaller pitch, free pads' nearest two centres.
 double sampling_pitch_mm(const ElectrodeArray& a);
 
+// How far fibres run (docs/fibres.md, "Cut ends"): the default extension beyond the pads
+// (the lateral margin plus five internodes), which settings.reach scales; a horizontal
+// fibre's first node lies at or before span[0] and its nodes reach span[1]; a straight
+// vertical fibre's internodes below its receptor.
+double default_extension_mm(const Setup& setup, double internode_mm);
+std::array<double, 2> horizontal_span_mm(const Setup& setup, const Receptor& r,
+                                         const ThresholdSettings& s, double internode_mm);
+std::size_t below_internodes(const ThresholdSettings& s);
+
 // Whether a receptor's fibre is an afferent (Geometry::afferent, a vertical receptor), the
 // stem directions its search tries in order (ties go to the first), and its fibre with the
 // stem toward `direction`.

@@ -116,6 +116,14 @@ Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
       if (rec.fibre.orientation == Orientation::horizontal) e["offset_mm"] = t.offset_mm;
       if (t.direction != 0) e["stem"] = t.direction < 0 ? "-x" : "+x";
       if (t.at_cut_end) e["at_cut_end"] = true;
+      if (t.at_cut_end && !t.cut_end_reason.empty()) e["cut_end_reason"] = t.cut_end_reason;
+      // A fibre lengthened by the cut-end rule: how far beyond the pads, in default
+      // extensions (docs/fibres.md, "Cut ends"); only what differs from the settings'.
+      Json reach = Json::object();
+      if (t.reach.minus_x != r.settings.reach.minus_x) reach["-x"] = t.reach.minus_x;
+      if (t.reach.plus_x != r.settings.reach.plus_x) reach["+x"] = t.reach.plus_x;
+      if (t.reach.below != r.settings.reach.below) reach["below"] = t.reach.below;
+      if (!reach.empty()) e["lengthened"] = reach;
     } else {
       e["threshold_mA"] = nullptr;
       e["reason"] = t.reason;

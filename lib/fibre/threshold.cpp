@@ -142,14 +142,12 @@ void where_it_fired(const FibreModel& model, const Axon& axon, const Winner& win
   out.z_mm = p.z0_mm;
 }
 
-}  // namespace
-
-ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
-                                     const Conductor& conductor, const std::vector<double>& weights,
-                                     const Receptor& r, const Waveform& waveform,
-                                     const ThresholdSettings& s, PotentialCache* shared_cache) {
-  PotentialCache local_cache;
-  PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
+// One search over the placements of the receptor's fibres as the settings lay them (their
+// reach): the lowest lattice point, and where it fired.
+ReceptorThreshold search_receptor(const FibreModel& model, const Setup& setup,
+                                  const Conductor& conductor, const std::vector<double>& weights,
+                                  const Receptor& r, const Waveform& waveform,
+                                  const ThresholdSettings& s, PotentialCache& cache) {
   const FibreRun f = fibre_run(model, setup, conductor, r, waveform, s);
   const PlacementPlan plan(setup, r, s, f.internode_mm);
   const bool vertical = plan.vertical();
@@ -197,6 +195,83 @@ ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup
   const Axon& axon = f.axons[winner.fibre];
   where_it_fired(model, axon, winner, lattice.amplitude(winner.j), waveform,
                  detection_options(axon, f, s, vertical), vertical, out);
+  return out;
+}
+
+// A fibre's reach at most (64 default extensions: 0.6 m beyond the pads for the default
+// margin; the bounds on nodes and potentials stop it sooner).
+constexpr double kMaxReach = 64.0;
+
+// The reach one doubling further where the threshold's action potential started: an
+// afferent's stem on its side, a straight vertical fibre's deep end, a horizontal fibre's
+// end it fired at.
+ThresholdSettings::Reach doubled_reach(const ReceptorThreshold& t, const Receptor& r,
+                                       const ThresholdSettings& s, bool afferent) {
+  ThresholdSettings::Reach reach = s.reach;
+  if (afferent)
+    (t.direction < 0 ? reach.minus_x : reach.plus_x) *= 2.0;
+  else if (r.fibre.orientation == Orientation::vertical)
+    reach.below *= 2.0;
+  else
+    (t.node < 5 ? reach.minus_x : reach.plus_x) *= 2.0;
+  return reach;
+}
+
+// Why a fibre of the settings' reach cannot be searched (its nodes, potentials or reach
+// beyond the bounds fibre_nodes checks, or its work beyond one search's), or empty.
+std::string why_not_searched(const FibreModel& model, const Setup& setup,
+                             const Conductor& conductor, const Receptor& r,
+                             const Waveform& waveform, const ThresholdSettings& s) {
+  try {
+    const double work = threshold_work(model, setup, conductor, r, waveform, s);
+    if (!(work <= kMaxThresholdWork)) return "its search would be more than the work bound";
+  } catch (const Error& e) {
+    if (e.code() != ExitCode::bad_input) throw;
+    return e.what();
+  }
+  return {};
+}
+
+}  // namespace
+
+ReceptorThreshold receptor_threshold(const FibreModel& model, const Setup& setup,
+                                     const Conductor& conductor, const std::vector<double>& weights,
+                                     const Receptor& r, const Waveform& waveform,
+                                     const ThresholdSettings& s, PotentialCache* shared_cache) {
+  PotentialCache local_cache;
+  PotentialCache& cache = shared_cache ? *shared_cache : local_cache;
+  ReceptorThreshold out = search_receptor(model, setup, conductor, weights, r, waveform, s, cache);
+  out.reach = s.reach;
+  out.searches = 1;
+  // A cut end: the fibre doubled beyond the pads where it fired and searched again, from
+  // the threshold found, until the action potential starts inside (docs/fibres.md, "Cut
+  // ends").  Only such receptors search again.
+  ThresholdSettings longer = s;
+  const bool afferent = is_afferent(r, s);
+  while (s.lengthen && out.threshold_mA && out.at_cut_end) {
+    if (r.fibre.orientation == Orientation::vertical && !afferent && s.extra_internodes == 0) {
+      out.cut_end_reason = "its deep end cannot be moved (no internodes asked below the receptor)";
+      break;
+    }
+    longer.reach = doubled_reach(out, r, longer, afferent);
+    if (std::max({longer.reach.minus_x, longer.reach.plus_x, longer.reach.below}) > kMaxReach) {
+      out.cut_end_reason = "still at a cut end " + number_text(kMaxReach) +
+                           " times as far beyond the pads as by default";
+      break;
+    }
+    const std::string why = why_not_searched(model, setup, conductor, r, waveform, longer);
+    if (!why.empty()) {
+      out.cut_end_reason = "cannot be lengthened further: " + why;
+      break;
+    }
+    longer.start_mA = {*out.threshold_mA};
+    ReceptorThreshold again =
+        search_receptor(model, setup, conductor, weights, r, waveform, longer, cache);
+    again.simulations += out.simulations;  // placements and tried: the last search's
+    again.searches = out.searches + 1;
+    again.reach = longer.reach;
+    out = std::move(again);
+  }
   return out;
 }
 

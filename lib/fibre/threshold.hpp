@@ -25,7 +25,9 @@
 // and z, and refined twice around the best sample.
 // An action potential counts when it reaches the sixth node from each end of a horizontal
 // fibre, or the sixth node from the deep end of a vertical one or of an afferent's stem
-// (above -20 mV).
+// (above -20 mV).  When the winner's started within five nodes of a cut end, the fibre is
+// doubled beyond the pads there and searched again, until it starts inside (docs/fibres.md,
+// "Cut ends"; settings.reach and lengthen).
 //
 // The parts: the search over any potential (search.hpp: AmplitudeSearch), the placements
 // (placements.hpp: the fibres, one plan that counts and generates the placements, their
@@ -60,9 +62,21 @@ struct ThresholdSettings {
   double dt_ms = 0.005;               // time step, at most 5 us
   std::size_t offsets = 8;            // horizontal fibres: node alignments per internode, 1 to 64
   std::size_t extra_internodes = 10;  // vertical fibres: below the receptor's range
-  double delay_ms = 0.1;              // rest before the pulse
-  double after_ms = 0;                // simulated after the pulse (0: enough to propagate)
-  unsigned threads = 0;               // 0: every core
+  // How far each fibre runs beyond the pads, in units of the default extension
+  // (docs/fibres.md, "Cut ends"): a horizontal fibre's on each side (the lateral margin
+  // plus five internodes), an afferent's stem toward -x and toward +x (the same), a straight
+  // vertical fibre's internodes below its receptor (extra_internodes).  receptor_threshold
+  // doubles the one at which the winner fired, when it fired at a cut end.
+  struct Reach {
+    double minus_x = 1.0, plus_x = 1.0, below = 1.0;
+  };
+  Reach reach;
+  // Lengthen a fibre whose action potential started at a cut end and search it again,
+  // until it starts inside (docs/fibres.md, "Cut ends"); false: report it (at_cut_end).
+  bool lengthen = true;
+  double delay_ms = 0.1;  // rest before the pulse
+  double after_ms = 0;    // simulated after the pulse (0: enough to propagate)
+  unsigned threads = 0;   // 0: every core
   // 2-D arrays: the point (x, z) in mm the fibres pass through (required there; a pixel's
   // place); 1-D arrays: not used.
   std::optional<std::array<double, 2>> through_mm;
@@ -99,8 +113,14 @@ struct ReceptorThreshold {
   // The action potential started within five nodes of a cut end of the simulated fibre (a
   // horizontal fibre's ends, a vertical fibre's deep end, an afferent's stem end; not a
   // vertical fibre's terminal nor an afferent's ending): the threshold then depends on
-  // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").
+  // where the fibre was cut, not on the field alone (docs/fibres.md, "Cut ends").  With
+  // settings.lengthen only when the fibre could not be lengthened further (cut_end_reason).
   bool at_cut_end = false;
+  std::string cut_end_reason;  // at_cut_end: why the fibre was not lengthened further
+  // The fibre's reach at the threshold reported (settings.reach, lengthened by the search),
+  // and the searches it took (1: the fibre as asked).
+  ThresholdSettings::Reach reach;
+  std::size_t searches = 0;
   Spot spot;                   // the placement that gave the threshold
   std::vector<Spot> tried;     // every placement tried
   std::size_t placements = 0;  // fibre positions tried

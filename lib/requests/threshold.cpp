@@ -80,11 +80,13 @@ std::string thresholds_line(const fibre::ThresholdReport& rep, const FibreSetup&
 std::string cut_end_warning(const fibre::ThresholdReport& rep) {
   std::string cut;
   for (const auto& t : rep.receptors)
-    if (t.threshold_mA && t.at_cut_end) cut += (cut.empty() ? "" : ", ") + t.receptor;
+    if (t.threshold_mA && t.at_cut_end)
+      cut += (cut.empty() ? "" : "; ") + t.receptor +
+             (t.cut_end_reason.empty() ? "" : " (" + t.cut_end_reason + ")");
   if (cut.empty()) return cut;
   return "warning: " + cut +
-         " fired first at a cut end of the simulated fibre (at_cut_end): the threshold "
-         "depends on where the fibre was cut (model.lateral_margin_mm), not on the field "
+         ": fired first at a cut end of the simulated fibre (at_cut_end), which could not be "
+         "lengthened: the threshold depends on where the fibre was cut, not on the field "
          "alone (docs/fibres.md, \"Cut ends\")";
 }
 

@@ -90,6 +90,10 @@ tp_cli_test(fiber-threshold refuses-at-malformed refuses 2 --says "--at: expecte
 tp_cli_test(fiber-threshold pixel-2d script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/pixel-2d.sh)
 tp_cli_test(fiber-threshold population script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/population.sh)
 set_tests_properties(fiber-threshold.population PROPERTIES TIMEOUT 300 PROCESSORS 2)
+# No threshold from a cut end (docs/fibres.md, "Cut ends"): one anodic pad, and a small
+# population on the layered fingertip.
+tp_cli_test(fiber-threshold cut-ends script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/cut-ends.sh)
+set_tests_properties(fiber-threshold.cut-ends PROPERTIES PROCESSORS 2)
 # --geometry afferent (docs/fibres.md, "Afferent geometry"): what it cannot build.
 tp_cli_test(fiber-threshold refuses-unknown-geometry refuses 2 --stdin ${IN}/sai-weights.json --says "--geometry: unknown fibre geometry 'bent'" -- fiber-threshold --geometry bent)
 tp_cli_test(fiber-threshold refuses-afferent-senn refuses 2 --says "senn: no afferent geometry" --stdin ${IN}/sai-weights.json -- fiber-threshold --model senn --geometry afferent)

@@ -4,6 +4,7 @@
 // agreement is tests/neuron/compare-afferent's.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -135,11 +136,13 @@ TEST_CASE("a fibre that fires at a cut end is marked", "[fibre][cut]") {
   // an anode only where its field is felt at the fibre's far ends, cut five internodes
   // beyond the margin (docs/fibres.md, "Cut ends").  A longer fibre moves that end, and the
   // anodic threshold with it; the cathodic one stays.
+  // The fibre as asked (lengthen off): the search reports the cut end.
   Line2d line(8);
   REQUIRE(line.setup.receptors[1].name == "SAI");
   ThresholdSettings s;
   s.offsets = 2;
   s.tolerance = 0.01;
+  s.lengthen = false;
   const std::vector<double> cathode{0, 0, 0, 1, 0, 0, 0, 0}, anode{0, 0, 0, -1, 0, 0, 0, 0};
   const auto c = line(cathode, 1, s);
   const auto a = line(anode, 1, s);
@@ -165,4 +168,50 @@ TEST_CASE("a fibre that fires at a cut end is marked", "[fibre][cut]") {
   CHECK_FALSE(rc.at_cut_end);
   CHECK(ra.at_cut_end);
   CHECK(ra.depth_mm > line.setup.receptors[0].depth_max_mm);
+}
+
+TEST_CASE("a fibre made too short is lengthened until it fires inside", "[fibre][cut]") {
+  // One anodic pad of the paper's array fires SAI's horizontal fibre and RA's straight
+  // vertical one at their cut ends (above).  Cut at a quarter of the default extension
+  // beyond the pads, each is doubled where it fired and searched again until the action
+  // potential starts inside (docs/fibres.md, "Cut ends"): at_cut_end false, a reach beyond
+  // the one asked, and a threshold that doubling the fibre again moves by less than 1 %.
+  Line2d line(8);
+  ThresholdSettings s;
+  s.offsets = 2;
+  s.tolerance = 1e-3;
+  s.reach = {0.25, 0.25, 0.25};
+  const std::vector<double> anode{0, 0, 0, -1, 0, 0, 0, 0};
+  for (std::size_t k : {std::size_t{0}, std::size_t{1}}) {
+    INFO("receptor " << line.setup.receptors[k].name);
+    ThresholdSettings as_asked = s;
+    as_asked.lengthen = false;
+    const auto short_cut = line(anode, k, as_asked);
+    REQUIRE(short_cut.threshold_mA);
+    CHECK(short_cut.at_cut_end);
+    CHECK(short_cut.searches == 1);
+    const auto t = line(anode, k, s);
+    REQUIRE(t.threshold_mA);
+    CHECK_FALSE(t.at_cut_end);
+    CHECK(t.cut_end_reason.empty());
+    CHECK(t.searches > 2);
+    CHECK(std::max({t.reach.minus_x, t.reach.plus_x, t.reach.below}) >= 2.0);
+    CHECK(*t.threshold_mA > 1.5 * *short_cut.threshold_mA);
+    ThresholdSettings doubled = s;
+    doubled.lengthen = false;
+    doubled.reach = {2 * t.reach.minus_x, 2 * t.reach.plus_x, 2 * t.reach.below};
+    const auto d = line(anode, k, doubled);
+    REQUIRE(d.threshold_mA);
+    CHECK_FALSE(d.at_cut_end);
+    CHECK(std::fabs(*d.threshold_mA / *t.threshold_mA - 1) < 0.01);
+  }
+  // A straight vertical fibre with no internodes below its receptor cannot be lengthened:
+  // it keeps at_cut_end and says why.
+  ThresholdSettings none = s;
+  none.extra_internodes = 0;
+  none.reach = {};
+  const auto ra = line(anode, 0, none);
+  REQUIRE(ra.threshold_mA);
+  CHECK(ra.at_cut_end);
+  CHECK_THAT(ra.cut_end_reason, Catch::Matchers::Contains("cannot be moved"));
 }
