@@ -66,7 +66,8 @@ const std::vector<double> kSaiPattern{0, 0, -0.5, 1, -0.5, 0, 0, 0};
 
 }  // namespace
 
-TEST_CASE("doubling a fibre after the cut-end rule moves no threshold by 1 %", "[fibre][cut]") {
+TEST_CASE("doubling a fibre after the cut-end rule moves no threshold by 1 %",
+          "[fibre][cut][numerics]") {
   // A representative subset of docs/validation.md's cases that fired at cut ends before the
   // rule, one anodic pad: under rect3d SAI, PC and the straight RA at their far and deep
   // ends (each settles after one or two doublings); under the layered fingertip SAI and PC,
