@@ -31,6 +31,9 @@ double Mix::duration_s() const {
 }
 
 device::PatternTiming pattern_timing(const Stimulus& s, long count) {
+  if (s.shape.shaped())
+    bad_input("a shaped pulse (pulse.phases) cannot yet be scheduled on a device: it needs "
+              "protocol 6 (docs/protocol.md)");
   device::PatternTiming t;
   t.width_us = static_cast<std::uint16_t>(whole_us(s.shape.width_us, 65535, "pulse width"));
   t.interphase_us =
@@ -59,12 +62,9 @@ MixFigures mix_figures(const Mix& m, double max_slip_us) {
   for (std::size_t p = 0; p < m.patterns.size(); ++p) {
     const Stimulus& s = m.patterns[p];
     const SafetyFigures sf = safety_figures(s);
-    const double scale = s.shape.balance_scale();
     for (std::size_t i = 0; i < n && i < s.currents_mA.size(); ++i) {
       f.rms_current_mA[i] += sf.rms_current_mA[i] * sf.rms_current_mA[i];
-      const double a = std::fabs(s.currents_mA[i]);
-      f.mean_current_mA[i] +=
-          (a * s.shape.width_us + a * scale * s.shape.balance_width_us) / s.shape.period_us();
+      f.mean_current_mA[i] += sf.mean_current_mA[i];
     }
     const device::PatternTiming t = pattern_timing(s, 0);
     sched.set_timing(static_cast<std::uint16_t>(p), t.period_us, t.phase_us, t.length_us(), 0);

@@ -1,9 +1,10 @@
 #pragma once
-// A stimulus: charge-balanced biphasic pulses on N channels, the paper's Fig. 11-12 design.
-// One pulse shape (a main phase, an optional gap, a balancing phase of opposite sign)
-// is multiplied by each channel's weight; a positive current is cathodic.  The balancing
-// phase carries exactly the main phase's charge: its current is the main current times
-// width / balance_width, so every channel's net charge per pulse is zero by construction.
+// A stimulus: charge-balanced pulses on N channels, the paper's Fig. 11-12 design.
+// One pulse shape is multiplied by each channel's current; a positive current is cathodic.
+// The shape is the biphasic shorthand (a main phase, an optional gap, a balancing phase of
+// opposite sign whose current is the main current times width / balance_width, so that it
+// carries exactly the main phase's charge), or up to 16 phases (pulse/shape.hpp) whose
+// levels sum to zero charge.
 
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 
 #include "device/protocol.hpp"
 #include "core/json.hpp"
+#include "pulse/shape.hpp"
 
 namespace tp {
 
@@ -19,9 +21,16 @@ struct PulseShape {
   double interphase_us = 0.0;       // gap between the phases
   double balance_width_us = 200.0;  // balancing phase; longer and lower keeps the charge
   double frequency_hz = 200.0;      // pulse rate
+  // A shaped pulse's phases (level x the channel's current); empty: the shorthand above,
+  // whose widths are then the only ones that count.
+  std::vector<Phase> phases;
+  bool shaped() const { return !phases.empty(); }
+  // The phases delivered: `phases`, or the shorthand's.
+  std::vector<Phase> delivered() const;
   double period_us() const { return 1e6 / frequency_hz; }
-  double balance_scale() const { return width_us / balance_width_us; }  // |balance I| / |main I|
-  double length_us() const { return width_us + interphase_us + balance_width_us; }
+  // The shorthand's |balance I| / |main I| (not for a shaped pulse).
+  double balance_scale() const { return width_us / balance_width_us; }
+  double length_us() const;
 };
 
 // Limits every stimulus is checked against before it is printed or sent.
@@ -79,6 +88,9 @@ struct SafetyFigures {
   double shannon_k = 0;            // log10 D + log10 Q of the largest charge per phase
   std::vector<double> charge_per_phase_nC;
   std::vector<double> rms_current_mA;
+  std::vector<double> mean_current_mA;  // per channel
+  double shortest_phase_us = 0;         // a shaped pulse's (gaps included)
+  int level_unit = 0;                   // a shaped pulse's U (pulse/shape.hpp); 0: shorthand
 };
 SafetyFigures safety_figures(const Stimulus& s);
 
