@@ -14,9 +14,10 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "Reads a weights document (optimize-weights' JSON) on stdin and prints a stimulus "
-      "document for stimctl: every channel gets the same biphasic pulse times its weight "
-      "(positive = cathodic main phase), balanced to zero net charge.  Every limit is "
-      "checked first: peak current, zero sum at every instant, charge balance, width, rate.",
+      "document for stimctl: every channel gets the same pulse times its weight "
+      "(positive = cathodic main phase), balanced to zero net charge: biphasic, or shaped "
+      "(--phases, or the document's pulse).  Every limit is checked first: peak current, zero "
+      "sum at every instant, charge balance, phase widths, rate.",
       "make-pulse"};
   tp::MakePulseOptions o;
   std::string format = "json";
@@ -38,12 +39,21 @@ int main(int argc, char** argv) {
   app.add_option("--frequency", o.frequency,
                  "Pulse rate, Hz, 0.1 to 1000 [200; the paper: 200 for SAI, < 100 for RA]")
       ->type_name("HZ");
-  app.add_option("--width", o.width, "Main phase width, us, 10 to 1000 [200]")->type_name("US");
-  app.add_option("--balance-width", o.balance_width,
+  auto* o_w = app.add_option("--width", o.width, "Main phase width, us, 10 to 1000 [200]")
+                  ->type_name("US");
+  auto* o_b = app.add_option("--balance-width", o.balance_width,
                  "Balancing phase width, us; longer than --width makes it lower, same charge "
                  "[= --width: symmetric]")
       ->type_name("US");
-  app.add_option("--interphase", o.interphase, "Gap between the phases, us [0]")->type_name("US");
+  auto* o_g =
+      app.add_option("--interphase", o.interphase, "Gap between the phases, us [0]")->type_name("US");
+  auto* o_ph = app.add_option("--phases", o.phases,
+                              "Instead of the widths: a shaped pulse of up to 16 phases "
+                              "DURATION_US:LEVEL, level x the amplitude (+1: cathodic), charge "
+                              "balanced, levels in steps of 1/U (U <= 64): 500:0.1,200:1,500:-0.5 "
+                              "[the document's pulse, else --width]")
+                   ->type_name("D:L,...");
+  o_ph->excludes(o_w)->excludes(o_b)->excludes(o_g);
   auto* o_d = app.add_option("--duration", o.duration, "Stimulus length, s, at most 3600 [1]")
                   ->type_name("S");
   auto* o_c = app.add_option("--count", o.count, "Number of pulses (instead of --duration)")

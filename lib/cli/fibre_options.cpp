@@ -30,8 +30,14 @@ void add_fibre_options(CLI::App& app, FibreOptions& o, const std::string& model_
                 ->type_name("US");
   auto* m = app.add_flag("--monophasic", o.monophasic,
                          "Main phase only (for analysis: not charge-balanced, so never delivered)");
-  st->excludes(w)->excludes(g)->excludes(b)->excludes(m);
-  m->excludes(g)->excludes(b);
+  auto* ph = app.add_option("--phases", o.phases,
+                            "A shaped pulse: up to 16 phases DURATION_US:LEVEL, level x the "
+                            "amplitude (+1: cathodic), e.g. 500:0.1,200:1,700:-0.5 (simulated as "
+                            "given: balanced or not)")
+                 ->type_name("D:L,...");
+  st->excludes(w)->excludes(g)->excludes(b)->excludes(m)->excludes(ph);
+  m->excludes(g)->excludes(b)->excludes(ph);
+  ph->excludes(w)->excludes(g)->excludes(b);
   add_integer(app, "--offsets", o.offsets,
               "Horizontal fibres: node alignments tried, spread over one internode, 1 to 64 [8]", 1,
               64)

@@ -14,7 +14,21 @@ namespace tp::fibre {
 double time_step_ms(const PulseSpec& p) {
   double shortest = p.width_us;
   if (!p.monophasic) shortest = std::min(shortest, p.balance_width_us);  // gaps carry nothing
+  if (!p.phases.empty()) {
+    shortest = HUGE_VAL;
+    for (const Phase& ph : p.phases)
+      if (ph.level != 0.0) shortest = std::min(shortest, ph.duration_us);
+  }
   return std::max(1e-4, std::min(0.005, shortest * 1e-3 / 10.0));
+}
+
+Waveform waveform_of(const PulseSpec& p, double delay_ms) {
+  if (p.phases.empty())
+    return pulse_waveform(p.width_us, p.interphase_us, p.balance_width_us, p.monophasic, delay_ms);
+  Waveform w;
+  w.delay_ms = delay_ms;
+  for (const Phase& ph : p.phases) w.phases.push_back({ph.duration_us * 1e-3, ph.level});
+  return w;
 }
 
 namespace {
@@ -74,24 +88,10 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
   return r;
 }
 
-namespace {
-Json pulse_to_json(const PulseSpec& p) {
-  Json j = Json::object();
-  j["width_us"] = p.width_us;
-  if (p.monophasic) {
-    j["monophasic"] = true;
-  } else {
-    j["interphase_us"] = p.interphase_us;
-    j["balance_width_us"] = p.balance_width_us;
-  }
-  return j;
-}
-}  // namespace
-
 Json thresholds_to_json(const Setup& setup, const ThresholdReport& r) {
   Json j = Json::object();
   j["fibre_model"] = r.model;
-  j["pulse"] = pulse_to_json(r.pulse);
+  j["pulse"] = pulse_spec_to_json(r.pulse);
   j["peak_weight"] = r.peak_weight;
   Json s = Json::object();
   s["offsets"] = r.settings.offsets;

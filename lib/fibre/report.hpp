@@ -47,9 +47,7 @@ ThresholdReport compute_thresholds(const Setup& setup, const std::vector<double>
 Json thresholds_to_json(const Setup& setup, const ThresholdReport& r);
 Json ratios_to_json(const Setup& setup, const ThresholdReport& r);
 
-// The waveform of a pulse (pulse_waveform()).
-inline Waveform waveform_of(const PulseSpec& p, double delay_ms = 0.1) {
-  return pulse_waveform(p.width_us, p.interphase_us, p.balance_width_us, p.monophasic, delay_ms);
-}
+// The waveform of a pulse: its phases (pulse_waveform() for the shorthand).
+Waveform waveform_of(const PulseSpec& p, double delay_ms = 0.1);
 
 }  // namespace tp::fibre

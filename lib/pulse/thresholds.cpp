@@ -11,16 +11,18 @@
 
 namespace tp {
 
+std::vector<Phase> PulseSpec::delivered() const {
+  if (!phases.empty()) return phases;
+  if (monophasic) return {{width_us, 1.0}};
+  return shorthand_phases(width_us, interphase_us, balance_width_us);
+}
+
 bool PulseSpec::operator==(const PulseSpec& o) const {
-  auto same = [](double a, double b) {
-    return std::fabs(a - b) <= 1e-9 * std::max(1.0, std::fabs(a));
-  };
-  if (monophasic != o.monophasic || !same(width_us, o.width_us)) return false;
-  return monophasic ||
-         (same(interphase_us, o.interphase_us) && same(balance_width_us, o.balance_width_us));
+  return same_phases(delivered(), o.delivered());
 }
 
 std::string PulseSpec::describe() const {
+  if (!phases.empty()) return "shaped (" + describe_phases(phases) + ")";
   std::string s = number_text(width_us) + " us ";
   if (monophasic) return s + "monophasic";
   s += "biphasic";
@@ -34,10 +36,15 @@ PulseSpec pulse_of(const PulseShape& shape) {
   p.width_us = shape.width_us;
   p.interphase_us = shape.interphase_us;
   p.balance_width_us = shape.balance_width_us;
+  p.phases = shape.phases;
   return p;
 }
 
 void check_pulse(const PulseSpec& p) {
+  if (!p.phases.empty()) {
+    check_simulated_phases(p.phases);
+    return;
+  }
   auto in = [](double v, double lo, double hi, const char* what) {
     if (!(v >= lo && v <= hi))
       bad_input(std::string(what) + ": " + number_beside(v, lo, hi) + " us outside [" +
@@ -49,6 +56,49 @@ void check_pulse(const PulseSpec& p) {
   in(p.balance_width_us, 1.0, 10000.0, "--balance-width");
 }
 
+Json pulse_spec_to_json(const PulseSpec& p) {
+  Json j = Json::object();
+  if (!p.phases.empty()) {
+    j["phases"] = phases_to_json(p.phases);
+    return j;
+  }
+  j["width_us"] = p.width_us;
+  if (p.monophasic) {
+    j["monophasic"] = true;
+  } else {
+    j["interphase_us"] = p.interphase_us;
+    j["balance_width_us"] = p.balance_width_us;
+  }
+  return j;
+}
+
+PulseSpec pulse_spec_from_json(const Json& p, const std::string& where) {
+  auto bad = [&](const std::string& what) { bad_input(where + "." + what); };
+  if (!p.is_object()) bad_input(where + ": not an object");
+  PulseSpec c;
+  if (p.contains("phases")) {
+    for (const char* k : {"width_us", "interphase_us", "balance_width_us", "monophasic"})
+      if (p.contains(k)) bad_input(where + ": give phases or " + k + ", not both");
+    c.phases = phases_from_json(p["phases"], where + ".phases");
+    return c;
+  }
+  auto num = [&](const char* key) {
+    if (!p.contains(key) || !p[key].is_number()) bad(std::string(key) + " missing");
+    const double v = p[key].get<double>();
+    if (!std::isfinite(v)) bad(std::string(key) + " not finite");
+    return v;
+  };
+  c.width_us = num("width_us");
+  if (p.contains("monophasic") && !p["monophasic"].is_boolean())
+    bad("monophasic must be true or false");
+  c.monophasic = p.contains("monophasic") && p["monophasic"].get<bool>();
+  if (!c.monophasic) {
+    c.interphase_us = num("interphase_us");
+    c.balance_width_us = num("balance_width_us");
+  }
+  return c;
+}
+
 std::optional<CarriedThresholds> carried_thresholds(const Json& doc) {
   if (!doc.is_object() || !doc.contains("thresholds")) return std::nullopt;
   const Json& t = doc["thresholds"];
@@ -58,21 +108,7 @@ std::optional<CarriedThresholds> carried_thresholds(const Json& doc) {
   if (!t.contains("fibre_model") || !t["fibre_model"].is_string()) bad("no fibre_model");
   c.model = t["fibre_model"].get<std::string>();
   if (!t.contains("pulse") || !t["pulse"].is_object()) bad("no pulse");
-  const Json& p = t["pulse"];
-  auto num = [&](const Json& o, const char* key) {
-    if (!o.contains(key) || !o[key].is_number()) bad(std::string("pulse.") + key + " missing");
-    const double v = o[key].get<double>();
-    if (!std::isfinite(v)) bad(std::string("pulse.") + key + " not finite");
-    return v;
-  };
-  c.pulse.width_us = num(p, "width_us");
-  if (p.contains("monophasic") && !p["monophasic"].is_boolean())
-    bad("pulse.monophasic must be true or false");
-  c.pulse.monophasic = p.contains("monophasic") && p["monophasic"].get<bool>();
-  if (!c.pulse.monophasic) {
-    c.pulse.interphase_us = num(p, "interphase_us");
-    c.pulse.balance_width_us = num(p, "balance_width_us");
-  }
+  c.pulse = pulse_spec_from_json(t["pulse"], "thresholds: pulse");
   if (t.contains("peak_weight")) {
     if (!t["peak_weight"].is_number() || !(t["peak_weight"].get<double>() >= 1e-12) ||
         !(t["peak_weight"].get<double>() <= 1000.0))

@@ -13,21 +13,32 @@
 
 namespace tp {
 
-// The pulse a threshold is for (lib/pulse's shape, or monophasic).
+// The pulse a threshold is for (lib/pulse's shape, or monophasic, or phases).
 struct PulseSpec {
   double width_us = 200.0;
   double interphase_us = 0.0;
   double balance_width_us = 200.0;
   bool monophasic = false;
+  // A shaped pulse (pulse/shape.hpp): when not empty, the only thing that counts.
+  std::vector<Phase> phases;
+  // The phases simulated: `phases`, the monophasic main phase, or the shorthand's.
+  std::vector<Phase> delivered() const;
+  // The same phases (within 1e-9): a shorthand equals its phases.
   bool operator==(const PulseSpec& o) const;
-  std::string describe() const;  // "200 us biphasic (200 us balance)"
+  // "200 us biphasic, 800 us balance", "shaped: 500 us at 0.1, 200 us at 1, ..."
+  std::string describe() const;
 };
-// The pulse of a stimulus's shape (always biphasic: what is delivered is balanced).
+// The pulse of a stimulus's shape (its phases, or its biphasic shorthand).
 PulseSpec pulse_of(const PulseShape& shape);
 
 // Checks the pulse's ranges (bad input names the flag): widths 1 to 10000 us, gap 0 to
-// 10000 us.
+// 10000 us; phases by check_simulated_phases (--phases).
 void check_pulse(const PulseSpec& p);
+
+// A pulse as JSON: {"phases": [...]}, {"width_us", "monophasic": true} or the shorthand's
+// widths; and back (bad input naming `where`).
+Json pulse_spec_to_json(const PulseSpec& p);
+PulseSpec pulse_spec_from_json(const Json& j, const std::string& where);
 
 // Reads back the pulse and the per-receptor thresholds a document carries ("thresholds");
 // empty when it carries none.  Bad input when they are malformed.

@@ -545,9 +545,11 @@ struct PyStimulus {
 };
 
 PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, double frequency_hz,
-                      double width_us, std::optional<double> balance_width_us, double interphase_us,
-                      std::optional<double> duration_s, std::optional<long> count,
-                      std::optional<py::object> profile, std::optional<double> intensity) {
+                      std::optional<double> width_us, std::optional<double> balance_width_us,
+                      std::optional<double> interphase_us, std::optional<double> duration_s,
+                      std::optional<long> count, std::optional<py::object> profile,
+                      std::optional<double> intensity,
+                      std::optional<std::vector<std::pair<double, double>>> phases) {
   if (amplitude_mA && intensity) tp::bad_input("--amplitude excludes --intensity");
   if (duration_s && count) tp::bad_input("--duration excludes --count");
   finite_arg(amplitude_mA, "--amplitude");
@@ -568,6 +570,15 @@ PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, d
   r.width_us = width_us;
   r.balance_width_us = balance_width_us;
   r.interphase_us = interphase_us;
+  if (phases) {
+    if (phases->size() > tp::kMaxPhases)
+      tp::bad_input("--phases: more than " + std::to_string(tp::kMaxPhases) + " phases");
+    for (const auto& [d_us, level] : *phases) {
+      finite_arg(d_us, "--phases duration");
+      finite_arg(level, "--phases level");
+      r.phases.push_back({d_us, level});
+    }
+  }
   r.count = count;
   r.duration_s = duration_s;
   tp::Mix m;
@@ -1054,11 +1065,14 @@ void bind_programs(py::module_& m) {
         "class, {'afferents': ..., 'recruitment': ...}; a table as its columns, {name: [values]} "
         "(the program's CSV: numbers as it prints them, an empty cell None).");
   m.def("make_pulse", &make_pulse, py::arg("doc"), py::arg("amplitude_mA") = py::none(),
-        py::arg("frequency_hz") = 200.0, py::kw_only(), py::arg("width_us") = 200.0,
-        py::arg("balance_width_us") = py::none(), py::arg("interphase_us") = 0.0,
+        py::arg("frequency_hz") = 200.0, py::kw_only(), py::arg("width_us") = py::none(),
+        py::arg("balance_width_us") = py::none(), py::arg("interphase_us") = py::none(),
         py::arg("duration_s") = py::none(), py::arg("count") = py::none(),
         py::arg("profile") = py::none(), py::arg("intensity") = py::none(),
-        "make-pulse: a checked, charge-balanced stimulus of the document's weights.");
+        py::arg("phases") = py::none(),
+        "make-pulse: a checked, charge-balanced stimulus of the document's weights.  The pulse: "
+        "width_us (200) [balance_width_us, interphase_us], or phases=[(duration_us, level), "
+        "...] (up to 16, level x the amplitude), or the document's pulse when none is given.");
 }
 
 // _Stimulator: the session a Python Stimulator drives.

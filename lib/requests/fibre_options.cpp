@@ -25,6 +25,12 @@ void check_flags(const FibreOptions& o) {
   if (st && o.interphase_us) bad_input("--stimulus excludes --interphase");
   if (st && o.balance_width_us) bad_input("--stimulus excludes --balance-width");
   if (st && o.monophasic) bad_input("--stimulus excludes --monophasic");
+  const bool ph = !o.phases.empty();
+  if (st && ph) bad_input("--stimulus excludes --phases");
+  if (ph && o.width_us) bad_input("--phases excludes --width");
+  if (ph && o.interphase_us) bad_input("--phases excludes --interphase");
+  if (ph && o.balance_width_us) bad_input("--phases excludes --balance-width");
+  if (ph && o.monophasic) bad_input("--phases excludes --monophasic");
   if (o.monophasic && o.interphase_us) bad_input("--interphase excludes --monophasic");
   if (o.monophasic && o.balance_width_us) bad_input("--balance-width excludes --monophasic");
   if (!(o.offsets >= 1 && o.offsets <= 64))
@@ -69,6 +75,11 @@ FibreSetup apply_fibre_options(const FibreOptions& o, const std::vector<double>&
   if (!o.stimulus.empty()) {
     f.stimulus = checked_stimulus(o.stimulus, weights);
     f.pulse = tp::pulse_of(f.stimulus->shape);
+  } else if (!o.phases.empty()) {
+    f.pulse.phases = o.phases;
+  } else if (o.carried_pulse && !o.width_us && !o.interphase_us && !o.balance_width_us &&
+             !o.monophasic) {
+    f.pulse = *o.carried_pulse;
   } else {
     if (o.width_us) f.pulse.width_us = *o.width_us;
     f.pulse.balance_width_us = o.balance_width_us ? *o.balance_width_us : f.pulse.width_us;
@@ -99,6 +110,7 @@ FibreOptions fibre_values(const FibreText& t) {
   if (!t.balance_width.empty()) v.balance_width_us = parse_finite(t.balance_width, "--balance-width");
   if (!t.interphase.empty()) v.interphase_us = parse_finite(t.interphase, "--interphase");
   v.monophasic = t.monophasic;
+  if (!t.phases.empty()) v.phases = phases_from_text(t.phases, "--phases");
   v.offsets = t.offsets;
   if (!t.tolerance.empty()) v.tolerance = parse_finite(t.tolerance, "--tolerance");
   v.tolerance_text = t.tolerance;

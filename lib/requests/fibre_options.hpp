@@ -25,6 +25,11 @@ struct FibreOptions {
   std::optional<double> interphase_us;     // [0]
   std::optional<double> balance_width_us;  // [width_us]
   bool monophasic = false;
+  // A shaped pulse (--phases D:L,...: levels x the amplitude; simulated as given, balanced
+  // or not).  Excludes the widths, --monophasic and --stimulus.
+  std::vector<Phase> phases;
+  // The weights document's pulse: the pulse when none of the above is given.
+  std::optional<PulseSpec> carried_pulse;
   int offsets = 8;                    // 1 to 64
   std::optional<double> tolerance;    // 1e-4 to 0.1 [0.001]
   std::string tolerance_text;         // the flag as given, for messages [the value]
@@ -40,6 +45,7 @@ struct FibreText {
   std::string stimulus;
   std::string width, interphase, balance_width;
   bool monophasic = false;
+  std::string phases;
   int offsets = 8;
   std::string tolerance;
   int threads = 0;

@@ -10,6 +10,46 @@
 
 namespace tp {
 
+std::optional<PulseShape> document_pulse(const Document& doc) {
+  if (!doc.extra.contains("pulse")) return std::nullopt;
+  const PulseSpec p = pulse_spec_from_json(doc.extra["pulse"], "weights document: pulse");
+  if (p.monophasic)
+    bad_input("weights document: pulse: monophasic, never delivered (not charge balanced)");
+  PulseShape shape;
+  shape.width_us = p.width_us;
+  shape.interphase_us = p.interphase_us;
+  shape.balance_width_us = p.balance_width_us;
+  shape.phases = p.phases;
+  return shape;
+}
+
+namespace {
+
+bool widths_given(const PulseRequest& r) {
+  return r.width_us || r.balance_width_us || r.interphase_us;
+}
+
+// The pulse: the phases or the widths asked, else the document's, else 200 us symmetric.
+void set_pulse(PulseShape& shape, const Document& doc, const PulseRequest& r) {
+  if (!r.phases.empty() && widths_given(r))
+    bad_input("--phases excludes --width, --balance-width and --interphase");
+  if (!r.phases.empty()) {
+    shape.phases = r.phases;
+    return;
+  }
+  if (!widths_given(r)) {
+    if (const auto carried = document_pulse(doc)) {
+      shape = *carried;
+      return;
+    }
+  }
+  shape.width_us = r.width_us.value_or(200.0);
+  shape.balance_width_us = r.balance_width_us.value_or(shape.width_us);
+  shape.interphase_us = r.interphase_us.value_or(0.0);
+}
+
+}  // namespace
+
 Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
   if (!doc.weights) bad_input("weights document: no 'weights'");
   if (doc.setup.array.size() > static_cast<std::size_t>(ranges::max_channels))
@@ -44,10 +84,8 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
   for (double w : *doc.weights) s.currents_mA.push_back(w * amp);
   s.amplitude_mA = amp;
   s.max_current_mA = doc.max_current_mA;
+  set_pulse(s.shape, doc, r);
   s.shape.frequency_hz = r.frequency_hz;
-  s.shape.width_us = r.width_us;
-  s.shape.balance_width_us = r.balance_width_us ? *r.balance_width_us : r.width_us;
-  s.shape.interphase_us = r.interphase_us;
   if (!(s.shape.frequency_hz > 0.0)) bad_input("--frequency: must be > 0 Hz");
   const StimulusLimits limits;
   if (r.count && r.duration_s) bad_input("--count and --duration: give one");
@@ -90,10 +128,11 @@ PulseRequest pulse_request_of(const Document& doc, const MakePulseOptions& o) {
   else if (!o.profile.empty() && !r.intensity)
     bad_input("--profile: needs --intensity");
   r.frequency_hz = parse_finite(o.frequency, "--frequency");
-  r.width_us = parse_finite(o.width, "--width");
+  if (!o.width.empty()) r.width_us = parse_finite(o.width, "--width");
   if (!o.balance_width.empty())
     r.balance_width_us = parse_finite(o.balance_width, "--balance-width");
-  r.interphase_us = parse_finite(o.interphase, "--interphase");
+  if (!o.interphase.empty()) r.interphase_us = parse_finite(o.interphase, "--interphase");
+  if (!o.phases.empty()) r.phases = phases_from_text(o.phases, "--phases");
   if (!o.count.empty()) r.count = parse_integer(o.count, "--count");
   if (!o.duration.empty()) r.duration_s = parse_finite(o.duration, "--duration");
   return r;
@@ -120,6 +159,10 @@ MakePulsePlan plan_make_pulse(const Document& doc, const MakePulseOptions& o) {
                        number_text(f.max_charge_density_uC_per_cm2) + " uC/cm2, RMS " +
                        number_text(f.max_rms_current_mA) + " mA, net charge " +
                        number_text(f.max_net_charge_nC) + " nC");
+  const auto carried = document_pulse(doc);
+  if (carried && !(pulse_of(*carried) == pulse_of(s.shape)))
+    plan.notes.push_back("the document's pulse (" + pulse_of(*carried).describe() +
+                         ") replaced by the flags' (" + pulse_of(s.shape).describe() + ")");
   if (against) plan.notes.push_back(*against);
   return plan;
 }

@@ -20,13 +20,20 @@ struct PulseRequest {
   std::optional<double> intensity;
   std::optional<Profile> profile;
   double frequency_hz = 200.0;
-  double width_us = 200.0;
+  // The pulse: the shorthand's widths, or phases (not both).  With none of them, the weights
+  // document's `pulse` when it carries one, else 200 us symmetric.
+  std::optional<double> width_us;          // [200]
   std::optional<double> balance_width_us;  // [width_us]
-  double interphase_us = 0.0;
+  std::optional<double> interphase_us;     // [0]
+  std::vector<Phase> phases;
   // The length: a pulse count, or a duration (s; [1]); not both.
   std::optional<long> count;
   std::optional<double> duration_s;
 };
+
+// The pulse a weights document carries (its "pulse": phases, or the shorthand's widths), if
+// any; bad input when it is malformed.
+std::optional<PulseShape> document_pulse(const Document& doc);
 
 // Bad input, naming the option as make-pulse's flag (--amplitude, --frequency, ...), when
 // the document has no weights or more channels than a stimulator drives, when the request
@@ -40,7 +47,8 @@ struct MakePulseOptions {
   std::string input = "-";  // --input: the weights document (- for stdin)
   std::string amplitude, intensity;
   std::string profile;  // --profile FILE (- for stdin): the person's calibration
-  std::string frequency = "200", width = "200", balance_width, interphase = "0";
+  std::string frequency = "200", width, balance_width, interphase;
+  std::string phases;  // --phases D:L,...
   std::string duration, count;
   bool csv = false;              // --format csv: the waveform's corners (else the JSON)
   std::string csv_pulses = "3";  // --csv-pulses: the pulses drawn by --format csv
@@ -58,7 +66,8 @@ PulseRequest pulse_request_of(const Document& doc, const MakePulseOptions& o);
 
 // What make-pulse prints, every check done first: the stimulus, the CSV's pulses (with
 // --format csv, 1 to 100000), and the lines for stderr (after "make-pulse: "): the safety
-// figures, then the amplitude against the document's thresholds when it carries them.
+// figures, which pulse was used when the document carries another, then the amplitude
+// against the document's thresholds when it carries them.
 struct MakePulsePlan {
   Stimulus stimulus;
   bool csv = false;

@@ -240,6 +240,9 @@ ThresholdOutput run_population(const ThresholdPlan& p, const ThresholdProgress& 
 
 std::vector<double> strength_duration_widths(std::vector<double> ws,
                                              const tp::PulseSpec& pulse) {
+  if (!pulse.phases.empty())
+    bad_input("--strength-duration: a shaped pulse (phases) has no single width to vary; give "
+              "--width (and --balance-width, --interphase)");
   for (double w : ws)
     if (!(w >= 1.0 && w <= 10000.0))
       bad_input("--widths: " + number_beside(w, 1.0, 10000.0) + " us outside [1, 10000] us");
@@ -286,7 +289,10 @@ ThresholdPlan plan_thresholds(Document doc, const ThresholdRequest& r) {
   const std::optional<std::array<double, 2>> through = fibre_point(doc, r.at_mm, r.at_text);
   p.peak_weight = checked_peak_weight(doc);
   check_modes(r);
-  p.fibre = apply_fibre_options(r.fibre, *doc.weights);
+  FibreOptions fibre = r.fibre;
+  if (doc.extra.contains("pulse"))  // the weights document's pulse, when no flag gives one
+    fibre.carried_pulse = pulse_spec_from_json(doc.extra["pulse"], "weights document: pulse");
+  p.fibre = apply_fibre_options(fibre, *doc.weights);
   p.fibre.settings.through_mm = through;
   p.doc = std::move(doc);
   if (r.population) {

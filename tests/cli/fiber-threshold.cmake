@@ -38,7 +38,7 @@ tp_cli_test(fiber-threshold golden-sd golden fiber-threshold/sd.csv --rtol 1e-9 
   fiber-threshold --config ${IN}/sai-weights.json --strength-duration --widths 50,200,1000 --monophasic --offsets 2)
 
 # Scripted checks: determinism, threads, no threshold below 100 mA, the stimulus multiples.
-foreach(script deterministic no-threshold primary stimulus plot-sd)
+foreach(script deterministic no-threshold primary stimulus shaped plot-sd)
   tp_cli_test(fiber-threshold ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/fiber-threshold/${script}.sh)
 endforeach()
 

@@ -39,3 +39,28 @@ tp_cli_test(make-pulse refuses-mean-current refuses 2 --stdin ${W} --says "mean 
 # is at the bound).  The limits before issue 22 let it through (docs/safety.md).
 tp_cli_test(make-pulse refuses-rms-current refuses 2 --stdin ${W} --says "RMS current 1.264911064 mA"
   -- make-pulse --amplitude 2 --frequency 1000)
+
+# Shaped pulses (--phases, issue 40): the document and the waveform's corners as goldens, the
+# weights document's own pulse as the default, and each limit on a shape refused by name.
+tp_cli_test(make-pulse golden-shaped-json golden make-pulse/sai-shaped.json --stdin ${W} --
+  make-pulse --amplitude 1 --frequency 100 --count 3 --phases 500:0.1,200:1,50:0,500:-0.5)
+tp_cli_test(make-pulse golden-shaped-csv golden make-pulse/sai-shaped.csv --stdin ${W} --
+  make-pulse --amplitude 1 --frequency 100 --count 2 --format csv --phases 500:0.1,200:1,50:0,500:-0.5)
+tp_cli_test(make-pulse uses-document-pulse script ${CMAKE_CURRENT_SOURCE_DIR}/make-pulse/document-pulse.sh)
+tp_cli_test(make-pulse refuses-uncharged-shape refuses 2 --stdin ${W}
+  --says "not charge balanced: the sum of level x duration is -1 us, not 0" -- make-pulse --amplitude 1 --phases 200:1,201:-1)
+tp_cli_test(make-pulse refuses-short-phase refuses 2 --stdin ${W}
+  --says "phase 2: duration 9 us outside" -- make-pulse --amplitude 1 --phases 200:1,9:0,200:-1)
+tp_cli_test(make-pulse refuses-17-phases refuses 2 --stdin ${W} --says "--phases: more than 16 phases" --
+  make-pulse --amplitude 1 --phases 20:1,20:-1,20:1,20:-1,20:1,20:-1,20:1,20:-1,20:1,20:-1,20:1,20:-1,20:1,20:-1,20:1,20:-1,20:1)
+tp_cli_test(make-pulse refuses-shape-shannon-k refuses 2 --stdin ${W} --says "Shannon's k 1.903 above 1.85" --
+  make-pulse --amplitude 2 --frequency 10 --phases 500:1,500:1,1000:-1)
+tp_cli_test(make-pulse refuses-shape-peak refuses 2 --stdin ${W}
+  --says "channel 3: current 1.5 mA at level 1.5 is 2.25 mA, above the limit of 2 mA" --
+  make-pulse --amplitude 1.5 --phases 100:1.5,150:-1)
+tp_cli_test(make-pulse refuses-shape-rms refuses 2 --stdin ${W} --says "RMS current 1.341640786 mA" --
+  make-pulse --amplitude 1.5 --frequency 1000 --phases 400:1,400:-1)
+tp_cli_test(make-pulse refuses-phases-and-width refuses 2 --stdin ${W} --says "--width excludes --phases" --
+  make-pulse --amplitude 1 --phases 200:1,200:-1 --width 100)
+tp_cli_test(make-pulse refuses-fine-level refuses 2 --stdin ${W} --says "levels must be multiples of 1/U for some U up to 64" --
+  make-pulse --amplitude 1 --phases 130:1,1000:-0.13)

@@ -227,6 +227,26 @@ def test_make_pulse_is_the_programs_json(sai_json):
     assert (s.channels, s.patterns, s.duration_s) == (8, 1, 2.0)
 
 
+def test_a_shaped_pulse_is_the_programs(sai_json):
+    """phases= is make-pulse's --phases; the document's pulse is the default for both."""
+    shape = [(500, 0.1), (200, 1), (50, 0), (500, -0.5)]
+    cli = run("make-pulse", "--amplitude", "1", "--count", "3",
+              "--phases", ",".join(f"{d}:{l}" for d, l in shape), stdin=sai_json)[0]
+    doc = tp.Document.from_json(sai_json.decode())
+    assert tp.make_pulse(doc, 1.0, count=3, phases=shape).to_json().encode() == cli
+    carried = json.loads(sai_json)
+    carried["pulse"] = {"phases": [{"duration_us": d, "level": l} for d, l in shape]}
+    carried = json.dumps(carried).encode()
+    py = tp.make_pulse(tp.Document.from_json(carried.decode()), 1.0, count=3)
+    assert py.to_json().encode() == run("make-pulse", "--amplitude", "1", "--count", "3",
+                                        stdin=carried)[0]
+    assert json.loads(py.to_json())["pulse"]["phases"][1] == {"duration_us": 200, "level": 1}
+    with pytest.raises(ValueError, match="not charge balanced"):
+        tp.make_pulse(doc, 1.0, count=3, phases=[(200, 1), (201, -1)])
+    with pytest.raises(ValueError, match="--phases excludes --width"):
+        tp.make_pulse(doc, 1.0, count=3, phases=shape, width_us=100)
+
+
 def test_af_field_reads_any_view_as_its_copy(sai_doc):
     """Broadcast, Fortran-ordered, reversed, strided and 3-D views give the values of their
     contiguous copies (the arrays are read through their strides)."""

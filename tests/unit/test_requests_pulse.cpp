@@ -41,11 +41,17 @@ TEST_CASE("make-pulse: the flags' defaults as a PulseRequest", "[requests][pulse
   CHECK(!r.intensity);
   CHECK(!r.profile);
   CHECK(r.frequency_hz == 200.0);
-  CHECK(r.width_us == 200.0);
+  CHECK(!r.width_us);  // not given: the document's pulse, else 200 us symmetric
   CHECK(!r.balance_width_us);
-  CHECK(r.interphase_us == 0.0);
+  CHECK(!r.interphase_us);
+  CHECK(r.phases.empty());
   CHECK(!r.count);
   CHECK(!r.duration_s);
+  const Stimulus s = make_stimulus(weights_document(), r);
+  CHECK(!s.shape.shaped());
+  CHECK(s.shape.width_us == 200.0);
+  CHECK(s.shape.balance_width_us == 200.0);
+  CHECK(s.shape.interphase_us == 0.0);
   MakePulseOptions o = with_amplitude("1");
   o.balance_width = "800";
   o.count = "2";
@@ -53,7 +59,39 @@ TEST_CASE("make-pulse: the flags' defaults as a PulseRequest", "[requests][pulse
   const PulseRequest given = pulse_request_of(weights_document(), o);
   CHECK(*given.balance_width_us == 800.0);
   CHECK(*given.count == 2);
-  CHECK(given.interphase_us == 50.0);
+  CHECK(*given.interphase_us == 50.0);
+  CHECK(make_stimulus(weights_document(), given).shape.width_us == 200.0);
+}
+
+TEST_CASE("make-pulse: phases, and the document's pulse as the default", "[requests][pulse]") {
+  MakePulseOptions o = with_amplitude("1");
+  o.phases = "500:0.1,200:1,500:-0.5";
+  const MakePulsePlan shaped = plan_make_pulse(weights_document(), o);
+  REQUIRE(shaped.stimulus.shape.phases.size() == 3);
+  CHECK(shaped.stimulus.shape.phases[0].level == 0.1);
+  o.width = "100";
+  CHECK(message_of([&] { plan_make_pulse(weights_document(), o); }) ==
+        "--phases excludes --width, --balance-width and --interphase");
+  // A document that carries a pulse: used when no pulse flag is given, replaced (and said)
+  // when one is.
+  Document doc = weights_document();
+  doc.extra["pulse"] = Json{{"phases", Json::array({Json{{"duration_us", 100}, {"level", 1}},
+                                                    Json{{"duration_us", 400}, {"level", -0.25}}})}};
+  const MakePulsePlan carried = plan_make_pulse(doc, with_amplitude("1"));
+  REQUIRE(carried.stimulus.shape.phases.size() == 2);
+  CHECK(carried.stimulus.shape.phases[1].duration_us == 400);
+  CHECK(carried.notes.size() == 1);  // the safety figures only
+  MakePulseOptions flags = with_amplitude("1");
+  flags.width = "150";
+  const MakePulsePlan replaced = plan_make_pulse(doc, flags);
+  CHECK(!replaced.stimulus.shape.shaped());
+  REQUIRE(replaced.notes.size() == 2);
+  CHECK(replaced.notes[1] ==
+        "the document's pulse (shaped (100 us at 1, 400 us at -0.25)) replaced by the flags' "
+        "(150 us biphasic)");
+  doc.extra["pulse"] = Json{{"phases", 3}};
+  CHECK(message_of([&] { plan_make_pulse(doc, with_amplitude("1")); }) ==
+        "weights document: pulse.phases: expected an array of {\"duration_us\", \"level\"}");
 }
 
 TEST_CASE("make-pulse: --profile's combinations, in the program's order", "[requests][pulse]") {

@@ -1,6 +1,6 @@
 # Type stubs of tactile_primaries._core (lib/python/module.cpp).
 import os
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -84,10 +84,11 @@ def fiber_threshold(doc: Document, *, model: str = "mrg", width_us: Optional[flo
                     population: Optional[int] = None,
                     seed: Optional[int] = None) -> dict[str, Any]: ...
 def make_pulse(doc: Document, amplitude_mA: Optional[float] = None, frequency_hz: float = 200.0,
-               *, width_us: float = 200.0, balance_width_us: Optional[float] = None,
-               interphase_us: float = 0.0, duration_s: Optional[float] = None,
+               *, width_us: Optional[float] = None, balance_width_us: Optional[float] = None,
+               interphase_us: Optional[float] = None, duration_s: Optional[float] = None,
                count: Optional[int] = None, profile: Optional[str] = None,
-               intensity: Optional[float] = None) -> Stimulus: ...
+               intensity: Optional[float] = None,
+               phases: Optional[Sequence[Tuple[float, float]]] = None) -> Stimulus: ...
 
 def _af_points(doc: Document, x_mm: npt.NDArray[np.float64], y_mm: npt.NDArray[np.float64],
                z_mm: Optional[npt.NDArray[np.float64]] = None,
