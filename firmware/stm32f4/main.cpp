@@ -97,6 +97,12 @@ device::Capabilities capabilities(const device::DeviceConfig& c, const Board& bo
   if (emulated && caps.min_width_us < 50) caps.min_width_us = 50;
   caps.watchdog_ms = c.watchdog_ms;
   caps.max_pulse_rate_hz = max_pulse_rate_hz;
+  // The pulse engine runs biphasic pulses only (main, gap, balance): no shaped pulses
+  // (set_shape is refused, not_supported), and at most 4 edges a pulse, so its edge rate is
+  // 4 x its measured pulse rate.
+  caps.features = 0;
+  caps.max_phases = 0;
+  caps.max_edge_rate_hz = 4u * max_pulse_rate_hz;
   return caps;
 }
 

@@ -10,7 +10,7 @@ namespace {
 bool carries_session(Msg m) {
   return m == Msg::configure || m == Msg::set_weights || m == Msg::start || m == Msg::keepalive ||
          m == Msg::configure_table || m == Msg::set_pattern || m == Msg::set_codes ||
-         m == Msg::set_amplitudes;
+         m == Msg::set_amplitudes || m == Msg::set_shape;
 }
 bool opens_session(Msg m) {
   return m == Msg::configure || m == Msg::configure_table;
@@ -108,6 +108,8 @@ void DeviceCore::handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxP
       return result(set_codes(f.payload));
     case Msg::set_amplitudes:
       return result(set_amplitudes(f.payload));
+    case Msg::set_shape:
+      return result(set_shape(f.payload));
     case Msg::start: {
       if (f.payload.size() != 4) return result(Result::bad_length);
       const bool was_running = status_.state == State::running;
@@ -143,12 +145,19 @@ void DeviceCore::open_table(std::uint32_t session, std::uint16_t n, std::uint8_t
   sched_.set_table(n, gap_us);
 }
 
-Result DeviceCore::check_timing(const PatternTiming& t) const {
+Result DeviceCore::check_widths(const PatternTiming& t) const {
+  if (t.shaped()) return check_shape(t.shape, caps_);  // its phases, and its charge
   if (t.width_us < caps_.min_width_us || t.width_us > caps_.max_width_us)
     return Result::out_of_range;
   if (t.balance_width_us < t.width_us || t.balance_width_us > caps_.max_balance_width_us)
     return Result::out_of_range;
   if (t.interphase_us > caps_.max_width_us) return Result::out_of_range;
+  return Result::ok;
+}
+
+Result DeviceCore::check_timing(const PatternTiming& t) const {
+  const Result widths = check_widths(t);
+  if (widths != Result::ok) return widths;
   const std::uint32_t min_period = (1000000u + caps_.max_rate_hz - 1) / caps_.max_rate_hz;
   if (t.period_us <= t.length_us() || t.period_us < min_period ||
       t.period_us > hard::max_period_us || t.phase_us >= t.period_us)
@@ -166,9 +175,20 @@ void DeviceCore::load(std::uint16_t i, int sign) {
     load_.add(pool_channel_ + p.first, pool_code_ + p.first, p.count, timing_[i], sign);
 }
 
+bool DeviceCore::peak_fits(std::uint16_t i, const PatternTiming& t) const {
+  const Pattern& p = pattern_[i];
+  if (!p.codes_set) return true;
+  std::int32_t largest = 0;
+  for (std::size_t k = 0; k < p.count; ++k)
+    largest = std::max(largest, std::abs(std::int32_t{pool_code_[p.first + k]}));
+  return largest * t.max_units() <= caps_.max_code();
+}
+
 Result DeviceCore::put_timing(std::uint16_t i, const PatternTiming& t) {
   const Result r = check_timing(t);
   if (r != Result::ok) return r;
+  // The pattern's codes at this shape's strongest phase: within the largest code.
+  if (!peak_fits(i, t)) return Result::out_of_range;
   const Pattern old = pattern_[i];
   const PatternTiming old_timing = timing_[i];
   load(i, -1);
@@ -191,7 +211,9 @@ Result DeviceCore::put_timing(std::uint16_t i, const PatternTiming& t) {
 }
 
 Result DeviceCore::put_codes(std::uint16_t i, const SparseCodes& c, std::uint8_t reserve) {
-  const std::int32_t max = caps_.max_code();
+  // Base codes of a shaped pattern: the peak is |code| x its largest units.
+  const std::int32_t units = pattern_[i].timing_set ? timing_[i].max_units() : 1;
+  const std::int32_t max = caps_.max_code() / (units > 0 ? units : 1);
   std::int32_t sum = 0;  // at most 64 codes of 16 bits: no overflow
   for (std::size_t k = 0; k < c.count; ++k) {
     if (c.channel[k] >= channels_) return Result::channel_mismatch;
@@ -273,6 +295,17 @@ Result DeviceCore::set_pattern(const FixedBytes<kMaxPayload>& payload) {
   return put_timing(i, *t);
 }
 
+Result DeviceCore::set_shape(const FixedBytes<kMaxPayload>& payload) {
+  if (!configured_) return Result::not_configured;
+  if (payload.size() < 6 + kShapeHeadSize) return Result::bad_length;
+  if (status_.state == State::running) return Result::bad_state;
+  const std::uint16_t i = get_u16(payload.data() + 4);
+  PatternTiming t;
+  if (!decode_shape_pattern(payload.data() + 6, payload.size() - 6, t)) return Result::bad_length;
+  if (i >= patterns_) return Result::no_pattern;
+  return put_timing(i, t);
+}
+
 Result DeviceCore::set_codes(const FixedBytes<kMaxPayload>& payload) {
   if (!configured_) return Result::not_configured;
   if (payload.size() < 7) return Result::bad_length;
@@ -322,6 +355,8 @@ Result DeviceCore::start(std::uint64_t now_us) {
   if (status_.state == State::running) return Result::ok;
   // No more pulses a second than the device delivers on time (its measured throughput).
   if (!within_pulse_rate(pulse_rate_mHz(timing_, patterns_), caps_)) return Result::out_of_range;
+  // Nor more edges a second (a shaped pulse's phases) than its output stage makes on time.
+  if (!within_edge_rate(edge_rate_mHz(timing_, patterns_), caps_)) return Result::out_of_range;
   // The table's worst slip, from the closed bound or its exact schedule (scheduler.hpp).
   if (sched_.worst_slip(caps_.max_slip_us, kMaxCheckedPulses) > caps_.max_slip_us)
     return Result::out_of_range;

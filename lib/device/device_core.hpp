@@ -26,6 +26,13 @@
 //    over the patterns within the capabilities' bounds (ChannelLoad), the utilisation at
 //    most 1 and the worst slip within max_slip_us (Scheduler), or the frame (or start) is
 //    refused and changes nothing; set_amplitudes only scales a pattern's codes down;
+//  - shaped pulses (version 6, set_shape): only on a device that claims them (features
+//    bit 0, else not_supported); 1 to max_phases phases (bad_length), each min_width to
+//    max_balance_width long, the strongest at most max_width, |units| <= hard::max_units
+//    (out_of_range), the net charge sum units x duration exactly 0 (charge_not_zero); the
+//    peak |base code| x max|units| within the largest code, whichever of set_codes and
+//    set_shape comes second; the loads exact sums over the phases; start: at most
+//    max_edge_rate_hz edges a second over the table (edge_rate_mHz);
 //  - a repeated frame (same seq, type and payload: a retransmission, or a replay of the
 //    same bytes) is answered again from the cache, but neither executed twice nor allowed
 //    to feed the watchdog; nor does a frame of the session whose seq is not newer (ahead by
@@ -54,7 +61,8 @@ struct CodeSpan {
 struct DeliveredPulse {
   std::uint64_t t_us;      // device time of the pulse's start (its slot plus its slip)
   std::uint64_t start_us;  // device time of the start command
-  CodeSpan codes;          // main-phase DAC codes of every channel, + = cathodic
+  CodeSpan codes;          // main-phase DAC codes of every channel, + = cathodic; of a
+                           // shaped pattern, its base codes (phase k: codes x units_k)
   const PatternTiming& timing;
   const Capabilities& caps;
   std::uint16_t pattern = 0;
@@ -138,10 +146,14 @@ class DeviceCore {
   Result set_pattern(const FixedBytes<kMaxPayload>& payload);
   Result set_codes(const FixedBytes<kMaxPayload>& payload);
   Result set_amplitudes(const FixedBytes<kMaxPayload>& payload);
+  Result set_shape(const FixedBytes<kMaxPayload>& payload);
   Result start(std::uint64_t now_us);
   void open_table(std::uint32_t session, std::uint16_t n, std::uint8_t channels,
                   std::uint16_t gap_us);
+  Result check_widths(const PatternTiming& t) const;  // a biphasic's widths, or its shape
   Result check_timing(const PatternTiming& t) const;
+  // Pattern i's codes (if any) times t's largest units within the largest code.
+  bool peak_fits(std::uint16_t i, const PatternTiming& t) const;
   Result put_timing(std::uint16_t i, const PatternTiming& t);
   // Pattern i's codes become these (checked first: |code|, Sum = 0, the load).
   Result put_codes(std::uint16_t i, const SparseCodes& c, std::uint8_t reserve);

@@ -1,6 +1,7 @@
 #include "device/protocol.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace tp::device {
 
@@ -28,6 +29,10 @@ const char* to_string(Result r) {
       return "more patterns or pattern codes than the device holds";
     case Result::no_pattern:
       return "no such pattern in the table";
+    case Result::charge_not_zero:
+      return "the pulse shape's net charge is not zero (sum of units x duration)";
+    case Result::not_supported:
+      return "the device cannot deliver shaped pulses";
   }
   return "unknown result";
 }
@@ -66,8 +71,76 @@ std::int32_t Capabilities::max_code() const {
   return static_cast<std::int32_t>(std::min<std::uint32_t>(code, hard::max_dac_code));
 }
 
+std::uint32_t PatternTiming::length_us() const {
+  if (!shaped()) return std::uint32_t{width_us} + interphase_us + balance_width_us;
+  std::uint32_t sum = 0;
+  for (std::size_t k = 0; k < shape.n && k < kMaxPhases; ++k) sum += shape.duration_us[k];
+  return sum;
+}
+
+std::int32_t PatternTiming::max_units() const {
+  if (!shaped()) return 1;
+  std::int32_t m = 0;
+  for (std::size_t k = 0; k < shape.n && k < kMaxPhases; ++k)
+    m = std::max(m, std::abs(std::int32_t{shape.units[k]}));
+  return m;
+}
+
+std::uint32_t PatternTiming::edges() const {
+  if (shaped()) return std::uint32_t{shape.n} + 1;
+  return interphase_us != 0 ? 4 : 3;
+}
+
+Result check_shape(const Shape& s, const Capabilities& caps) {
+  if (!caps.shaped_pulses()) return Result::not_supported;
+  if (s.n == 0 || s.n > kMaxPhases || s.n > caps.max_phases) return Result::bad_length;
+  std::int32_t peak = 0;
+  for (std::size_t k = 0; k < s.n; ++k) {
+    const std::int32_t u = std::abs(std::int32_t{s.units[k]});
+    if (u > hard::max_units) return Result::out_of_range;
+    if (s.duration_us[k] < caps.min_width_us || s.duration_us[k] > caps.max_balance_width_us)
+      return Result::out_of_range;
+    peak = std::max(peak, u);
+  }
+  if (peak == 0) return Result::out_of_range;  // delivers nothing
+  // |units| <= 1024 and durations <= 65535 over 16 phases: < 2^31, but in 64 bits all the same.
+  std::int64_t charge = 0;
+  for (std::size_t k = 0; k < s.n; ++k) {
+    if (std::abs(std::int32_t{s.units[k]}) == peak && s.duration_us[k] > caps.max_width_us)
+      return Result::out_of_range;  // the strongest phases are main phases: at most max_width
+    charge += std::int64_t{s.units[k]} * s.duration_us[k];
+  }
+  return charge == 0 ? Result::ok : Result::charge_not_zero;
+}
+
+void shape_codes(const std::int16_t* base, std::size_t n, const Shape& s, std::size_t k,
+                 std::int16_t* out) {
+  const std::int32_t u = k < s.n && k < kMaxPhases ? s.units[k] : 0;
+  for (std::size_t c = 0; c < n; ++c)
+    out[c] = static_cast<std::int16_t>(std::int32_t{base[c]} * u);
+}
+
+bool decode_shape_pattern(const std::uint8_t* p, std::size_t n, PatternTiming& out) {
+  if (n < kShapeHeadSize) return false;
+  const std::size_t phases = p[12];
+  if (phases == 0 || phases > kMaxPhases || n != kShapeHeadSize + 4 * phases) return false;
+  PatternTiming t;
+  t.period_us = get_u32(p);
+  t.phase_us = get_u32(p + 4);
+  t.max_pulses = get_u32(p + 8);
+  t.width_us = t.interphase_us = t.balance_width_us = 0;
+  t.shape.n = static_cast<std::uint8_t>(phases);
+  for (std::size_t k = 0; k < phases; ++k) {
+    t.shape.duration_us[k] = get_u16(p + kShapeHeadSize + 4 * k);
+    t.shape.units[k] = static_cast<std::int16_t>(get_u16(p + kShapeHeadSize + 4 * k + 2));
+  }
+  out = t;
+  return true;
+}
+
 bool phase_fits(const PatternTiming& t, const Capabilities& caps) {
-  if (t.interphase_us != 0 && t.interphase_us < caps.min_width_us) return false;
+  // A shape's phases, gaps included, are each at least min_width (check_shape).
+  if (!t.shaped() && t.interphase_us != 0 && t.interphase_us < caps.min_width_us) return false;
   const std::uint64_t length = t.length_us();
   return t.period_us > length && t.period_us - length >= caps.min_width_us;
 }
@@ -138,10 +211,38 @@ std::uint64_t balance_bound(std::uint64_t a, const PatternTiming& t) {
 }
 }  // namespace
 
+namespace {
+// A share too large to count: above every bound (ChannelLoad::first_over's limits are below
+// 2^57).  The device never keeps one (it refuses such codes before their load), so the
+// one a trial sum may hold does not wrap it.
+constexpr std::uint64_t kOverQ16 = std::uint64_t{1} << 62;
+
+// ceil(e x 2^16 / period), without overflow: kOverQ16 when it would be that large.
+std::uint64_t q16_up(std::uint64_t e, std::uint32_t period) {
+  const std::uint64_t q = e / period, r = e % period;
+  if (q >= (std::uint64_t{1} << 46)) return kOverQ16;
+  return (q << 16) + ((r << 16) + period - 1) / period;
+}
+
+// A shaped pattern's share: sum over its phases of (a |u_k|)^power x d_k (power 1 or 2).
+// Each a |u_k| <= 32768 (else kOverQ16): terms below 2^46, sums below 2^50.
+std::uint64_t shaped_share(std::uint32_t a, const PatternTiming& t, int power) {
+  if (std::uint64_t{a} * static_cast<std::uint32_t>(t.max_units()) > 32768u) return kOverQ16;
+  std::uint64_t e = 0;
+  for (std::size_t k = 0; k < t.shape.n && k < kMaxPhases; ++k) {
+    const std::uint64_t c = std::uint64_t{a} * static_cast<std::uint32_t>(
+                                                    std::abs(std::int32_t{t.shape.units[k]}));
+    e += (power == 2 ? c * c : c) * t.shape.duration_us[k];
+  }
+  return q16_up(e, t.period_us);
+}
+}  // namespace
+
 // a <= 32768, widths <= 65535, and bw >= w (check_timing; the host's check_stimulus), so
 // b <= a: a^2 w + b^2 bw < 2^47, shifted by 16 < 2^63.
 std::uint64_t ChannelLoad::ms_share(std::uint32_t a, const PatternTiming& t) {
   if (t.period_us == 0) return 0;
+  if (t.shaped()) return shaped_share(a, t, 2);
   const std::uint64_t b = balance_bound(a, t);
   const std::uint64_t e = std::uint64_t{a} * a * t.width_us + b * b * t.balance_width_us;
   return ((e << 16) + t.period_us - 1) / t.period_us;
@@ -149,6 +250,7 @@ std::uint64_t ChannelLoad::ms_share(std::uint32_t a, const PatternTiming& t) {
 
 std::uint64_t ChannelLoad::mean_share(std::uint32_t a, const PatternTiming& t) {
   if (t.period_us == 0) return 0;
+  if (t.shaped()) return shaped_share(a, t, 1);
   const std::uint64_t b = balance_bound(a, t);
   const std::uint64_t q = std::uint64_t{a} * t.width_us + b * t.balance_width_us;
   return ((q << 16) + t.period_us - 1) / t.period_us;
@@ -197,6 +299,14 @@ std::uint64_t pulse_rate_mHz(const PatternTiming* t, std::size_t n) {
   return sum;
 }
 
+std::uint64_t edge_rate_mHz(const PatternTiming* t, std::size_t n) {
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (t[i].period_us != 0)
+      sum += (1000000000ull + t[i].period_us - 1) / t[i].period_us * t[i].edges();
+  return sum;
+}
+
 Capabilities within_hard_limits(Capabilities c) {
   c.protocol = kProtocolVersion;
   c.channels = static_cast<std::uint8_t>(std::clamp<std::size_t>(c.channels, 1, kMaxChannels));
@@ -214,6 +324,9 @@ Capabilities within_hard_limits(Capabilities c) {
   c.max_rms_uA = std::min(c.max_rms_uA, hard::max_rms_uA);
   c.max_mean_uA = std::min(c.max_mean_uA, hard::max_mean_uA);
   c.max_pulse_rate_hz = std::clamp<std::uint16_t>(c.max_pulse_rate_hz, 1, hard::max_pulse_rate_hz);
+  c.max_phases = static_cast<std::uint8_t>(std::min<std::size_t>(c.max_phases, kMaxPhases));
+  c.features &= kFeatureShapedPulses;  // only the features this code knows
+  c.max_edge_rate_hz = std::clamp<std::uint32_t>(c.max_edge_rate_hz, 1, hard::max_edge_rate_hz);
   return c;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Messages of the stimulator protocol (docs/protocol.md), version 4.  Portable: no OS
+// Messages of the stimulator protocol (docs/protocol.md), version 6.  Portable: no OS
 // calls and, in what the device core uses, no allocation (the std::vector forms at the end
 // are the host's, in protocol_buffers.cpp, which the firmware does not build).  All multi-byte
 // fields are little-endian.  Currents travel as signed DAC codes; a positive code is cathodic.
@@ -16,6 +16,14 @@
 // the device interleaves (scheduler.hpp).  `configure` is a table of one pattern whose
 // codes set_weights gives (version 3's messages, unchanged); configure_table, set_pattern
 // and set_codes build larger ones; set_amplitudes scales patterns down live.
+//
+// Shaped pulses (version 6): set_shape gives a pattern a pulse of up to kMaxPhases
+// piecewise-constant phases, each a duration and a level in integer units.  The pattern's
+// codes are then base codes b_c (summing to zero over the channels, as every pattern's
+// do): channel c delivers b_c x units_k in phase k, so the current stays local at every
+// instant, and the net charge of every channel is b_c x sum_k units_k x duration_k, zero
+// for all channels exactly when that one sum is (the device refuses it otherwise,
+// charge_not_zero).  Version 5's messages keep their bytes and their meaning.
 
 #include <array>
 #include <cstddef>
@@ -29,7 +37,14 @@
 
 namespace tp::device {
 
-inline constexpr std::uint8_t kProtocolVersion = 5;
+inline constexpr std::uint8_t kProtocolVersion = 6;
+// The oldest version a host still speaks to (it gives such a device biphasic pulses only).
+inline constexpr std::uint8_t kOldestProtocolVersion = 5;
+// The most phases a shaped pulse has (set_shape).
+inline constexpr std::size_t kMaxPhases = 16;
+// Capabilities::features: the device delivers shaped pulses (set_shape); without it,
+// set_shape is refused (not_supported).
+inline constexpr std::uint8_t kFeatureShapedPulses = 0x01;
 
 // The most channels a set_weights frame carries: token (4) + count (1) + 2 bytes a code
 // must fit kMaxPayload; 64 is the supported maximum (the host's arrays have at most 64
@@ -67,6 +82,11 @@ inline constexpr std::uint16_t max_mean_uA = 800;
 // Pulses per second over every pattern of a table: what no device claims to sustain above
 // (a device reports its own, lower, measured throughput: Capabilities::max_pulse_rate_hz).
 inline constexpr std::uint16_t max_pulse_rate_hz = 10000;
+// Edges per second over every pattern of a table (a pulse of n phases has n + 1): a
+// 17-edge pulse at max_pulse_rate_hz.
+inline constexpr std::uint32_t max_edge_rate_hz = 170000;
+// The largest |units| of one phase of a shape: a phase delivers base code x units.
+inline constexpr std::int16_t max_units = 1024;
 }  // namespace hard
 
 enum class Msg : std::uint8_t {
@@ -81,6 +101,9 @@ enum class Msg : std::uint8_t {
   set_pattern = 0x11,      // session u32, index u16, PatternTiming -> ack
   set_codes = 0x12,        // session u32, index u16, n u8, n x (channel u8, code i16) -> ack
   set_amplitudes = 0x13,   // session u32, first u16, n u8, n x scale u16 -> ack
+  // session u32, index u16, period_us u32, phase_us u32, max_pulses u32, n u8,
+  // n x (duration_us u16, units i16) -> ack (version 6: a pattern's timing, shaped)
+  set_shape = 0x14,
   ack = 0x80,              // device -> host: acked type u8, Result u8, body
 };
 
@@ -96,6 +119,8 @@ enum class Result : std::uint8_t {
   wrong_session = 8,     // the token is not the current session's (another host's, or stopped)
   table_full = 9,        // more patterns, or more sparse codes, than the device holds
   no_pattern = 10,       // a pattern index outside the table
+  charge_not_zero = 11,  // a shape's sum of units x duration is not zero (version 6)
+  not_supported = 12,    // the device cannot deliver this (a shape: features bit 0 clear)
 };
 const char* to_string(Result r);
 
@@ -132,6 +157,15 @@ struct Capabilities {
   // Version 5: the pulses per second, over every pattern, that the device delivers on time
   // (its measured throughput): a start that asks more is refused.
   std::uint16_t max_pulse_rate_hz = hard::max_pulse_rate_hz;
+  // Version 6: shaped pulses.  The most phases of a shape; kFeature* bits (none unless a
+  // device claims them: a device sets kFeatureShapedPulses only when its output stage
+  // delivers shapes phase by phase); the edges per second over every pattern it delivers on
+  // time (a start that asks more is refused).  A version 5 device reads as 0 phases, no
+  // features and 4 edges a pulse at its max_pulse_rate_hz (decode_capabilities).
+  std::uint8_t max_phases = static_cast<std::uint8_t>(kMaxPhases);
+  std::uint8_t features = 0;
+  std::uint32_t max_edge_rate_hz = 160000;
+  bool shaped_pulses() const { return (features & kFeatureShapedPulses) != 0; }
   // The largest code: max_current_uA / dac_step_nA, never above a 16-bit DAC's.
   std::int32_t max_code() const;
 };
@@ -160,8 +194,17 @@ struct Status {
   std::uint32_t deferred = 0;     // pulses deferred behind another pattern's
 };
 
-// A pattern's timing (set_pattern): its pulse shape, period, phase (its first slot after
-// the start) and pulse count (0: no limit).
+// A shaped pulse (set_shape): n phases, phase k lasting duration_us[k] at units[k] x each
+// channel's base code.  n == 0: not shaped (the pattern's biphasic widths).
+struct Shape {
+  std::uint8_t n = 0;
+  std::uint16_t duration_us[kMaxPhases] = {};
+  std::int16_t units[kMaxPhases] = {};
+};
+
+// A pattern's timing (set_pattern, set_shape): its pulse shape, period, phase (its first
+// slot after the start) and pulse count (0: no limit).  A shaped pattern (shape.n > 0)
+// has no widths (0): its phases are its shape.
 struct PatternTiming {
   std::uint32_t period_us = 5000;
   std::uint32_t phase_us = 0;
@@ -169,9 +212,15 @@ struct PatternTiming {
   std::uint16_t interphase_us = 0;
   std::uint16_t balance_width_us = 200;
   std::uint32_t max_pulses = 0;
-  std::uint32_t length_us() const {
-    return std::uint32_t{width_us} + interphase_us + balance_width_us;
-  }
+  Shape shape;
+  bool shaped() const { return shape.n != 0; }
+  // The pulse's length: its phases' durations summed.
+  std::uint32_t length_us() const;
+  // The largest |units| of its phases (the peak is |base code| x this); 1 when biphasic
+  // (its balancing codes are never larger than the main phase's).
+  std::int32_t max_units() const;
+  // Edges a pulse has: phases + 1 (a biphasic pulse: 3, or 4 with a gap).
+  std::uint32_t edges() const;
 };
 
 // Little-endian fields, appended to any byte buffer with push_back (a FixedBytes in the
@@ -188,7 +237,8 @@ void put_u32(B& b, std::uint32_t v) {
 std::uint16_t get_u16(const std::uint8_t* p);
 std::uint32_t get_u32(const std::uint8_t* p);
 
-inline constexpr std::size_t kCapabilitiesSize = 33;
+inline constexpr std::size_t kCapabilitiesSize = 39;
+inline constexpr std::size_t kCapabilitiesSizeV5 = 33;
 inline constexpr std::size_t kConfigSize = 15;
 inline constexpr std::size_t kTimingSize = 18;
 inline constexpr std::size_t kStatusSize = 24;
@@ -214,6 +264,9 @@ void put_capabilities(B& b, const Capabilities& c) {
   put_u16(b, c.max_rms_uA);
   put_u16(b, c.max_mean_uA);
   put_u16(b, c.max_pulse_rate_hz);
+  b.push_back(c.max_phases);
+  b.push_back(c.features);
+  put_u32(b, c.max_edge_rate_hz);
 }
 template <class B>
 void put_timing(B& b, const PatternTiming& t) {
@@ -248,6 +301,39 @@ void put_status(B& b, const Status& s) {
 
 std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
 std::optional<PatternTiming> decode_timing(const std::uint8_t* p, std::size_t n);
+
+// set_shape's body after the token and the index: period_us u32 | phase_us u32 |
+// max_pulses u32 | n u8 | n x (duration_us u16, units i16), 13 + 4n bytes.
+inline constexpr std::size_t kShapeHeadSize = 13;
+// The timing it gives (no widths; the shape's phases); false when the length disagrees with
+// n, or n is 0 or above kMaxPhases.
+bool decode_shape_pattern(const std::uint8_t* p, std::size_t n, PatternTiming& out);
+template <class B>
+void put_shape_pattern(B& b, const PatternTiming& t) {
+  put_u32(b, t.period_us);
+  put_u32(b, t.phase_us);
+  put_u32(b, t.max_pulses);
+  b.push_back(t.shape.n);
+  for (std::size_t k = 0; k < t.shape.n && k < kMaxPhases; ++k) {
+    put_u16(b, t.shape.duration_us[k]);
+    put_u16(b, static_cast<std::uint16_t>(t.shape.units[k]));
+  }
+}
+// A shape's own rules, shared by host and device (the device refuses with this result):
+//  - not_supported unless the device delivers shapes (caps.shaped_pulses());
+//  - bad_length unless 1 <= n <= caps.max_phases (and kMaxPhases);
+//  - out_of_range unless every phase lasts min_width_us to max_balance_width_us (a
+//    zero-level phase is a gap and gets the same rule), every |units| <= hard::max_units,
+//    some phase is not zero, and every phase at the largest |units| lasts at most
+//    max_width_us (a biphasic pulse's main-phase rule);
+//  - charge_not_zero unless sum_k units_k x duration_k == 0, exactly: every channel's net
+//    charge is its base code times that sum.
+// The period, off time and loads are the pattern's rules (check_timing in the device).
+Result check_shape(const Shape& s, const Capabilities& caps);
+// Phase k's codes: base x units[k], each channel (the caller has checked the peak:
+// |base| x max|units| <= the largest code, so nothing wraps).
+void shape_codes(const std::int16_t* base, std::size_t n, const Shape& s, std::size_t k,
+                 std::int16_t* out);
 // A version-3 configuration as the timing of a table's one pattern.
 PatternTiming timing_of(const PulseConfig& c);
 // Pulses per second over n patterns, in thousandths (each 10^9 / period rounded up):
@@ -255,6 +341,12 @@ PatternTiming timing_of(const PulseConfig& c);
 std::uint64_t pulse_rate_mHz(const PatternTiming* t, std::size_t n);
 inline bool within_pulse_rate(std::uint64_t rate_mHz, const Capabilities& caps) {
   return rate_mHz <= std::uint64_t{caps.max_pulse_rate_hz} * 1000u;
+}
+// Edges per second over n patterns, in thousandths: each pattern's ceil(10^9 / period) x
+// its edges (PatternTiming::edges), for the device's check against max_edge_rate_hz.
+std::uint64_t edge_rate_mHz(const PatternTiming* t, std::size_t n);
+inline bool within_edge_rate(std::uint64_t rate_mHz, const Capabilities& caps) {
+  return rate_mHz <= std::uint64_t{caps.max_edge_rate_hz} * 1000u;
 }
 
 // phase_fits for a pattern's timing.
@@ -303,7 +395,10 @@ void scale_codes(const std::int16_t* in, std::size_t n, std::uint16_t scale, std
 // b = ceil(a w / bw) in magnitude (balance_codes rounds each to the floor or the ceiling
 // of the exact charge-balancing value), so it adds (a^2 w + b^2 bw) / T code^2 and
 // (a w + b bw) / T codes, each rounded up in units of 2^-16: never under what the DAC
-// delivers.
+// delivers.  A shaped pattern (version 6) delivers exactly a |u_k| codes in phase k, so
+// its shares are exact sums over its phases, a^2 sum u_k^2 d_k / T and a sum |u_k| d_k / T,
+// rounded up the same way.  Each share needs a x max|u_k| <= 32768 (the device refuses
+// larger codes first); a larger one counts as 2^62, above every bound.
 struct ChannelLoad {
   std::uint64_t ms_q16[kMaxChannels] = {};
   std::uint64_t mean_q16[kMaxChannels] = {};

@@ -13,9 +13,14 @@ std::vector<std::uint8_t> encode(const Capabilities& c) {
   return b;
 }
 
+// Version 5's 33 bytes or version 6's 39 (and later versions' 39, their own protocol byte):
+// told by the length, which must agree with the protocol byte.
 std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>& b,
                                                 std::size_t at) {
-  if (b.size() != at + kCapabilitiesSize) return std::nullopt;
+  if (b.size() < at + kCapabilitiesSizeV5) return std::nullopt;
+  const std::size_t size = b.size() - at;
+  const bool v5 = b[at] <= 5;
+  if (size != (v5 ? kCapabilitiesSizeV5 : kCapabilitiesSize)) return std::nullopt;
   const std::uint8_t* p = b.data() + at;
   Capabilities c;
   c.protocol = p[0];
@@ -37,6 +42,16 @@ std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>&
   c.max_rms_uA = get_u16(p + 27);
   c.max_mean_uA = get_u16(p + 29);
   c.max_pulse_rate_hz = get_u16(p + 31);
+  if (v5) {  // no shapes; a biphasic pulse has at most 4 edges, which it checks as pulses
+    c.max_phases = 0;
+    c.features = 0;
+    c.max_edge_rate_hz = 4u * c.max_pulse_rate_hz;
+  } else {
+    c.max_phases = p[33];
+    c.features = p[34];
+    c.max_edge_rate_hz = get_u32(p + 35);
+  }
+  if (c.max_edge_rate_hz == 0) return std::nullopt;
   if (c.channels == 0 || c.dac_step_nA == 0 || c.max_rate_hz == 0 || c.max_pulse_rate_hz == 0)
     return std::nullopt;
   return c;

@@ -74,6 +74,28 @@ class Writer {
       frac %= div;
     }
   }
+  // (a x b) x 1e-6 exactly, for |a| < 2^31 and |b| < 2^40 (whose product a 64-bit integer
+  // may not hold): b's millions and its remainder, each times a.
+  void micro_product(std::int64_t a, std::int64_t b) {
+    const bool negative = (a < 0) != (b < 0) && a != 0 && b != 0;
+    const auto ua = static_cast<std::uint64_t>(a < 0 ? -a : a);
+    const auto ub = static_cast<std::uint64_t>(b < 0 ? -b : b);
+    const std::uint64_t low = ua * (ub % 1000000u);  // < 2^31 x 10^6
+    const std::uint64_t whole = ua * (ub / 1000000u) + low / 1000000u;
+    if (negative) out_[n_++] = '-';
+    uint(whole);
+    std::uint32_t frac = static_cast<std::uint32_t>(low % 1000000u);
+    if (frac == 0) return;
+    out_[n_++] = '.';
+    for (std::uint32_t div = 100000; frac != 0; div /= 10) {
+      out_[n_++] = static_cast<char>('0' + frac / div);
+      frac %= div;
+    }
+  }
+  void sint(std::int64_t v) {
+    if (v < 0) out_[n_++] = '-';
+    uint(v < 0 ? 0 - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v));
+  }
   std::size_t size() const { return n_; }
 
  private:
@@ -97,18 +119,67 @@ class Writer {
   std::size_t n_ = 0;
 };
 
-}  // namespace
-
-std::size_t format_record(const PulseRecord& r, char* out) {
-  Writer w(out);
-  const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
-  const auto step = static_cast<std::int64_t>(r.step_nA);
+void write_head(Writer& w, const PulseRecord& r) {
   w.text("{\"pattern\": ");
   w.uint(r.pattern);
   w.text(", \"t_s\": ");
   w.micro(static_cast<std::int64_t>(r.t_us));
   w.text(", \"slip_us\": ");
   w.uint(r.slip_us);
+}
+
+void write_tail(Writer& w, const PulseRecord& r) {
+  if (r.measured) {
+    w.text(", \"start_us\": ");
+    w.uint(r.start_us);
+  }
+  if (r.dropped_before) {
+    w.text(", \"dropped_before\": ");
+    w.uint(r.dropped_before);
+  }
+  w.text("}\n");
+}
+
+// A shaped pulse: its phases, the base codes' currents, and each channel's net charge.
+void write_shaped(Writer& w, const PulseRecord& r) {
+  const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
+  const std::size_t phases = std::min<std::size_t>(r.shape.n, kMaxPhases);
+  const auto step = static_cast<std::int64_t>(r.step_nA);
+  w.text(", \"phases\": [");
+  std::int64_t charge_units = 0;  // sum units x duration, in units x us: |.| < 2^36
+  for (std::size_t k = 0; k < phases; ++k) {
+    w.text(k ? ", {\"duration_us\": " : "{\"duration_us\": ");
+    w.uint(r.measured ? r.measured_duration_us[k] : r.shape.duration_us[k]);
+    w.text(", \"units\": ");
+    w.sint(r.shape.units[k]);
+    w.text("}");
+    charge_units += std::int64_t{r.shape.units[k]} * r.shape.duration_us[k];
+  }
+  w.text("], \"unit_currents_mA\": [");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    w.micro(r.main[i] * step);  // nA = 1e-6 mA
+  }
+  w.text("], \"net_charge_nC\": [");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    w.micro_product(r.main[i] * step, charge_units);  // nA x us = fC = 1e-6 nC
+  }
+  w.text("]");
+}
+
+}  // namespace
+
+std::size_t format_record(const PulseRecord& r, char* out) {
+  Writer w(out);
+  write_head(w, r);
+  if (r.shape.n != 0) {
+    write_shaped(w, r);
+    write_tail(w, r);
+    return w.size();
+  }
+  const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
+  const auto step = static_cast<std::int64_t>(r.step_nA);
   w.text(", \"width_us\": ");
   w.uint(r.measured ? r.measured_width_us : r.width_us);
   w.text(", \"interphase_us\": ");
@@ -127,15 +198,7 @@ std::size_t format_record(const PulseRecord& r, char* out) {
     w.micro(r.main[i] * step * r.width_us + r.balance[i] * step * r.balance_width_us);
   }
   w.text("]");
-  if (r.measured) {
-    w.text(", \"start_us\": ");
-    w.uint(r.start_us);
-  }
-  if (r.dropped_before) {
-    w.text(", \"dropped_before\": ");
-    w.uint(r.dropped_before);
-  }
-  w.text("}\n");
+  write_tail(w, r);
   return w.size();
 }
 

@@ -18,6 +18,8 @@ namespace tp::device {
 void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_width_us,
                    std::int16_t* out);
 
+// A record is biphasic (the widths) or, when shape.n > 0, shaped (version 6): main holds the
+// base codes, and phase k delivers main[c] x shape.units[k] codes for shape.duration_us[k].
 struct PulseRecord {
   std::uint16_t pattern = 0;  // its pattern's index in the table
   std::uint64_t t_us = 0;     // the pulse's start as scheduled (slot + slip), from the start
@@ -31,16 +33,22 @@ struct PulseRecord {
   bool measured = false;
   std::uint64_t start_us = 0;  // the main phase's first edge, from the start command
   std::uint32_t measured_width_us = 0, measured_interphase_us = 0, measured_balance_us = 0;
+  Shape shape;                                         // as configured; n == 0: biphasic
+  std::uint32_t measured_duration_us[kMaxPhases] = {};  // each phase, when measured
   std::uint32_t dropped_before = 0;  // records lost before this one (a full monitor line)
 };
 
-// The longest line format_record writes (64 channels, every field at its widest).
-inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 320;
+// The longest line format_record writes (64 channels, 16 phases, every field at its widest).
+inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 320 + kMaxPhases * 48;
 
 // Writes the record as one JSON line ending in '\n' into out (capacity kMaxRecordLine at
 // least); returns its length.  width_us, interphase_us and balance_width_us are the
 // measured ones when measured, else the configured ones.  currents_mA: main codes x step;
 // net_charge_nC: main x width + balance x balance width, per channel, as delivered.
+// A shaped record has instead "phases": [{"duration_us", "units"}, ...] (measured
+// durations when measured), "unit_currents_mA": base code x step (phase k's current is
+// that x units), and net_charge_nC: base x step x sum units x duration (as configured), each
+// exact whatever the record holds.
 std::size_t format_record(const PulseRecord& r, char* out);
 
 }  // namespace tp::device

@@ -39,22 +39,28 @@ PulseRecorder::PulseRecorder(const std::string& path) {
 
 void PulseRecorder::record(const device::DeliveredPulse& p) {
   ++pulses_;
-  const double step_mA = p.caps.dac_step_nA * 1e-6;
+  // The peak: the main phase's codes, or a shape's base codes at its strongest phase.
+  const double step_mA = p.caps.dac_step_nA * 1e-6 * p.timing.max_units();
   for (std::int16_t c : p.codes) peak_mA_ = std::max(peak_mA_, std::fabs(c * step_mA));
   if (!out_ || failed_) return;
   // The device's own record (lib/device/pulse_record.hpp), as the firmware's monitor
-  // writes it: the balancing phase in whole DAC codes.
+  // writes it: the balancing phase in whole DAC codes; a shape's phases as configured (the
+  // emulator delivers each phase exactly: base codes x units for its duration).
   device::PulseRecord r;
   r.pattern = p.pattern;
   r.t_us = p.t_us - p.start_us;
   r.slip_us = p.slip_us;
   r.channels = static_cast<std::uint8_t>(p.codes.size());
   std::copy(p.codes.begin(), p.codes.end(), r.main);
-  device::balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
   r.step_nA = p.caps.dac_step_nA;
-  r.width_us = p.timing.width_us;
-  r.interphase_us = p.timing.interphase_us;
-  r.balance_width_us = p.timing.balance_width_us;
+  if (p.timing.shaped()) {
+    r.shape = p.timing.shape;
+  } else {
+    device::balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
+    r.width_us = p.timing.width_us;
+    r.interphase_us = p.timing.interphase_us;
+    r.balance_width_us = p.timing.balance_width_us;
+  }
   char line[device::kMaxRecordLine];
   const std::size_t n = device::format_record(r, line);
   try {
@@ -63,6 +69,11 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
     failed_ = true;
     throw;
   }
+}
+
+device::Capabilities emulator_capabilities(device::Capabilities caps) {
+  caps.features |= device::kFeatureShapedPulses;
+  return caps;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -74,7 +85,8 @@ namespace {
 
 class LoopbackTransport final : public Transport {
  public:
-  explicit LoopbackTransport(const EmulatorOptions& o) : core_(o.caps), recorder_(o.record_path) {}
+  explicit LoopbackTransport(const EmulatorOptions& o)
+      : core_(emulator_capabilities(o.caps)), recorder_(o.record_path) {}
   ~LoopbackTransport() override {
     try {
       advance();
@@ -220,7 +232,10 @@ void await_device(int fd, const std::string& path) {
 class PtyEmulator {
  public:
   explicit PtyEmulator(const PtyEmulatorOptions& opt)
-      : opt_(opt), recorder_(opt.record_path), core_(opt.caps), rng_{opt.faults.seed} {
+      : opt_(opt),
+        recorder_(opt.record_path),
+        core_(emulator_capabilities(opt.caps)),
+        rng_{opt.faults.seed} {
     if (!opt.apply_log_path.empty()) apply_log_.emplace(opt.apply_log_path, "--apply-log");
     if (!opt.event_log_path.empty()) event_log_.emplace(opt.event_log_path, "--event-log");
     reply_delay_us_ = static_cast<std::uint64_t>(std::llround(opt.faults.reply_delay_s * 1e6));

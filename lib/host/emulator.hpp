@@ -18,7 +18,8 @@ namespace tp::host {
 //   {"t_s": 0.005, "currents_mA": [...], "net_charge_nC": [...]}
 // t_s from the start command; currents are the main phase as the DAC makes them
 // (code x step), positive = cathodic; net_charge_nC is the main phase's charge plus the
-// balancing phase's, in whole DAC codes.
+// balancing phase's, in whole DAC codes.  A shaped pulse's record has its phases
+// (duration_us, units) and unit_currents_mA (docs/protocol.md, "Pulse records").
 // Each line is written whole as the pulse is delivered (io/files.hpp: LineFile), so a
 // killed emulator or host leaves whole lines (save perhaps the last); a write that fails (a full disk) is a
 // runtime failure naming the file, thrown once: the record then stays as it is, and the
@@ -37,6 +38,11 @@ class PulseRecorder {
   std::uint64_t pulses_ = 0;
   double peak_mA_ = 0.0;
 };
+
+// The emulators' capabilities: caps, claiming shaped pulses (their PulseRecorder records
+// each shaped pulse's phases as delivered), with caps' own max_phases and max_edge_rate_hz
+// (by default 16 phases and 160000 edges a second).
+device::Capabilities emulator_capabilities(device::Capabilities caps);
 
 struct FaultInjection {
   double drop = 0.0;                 // fraction of bytes dropped, each direction

@@ -42,6 +42,8 @@ const char* msg_name(device::Msg m) {
       return "set-codes";
     case device::Msg::set_amplitudes:
       return "set-amplitudes";
+    case device::Msg::set_shape:
+      return "set-shape";
     default:
       return "message";
   }
@@ -94,9 +96,12 @@ device::Capabilities StimulatorClient::identify() {
   const Reply r = exchange(device::Msg::identify, {});
   if (r.result != device::Result::ok)
     failure(std::string("device refused identify: ") + device::to_string(r.result));
-  if (r.body.empty() || r.body[0] != device::kProtocolVersion)
+  // Version 5 devices too: their capabilities decode with no shaped pulses.
+  if (r.body.empty() || r.body[0] < device::kOldestProtocolVersion ||
+      r.body[0] > device::kProtocolVersion)
     failure("device speaks protocol version " + (r.body.empty() ? "?" : std::to_string(r.body[0])) +
-            "; stimctl speaks version " + std::to_string(device::kProtocolVersion));
+            "; stimctl speaks versions " + std::to_string(device::kOldestProtocolVersion) + " to " +
+            std::to_string(device::kProtocolVersion));
   const auto caps = device::decode_capabilities(r.body, 0);
   if (!caps) failure("device sent malformed capabilities");
   return *caps;

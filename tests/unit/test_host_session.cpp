@@ -12,9 +12,11 @@
 #include <cstdio>
 #include <cmath>
 #include <deque>
+#include <fstream>
 #include <string>
 #include <thread>
 
+#include <nlohmann/json.hpp>
 #include "core/error.hpp"
 #include "device/device_core.hpp"
 #include "device/frame.hpp"
@@ -443,4 +445,160 @@ TEST_CASE("bad input once the output runs stops it first, and the message says s
   const auto start = std::find(t.sent.begin(), t.sent.end(), device::Msg::start);
   REQUIRE(start != t.sent.end());
   CHECK(std::find(start, t.sent.end(), device::Msg::stop) != t.sent.end());
+}
+
+namespace {
+
+// A device that answers identify with given capability bytes (and nothing else).
+class IdentifyOnly final : public host::Transport {
+ public:
+  explicit IdentifyOnly(std::vector<std::uint8_t> caps) : caps_(std::move(caps)) {}
+  std::string name() const override { return "identify-only device"; }
+  void write(const std::uint8_t* data, std::size_t n) override {
+    for (std::size_t i = 0; i < n; ++i)
+      if (decoder_.push(data[i])) {
+        std::vector<std::uint8_t> body{decoder_.frame().type, 0};
+        body.insert(body.end(), caps_.begin(), caps_.end());
+        std::vector<std::uint8_t> out;
+        device::encode_frame(
+            device::Frame{decoder_.frame().seq, static_cast<std::uint8_t>(device::Msg::ack), body},
+            out);
+        rx_.insert(rx_.end(), out.begin(), out.end());
+      }
+  }
+  std::size_t read(std::uint8_t* buf, std::size_t max, int) override {
+    std::size_t k = 0;
+    while (k < max && !rx_.empty()) {
+      buf[k++] = rx_.front();
+      rx_.pop_front();
+    }
+    return k;
+  }
+
+ private:
+  std::vector<std::uint8_t> caps_;
+  device::FrameDecoder decoder_;
+  std::deque<std::uint8_t> rx_;
+};
+
+std::vector<std::uint8_t> caps_bytes(std::uint8_t protocol, std::size_t size) {
+  device::Capabilities c;
+  c.protocol = protocol;
+  c.max_pulse_rate_hz = 1209;
+  c.features = device::kFeatureShapedPulses;
+  std::vector<std::uint8_t> b;
+  device::put_capabilities(b, c);
+  b.resize(size);
+  return b;
+}
+
+device::Capabilities identify(const std::vector<std::uint8_t>& caps) {
+  IdentifyOnly dev(caps);
+  host::StimulatorClient client(dev);
+  return client.identify();
+}
+
+}  // namespace
+
+TEST_CASE("the host speaks protocols 5 and 6, a version 5 device without shaped pulses",
+          "[host][session]") {
+  const device::Capabilities v6 = identify(caps_bytes(6, device::kCapabilitiesSize));
+  CHECK(v6.protocol == 6);
+  CHECK(v6.shaped_pulses());
+  CHECK(v6.max_phases == 16);
+  CHECK(v6.max_edge_rate_hz == 160000);
+  const device::Capabilities v5 = identify(caps_bytes(5, device::kCapabilitiesSizeV5));
+  CHECK(v5.protocol == 5);
+  CHECK(!v5.shaped_pulses());
+  CHECK(v5.max_phases == 0);
+  CHECK(v5.max_edge_rate_hz == 4 * 1209);
+  CHECK(v5.max_pulse_rate_hz == 1209);
+  for (int other : {4, 7})
+    CHECK(message_of([&] {
+            identify(caps_bytes(static_cast<std::uint8_t>(other), device::kCapabilitiesSize));
+          }) ==
+          "device speaks protocol version " + std::to_string(other) +
+              "; stimctl speaks versions 5 to 6");
+  // The length must be the one of its version.
+  CHECK(message_of([] { identify(caps_bytes(5, device::kCapabilitiesSize)); }) ==
+        "device sent malformed capabilities");
+  CHECK(message_of([] { identify(caps_bytes(6, device::kCapabilitiesSizeV5)); }) ==
+        "device sent malformed capabilities");
+}
+
+TEST_CASE("the in-process emulator delivers a shaped pulse and records its phases",
+          "[host][session]") {
+  char path[] = "/tmp/tp-shaped-XXXXXX";
+  const int fd = mkstemp(path);
+  REQUIRE(fd >= 0);
+  close(fd);
+  {
+    host::EmulatorOptions emu;
+    emu.caps.channels = 4;
+    emu.record_path = path;
+    auto link = host::open_transport("emu", 115200, emu);
+    // Raw frames (the client's set_shape is the host's next step): one request, its result.
+    std::uint8_t seq = 0;
+    auto ask = [&](device::Msg type, const std::vector<std::uint8_t>& payload,
+                   std::vector<std::uint8_t>* body = nullptr) {
+      std::vector<std::uint8_t> bytes;
+      device::encode_frame(device::Frame{++seq, static_cast<std::uint8_t>(type), payload}, bytes);
+      link->write(bytes.data(), bytes.size());
+      device::FrameDecoder d;
+      std::uint8_t buf[512];
+      for (int tries = 0; tries < 10; ++tries) {
+        const std::size_t n = link->read(buf, sizeof buf, 10);
+        for (std::size_t i = 0; i < n; ++i)
+          if (d.push(buf[i])) {
+            if (body) body->assign(d.frame().payload.begin() + 2, d.frame().payload.end());
+            return static_cast<device::Result>(d.frame().payload[1]);
+          }
+      }
+      FAIL("no acknowledgement");
+      return device::Result::ok;
+    };
+    std::vector<std::uint8_t> ident;
+    REQUIRE(ask(device::Msg::identify, {}, &ident) == device::Result::ok);
+    const auto caps = device::decode_capabilities(ident, 0);
+    REQUIRE(caps);
+    CHECK(caps->shaped_pulses());  // the emulators claim shapes: their records are checked here
+    const std::uint32_t token = 0x5AFE;
+    std::vector<std::uint8_t> table;
+    device::put_u32(table, token);
+    device::put_u16(table, 1);
+    table.push_back(4);
+    device::put_u16(table, 100);
+    REQUIRE(ask(device::Msg::configure_table, table) == device::Result::ok);
+    const auto t = device::shaped_timing(5000, {{500, 1}, {200, 10}, {50, 0}, {500, -5}}, 0, 3);
+    REQUIRE(ask(device::Msg::set_shape, device::shape_frame(token, 0, t)) == device::Result::ok);
+    std::vector<std::uint8_t> codes;
+    device::put_u32(codes, token);
+    device::put_u16(codes, 0);
+    const auto sparse = device::encode_sparse({100, -60, -40, 0});
+    codes.insert(codes.end(), sparse.begin(), sparse.end());
+    REQUIRE(ask(device::Msg::set_codes, codes) == device::Result::ok);
+    REQUIRE(ask(device::Msg::start, device::with_session(token, {})) == device::Result::ok);
+    std::vector<std::uint8_t> status;
+    for (int k = 0; k < 100; ++k) {  // 3 pulses 5 ms apart: complete in 10 ms
+      REQUIRE(ask(device::Msg::status, {}, &status) == device::Result::ok);
+      if (device::decode_status(status, 0)->fault == device::Fault::completed) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    CHECK(device::decode_status(status, 0)->pulses == 3);
+  }
+  std::ifstream in(path);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    const auto j = nlohmann::json::parse(line);
+    CHECK(j["t_s"].get<double>() == Approx(0.005 * n).margin(1e-9));
+    CHECK(j["phases"] == nlohmann::json::parse(
+                             R"([{"duration_us": 500, "units": 1}, {"duration_us": 200, "units": 10},
+                                 {"duration_us": 50, "units": 0}, {"duration_us": 500, "units": -5}])"));
+    CHECK(j["unit_currents_mA"] == nlohmann::json::array({0.0977, -0.05862, -0.03908, 0}));
+    CHECK(j["net_charge_nC"] == nlohmann::json::array({0, 0, 0, 0}));
+    ++n;
+  }
+  CHECK(n == 3);
+  std::remove(path);
 }
