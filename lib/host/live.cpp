@@ -57,7 +57,8 @@ void LiveState::add(const LiveFrame& f) {
   std::vector<std::int16_t> codes;
   try {
     check_stimulus(s, limits_);
-    codes = quantize_currents(s.currents_mA, caps_, current_limit_mA(s, limits_));
+    codes = pattern_codes(s, caps_, current_limit_mA(s, limits_));
+    if (s.shape.shaped()) check_stimulus(delivered_stimulus(s, codes, caps_), limits_);
     device::ChannelLoad load;
     device::add_dense(load, codes, pattern_timing(s, 0));
     check_load(load, caps_, "");

@@ -122,14 +122,52 @@ void check_pulse_rate(const SessionPlan& plan, const Mix& m) {
   const std::uint64_t rate = plan.table
                                  ? device::pulse_rate_mHz(plan.timings.data(), plan.timings.size())
                                  : device::pulse_rate_mHz(&single, 1);
-  if (device::within_pulse_rate(rate, plan.caps)) return;
-  bad_input("the stimulus asks " + number_text(std::round(static_cast<double>(rate) / 100) / 10) +
-            " pulses a second" +
-            (m.single() ? std::string()
-                        : " over its " + std::to_string(m.patterns.size()) + " patterns") +
-            "; the device delivers at most " + std::to_string(plan.caps.max_pulse_rate_hz) +
-            " a second on time (its measured throughput): lower the rates or use fewer patterns "
-            "(docs/safety.md)");
+  if (!device::within_pulse_rate(rate, plan.caps))
+    bad_input("the stimulus asks " +
+              number_text(std::round(static_cast<double>(rate) / 100) / 10) + " pulses a second" +
+              (m.single() ? std::string()
+                          : " over its " + std::to_string(m.patterns.size()) + " patterns") +
+              "; the device delivers at most " + std::to_string(plan.caps.max_pulse_rate_hz) +
+              " a second on time (its measured throughput): lower the rates or use fewer "
+              "patterns (docs/safety.md)");
+  if (!plan.table) return;
+  // Then the edges (protocol 6): a shaped pulse has one more than its phases.
+  const std::uint64_t edges = device::edge_rate_mHz(plan.timings.data(), plan.timings.size());
+  if (!device::within_edge_rate(edges, plan.caps))
+    bad_input("the stimulus asks " + number_text(std::round(static_cast<double>(edges) / 100) / 10) +
+              " phase edges a second; the device makes at most " +
+              std::to_string(plan.caps.max_edge_rate_hz) +
+              " a second on time: lower the rates or use fewer phases (docs/safety.md)");
+}
+
+// A shaped pattern, as the device will check it (device::check_shape), then its limits
+// again on the currents its codes deliver.
+void check_shaped_pattern(const Stimulus& p, const device::PatternTiming& t,
+                          const std::vector<std::int16_t>& codes, const device::Capabilities& caps,
+                          const StimulusLimits& lim, const std::string& where) {
+  switch (device::check_shape(t.shape, caps)) {
+    case device::Result::ok:
+      break;
+    case device::Result::not_supported:
+      bad_input(caps.protocol < 6
+                    ? "the device speaks protocol " + std::to_string(caps.protocol) +
+                          ": it cannot deliver shaped pulses (pulse.phases; protocol 6)"
+                    : std::string("the device cannot deliver shaped pulses (pulse.phases): its "
+                                  "capabilities claim none"));
+    case device::Result::bad_length:
+      bad_input(where + std::to_string(t.shape.n) + " phases, more than the device's " +
+                std::to_string(caps.max_phases));
+    default:
+      bad_input(where + "a phase outside the device's timing (each " +
+                std::to_string(caps.min_width_us) + " to " +
+                std::to_string(caps.max_balance_width_us) + " us, the largest level's at most " +
+                std::to_string(caps.max_width_us) + " us)");
+  }
+  try {
+    check_stimulus(host::delivered_stimulus(p, codes, caps), lim);
+  } catch (const Error& e) {
+    bad_input(where + "as the device's codes deliver it: " + e.what());
+  }
 }
 
 // A table: each pattern's timing (its own count) and codes, checked as the device will.
@@ -156,7 +194,10 @@ void plan_table(SessionPlan& plan, const Mix& m, const SessionOptions& opt) {
                 ": its period, gap or off time is outside the device's timing (" +
                 std::to_string(caps.max_rate_hz) + " Hz, shortest phase " +
                 std::to_string(caps.min_width_us) + " us)");
-    plan.table_codes.push_back(quantize_currents(p.currents_mA, caps, current_limit_mA(p, lim)));
+    plan.table_codes.push_back(pattern_codes(p, caps, current_limit_mA(p, lim)));
+    if (t.shaped())
+      check_shaped_pattern(p, t, plan.table_codes.back(), caps, lim,
+                           m.single() ? "" : "pattern " + std::to_string(plan.timings.size() - 1) + ": ");
     for (std::int16_t c : plan.table_codes.back()) entries += c != 0;
     device::add_dense(load, plan.table_codes.back(), t);
     plan.pulses += n_p;
@@ -237,7 +278,9 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
   const Stimulus& s = m.patterns[0];
   SessionPlan plan;
   plan.caps = caps;
-  plan.table = m.table();
+  // A shaped pulse goes as a table (set_shape gives a pattern its phases).
+  plan.table = m.table() || std::any_of(m.patterns.begin(), m.patterns.end(),
+                                        [](const Stimulus& p) { return p.shape.shaped(); });
   check_device(caps);
   if (s.currents_mA.size() > caps.channels)
     bad_input("stimulus has " + std::to_string(s.currents_mA.size()) +
@@ -251,7 +294,7 @@ SessionPlan plan_session(const device::Capabilities& caps, const Mix& m,
   // (live mode: --duration, or the duration limit), whatever becomes of the host.
   plan.single.max_pulses = static_cast<std::uint32_t>(count);
   // No code above the limit in force (the stimulus's, the host's, the device's).
-  plan.codes = quantize_currents(s.currents_mA, caps, current_limit_mA(s, lim));
+  plan.codes = pattern_codes(s, caps, current_limit_mA(s, lim));
   if (plan.table) {
     plan_table(plan, m, opt);
   } else {
@@ -415,11 +458,14 @@ void SessionRun::upload(int step) {
     rep_.peak_mA = peak_of(plan_.codes, rep_.caps);
   } else if (step <= uploads) {
     const auto i = static_cast<std::uint16_t>((step - 1) / 2);
-    if ((step - 1) % 2 == 0) {
+    if ((step - 1) % 2 == 0 && plan_.timings[i].shaped()) {
+      dev_.set_shape(i, plan_.timings[i]);
+    } else if ((step - 1) % 2 == 0) {
       dev_.set_pattern(i, plan_.timings[i]);
     } else {
       dev_.set_codes(i, plan_.table_codes[i]);
-      rep_.peak_mA = std::max(rep_.peak_mA, peak_of(plan_.table_codes[i], rep_.caps));
+      rep_.peak_mA = std::max(rep_.peak_mA, peak_of(plan_.table_codes[i], rep_.caps) *
+                                                plan_.timings[i].max_units());
     }
   } else {
     dev_.set_amplitudes(

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <numeric>
@@ -12,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/number.hpp"
+#include "pulse/shape.hpp"
 
 namespace tp::host {
 namespace {
@@ -129,6 +131,12 @@ void StimulatorClient::set_pattern(std::uint16_t index, const device::PatternTim
   device::put_u16(b, index);
   device::put_timing(b, t);
   request(device::Msg::set_pattern, device::with_session(session_, b));
+}
+void StimulatorClient::set_shape(std::uint16_t index, const device::PatternTiming& t) {
+  std::vector<std::uint8_t> b;
+  device::put_u16(b, index);
+  device::put_shape_pattern(b, t);
+  request(device::Msg::set_shape, device::with_session(session_, b));
 }
 void StimulatorClient::set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense) {
   std::vector<std::uint8_t> b;
@@ -284,6 +292,27 @@ std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_
               number_text(caps.dac_step_nA * 1e-6) + " mA, the limit " + number_text(lim_mA) +
               " mA): nothing would be delivered");
   return codes;
+}
+
+std::vector<std::int16_t> pattern_codes(const Stimulus& s, const device::Capabilities& caps,
+                                        double limit_mA) {
+  if (!s.shape.shaped()) return quantize_currents(s.currents_mA, caps, limit_mA);
+  const ShapeUnits u = shape_units(s.shape.phases);
+  int max_units = 1;
+  for (int v : u.units) max_units = std::max(max_units, std::abs(v));
+  std::vector<double> unit_mA;
+  for (double c : s.currents_mA) unit_mA.push_back(c / u.unit);
+  return quantize_currents(unit_mA, caps, limit_mA / max_units);
+}
+
+Stimulus delivered_stimulus(const Stimulus& s, const std::vector<std::int16_t>& codes,
+                            const device::Capabilities& caps) {
+  Stimulus d = s;
+  const double step_mA = caps.dac_step_nA * 1e-6;
+  const double unit = s.shape.shaped() ? shape_units(s.shape.phases).unit : 1;
+  for (std::size_t i = 0; i < d.currents_mA.size() && i < codes.size(); ++i)
+    d.currents_mA[i] = static_cast<double>(codes[i]) * unit * step_mA;
+  return d;
 }
 
 }  // namespace tp::host

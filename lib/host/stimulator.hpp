@@ -8,6 +8,7 @@
 #include "device/frame.hpp"
 #include "device/protocol.hpp"
 #include "host/transport.hpp"
+#include "pulse/stimulus.hpp"
 
 namespace tp::host {
 
@@ -39,6 +40,8 @@ class StimulatorClient {
   // pattern's timing and its codes (sent sparse), and live amplitude scales.
   void configure_table(std::uint16_t patterns, std::uint8_t channels, std::uint16_t gap_us);
   void set_pattern(std::uint16_t index, const device::PatternTiming& t);
+  // A shaped pattern's timing (protocol 6): its phases in units (t.shape).
+  void set_shape(std::uint16_t index, const device::PatternTiming& t);
   void set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense);
   void set_amplitudes(const std::vector<std::uint16_t>& scales);
   // The same while the output runs: false (nothing changed) when the device has already
@@ -99,5 +102,16 @@ std::int32_t limit_code(double limit_mA, const device::Capabilities& caps);
 // are never larger than the main phase's, so the limit holds for every phase.
 std::vector<std::int16_t> quantize_currents(const std::vector<double>& currents_mA,
                                             const device::Capabilities& caps, double limit_mA);
+
+// A pattern's codes as the device takes them: the biphasic pulse's main-phase codes
+// (quantize_currents), or a shaped pulse's base codes, one per unit of 1/U of the level
+// (shape_units): quantize_currents of currents / U within limit_mA / max|units|, so that
+// every phase's codes (base x units) are within the limit and sum to zero.
+std::vector<std::int16_t> pattern_codes(const Stimulus& s, const device::Capabilities& caps,
+                                        double limit_mA);
+// The stimulus those codes deliver: each channel's current at level 1 from its codes (a
+// shaped pulse: base x U codes), for the limits to be checked again as delivered.
+Stimulus delivered_stimulus(const Stimulus& s, const std::vector<std::int16_t>& codes,
+                            const device::Capabilities& caps);
 
 }  // namespace tp::host

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "core/error.hpp"
 #include "device/device_core.hpp"
@@ -30,16 +31,36 @@ double Mix::duration_s() const {
   return d;
 }
 
+device::Shape device_shape(const std::vector<Phase>& phases) {
+  if (phases.empty() || phases.size() > device::kMaxPhases)
+    bad_input("pulse.phases: " + std::to_string(phases.size()) + " phases, not 1 to " +
+              std::to_string(device::kMaxPhases));
+  const ShapeUnits u = shape_units(phases);
+  device::Shape d;
+  d.n = static_cast<std::uint8_t>(phases.size());
+  for (std::size_t k = 0; k < phases.size(); ++k) {
+    d.duration_us[k] = static_cast<std::uint16_t>(
+        whole_us(phases[k].duration_us, 65535, "phase " + std::to_string(k + 1) + ": duration"));
+    if (std::abs(u.units[k]) > device::hard::max_units)
+      bad_input("phase " + std::to_string(k + 1) + ": " + std::to_string(u.units[k]) +
+                " units, more than the protocol's " + std::to_string(device::hard::max_units));
+    d.units[k] = static_cast<std::int16_t>(u.units[k]);
+  }
+  return d;
+}
+
 device::PatternTiming pattern_timing(const Stimulus& s, long count) {
-  if (s.shape.shaped())
-    bad_input("a shaped pulse (pulse.phases) cannot yet be scheduled on a device: it needs "
-              "protocol 6 (docs/protocol.md)");
   device::PatternTiming t;
-  t.width_us = static_cast<std::uint16_t>(whole_us(s.shape.width_us, 65535, "pulse width"));
-  t.interphase_us =
-      static_cast<std::uint16_t>(whole_us(s.shape.interphase_us, 65535, "interphase gap"));
-  t.balance_width_us =
-      static_cast<std::uint16_t>(whole_us(s.shape.balance_width_us, 65535, "balance width"));
+  if (s.shape.shaped()) {  // no widths: the phases are the pulse (set_shape)
+    t.width_us = t.interphase_us = t.balance_width_us = 0;
+    t.shape = device_shape(s.shape.phases);
+  } else {
+    t.width_us = static_cast<std::uint16_t>(whole_us(s.shape.width_us, 65535, "pulse width"));
+    t.interphase_us =
+        static_cast<std::uint16_t>(whole_us(s.shape.interphase_us, 65535, "interphase gap"));
+    t.balance_width_us =
+        static_cast<std::uint16_t>(whole_us(s.shape.balance_width_us, 65535, "balance width"));
+  }
   // The device counts whole microseconds: the period is rounded (150 Hz: 6667 us).
   const double period = std::round(s.shape.period_us());
   if (!(period >= 1 && period <= device::hard::max_period_us))

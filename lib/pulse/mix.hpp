@@ -30,8 +30,12 @@ struct Mix {
 };
 
 // A pattern's timing as the device takes it: whole microseconds (the period rounded from
-// the rate); bad input naming the value when a width or phase is not whole.
+// the rate); bad input naming the value when a width or phase is not whole.  A shaped
+// pulse's timing has no widths and its phases in integer units (device_shape).
 device::PatternTiming pattern_timing(const Stimulus& s, long count);
+// A shaped pulse's phases as the device takes them (set_shape): whole microseconds and
+// the levels in units of 1/U (shape_units); bad input when they do not fit the protocol.
+device::Shape device_shape(const std::vector<Phase>& phases);
 
 struct MixFigures {
   std::vector<double> rms_current_mA;   // per electrode, summed over the patterns

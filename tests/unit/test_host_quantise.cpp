@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "device/protocol.hpp"
 #include "host/stimulator.hpp"
+#include "pulse/shape.hpp"
 
 using namespace tp;
 using namespace tp::device;
@@ -80,4 +81,49 @@ TEST_CASE("host quantisation never crosses the limit in force, and keeps the sum
   }
   // Above the limit: refused.
   CHECK_THROWS_AS(host::quantize_currents({0.6, -0.6}, caps, 0.5), Error);
+}
+
+TEST_CASE("a shape's base codes: each phase within 1.5 x its units of DAC steps, never over the limit",
+          "[device][quantize]") {
+  Capabilities caps;
+  caps.features = kFeatureShapedPulses;
+  const double step = caps.dac_step_nA * 1e-6;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // Prepulse at 0.1 (U = 10), a 1.5 peak (U = 2, max |units| 3), an asymmetric 1/4 (U = 4).
+  const std::vector<std::vector<tp::Phase>> shapes = {
+      {{500, 0.1}, {200, 1}, {50, 0}, {500, -0.5}},
+      {{100, 1.5}, {150, -1}},
+      {{200, 1}, {100, 0}, {800, -0.25}}};
+  for (const auto& phases : shapes) {
+    const tp::ShapeUnits su = tp::shape_units(phases);
+    double peak_level = 0;
+    for (const auto& p : phases) peak_level = std::max(peak_level, std::fabs(p.level));
+    for (int trial = 0; trial < 300; ++trial) {
+      tp::Stimulus s;
+      s.shape.phases = phases;
+      s.currents_mA.resize(8);
+      for (auto& v : s.currents_mA) v = u(rng) * 1.3 / peak_level;
+      const double mean = std::accumulate(s.currents_mA.begin(), s.currents_mA.end(), 0.0) / 8;
+      for (auto& v : s.currents_mA) v -= mean;
+      double worst = 0;
+      for (double c : s.currents_mA) worst = std::max(worst, std::fabs(c) * peak_level);
+      const double limit = std::max(worst, 1.3);
+      const auto base = host::pattern_codes(s, caps, limit);
+      CHECK(std::accumulate(base.begin(), base.end(), 0L) == 0);
+      const tp::Stimulus d = host::delivered_stimulus(s, base, caps);
+      for (std::size_t i = 0; i < base.size(); ++i) {
+        for (std::size_t k = 0; k < phases.size(); ++k) {
+          const double asked = s.currents_mA[i] * phases[k].level;
+          const double given = base[i] * su.units[k] * step;
+          // A base code within 1.5 codes of its exact value (half a code rounding, one for
+          // the zero sum, as quantize_currents): phase k within 1.5 x |units_k| DAC steps of
+          // the current asked; never above the limit at any phase.
+          CHECK(std::fabs(given - asked) <= 1.5 * std::fabs(su.units[k]) * step + 1e-12);
+          CHECK(std::fabs(given) <= limit + 1e-12);
+        }
+        CHECK(d.currents_mA[i] == Approx(base[i] * su.unit * step));
+      }
+    }
+  }
 }

@@ -602,3 +602,49 @@ TEST_CASE("the in-process emulator delivers a shaped pulse and records its phase
   CHECK(n == 3);
   std::remove(path);
 }
+
+TEST_CASE("a shaped stimulus is planned as a table, or refused before anything is sent",
+          "[host][session]") {
+  Mix m;
+  Stimulus s;
+  s.currents_mA = {1.0, -0.5, -0.5, 0};
+  s.count = 10;
+  s.shape.phases = {{500, 0.1}, {200, 1}, {50, 0}, {500, -0.5}};
+  m.patterns = {s};
+  host::SessionOptions opt;
+  device::Capabilities caps;
+  caps.channels = 4;
+  caps.features = device::kFeatureShapedPulses;
+  const host::SessionPlan plan = host::plan_session(caps, m, opt);
+  CHECK(plan.table);
+  REQUIRE(plan.timings.size() == 1);
+  CHECK(plan.timings[0].shape.n == 4);
+  CHECK(plan.timings[0].shape.units[1] == 10);  // U = 10
+  // Base codes: 1 mA at level 1 is 10 x 102 codes of 977 nA (0.99654 mA).
+  CHECK(plan.table_codes[0] == std::vector<std::int16_t>{102, -51, -51, 0});
+  // A device without shapes: the firmware today, and any version 5 device.
+  device::Capabilities none = caps;
+  none.features = 0;
+  CHECK(message_of([&] { host::plan_session(none, m, opt); }) ==
+        "the device cannot deliver shaped pulses (pulse.phases): its capabilities claim none");
+  none.protocol = 5;
+  CHECK(message_of([&] { host::plan_session(none, m, opt); }) ==
+        "the device speaks protocol 5: it cannot deliver shaped pulses (pulse.phases; protocol 6)");
+  // A device whose shortest phase is 100 us: the 50 us gap is outside its limits (the
+  // host's check with the device's limits, before the device's own rules).
+  device::Capabilities slow = caps;
+  slow.min_width_us = 100;
+  CHECK(message_of([&] { host::plan_session(slow, m, opt); }) ==
+        "phase 3: duration 50 us outside [100, 8000] us");
+  // More edges a second than the device makes: 5 edges at 200 Hz.
+  device::Capabilities edges = caps;
+  edges.max_edge_rate_hz = 999;
+  CHECK(message_of([&] { host::plan_session(edges, m, opt); }) ==
+        "the stimulus asks 1000 phase edges a second; the device makes at most 999 a second on "
+        "time: lower the rates or use fewer phases (docs/safety.md)");
+  // Fewer phases than the shape has.
+  device::Capabilities few = caps;
+  few.max_phases = 3;
+  CHECK(message_of([&] { host::plan_session(few, m, opt); }) ==
+        "4 phases, more than the device's 3");
+}

@@ -120,10 +120,17 @@ TEST_CASE("shaped stimulus checks: each limit refused with its reason", "[pulse]
   CHECK(refuses(k, "Shannon's k"));
   Stimulus fit = shaped({{1000, 1}, {4000, -0.25}});
   CHECK(refuses(fit, "does not fit its period"));
-  // Until protocol 6 a shaped pulse is not scheduled on a device.
+  // On a device (protocol 6): no widths, the phases in whole units of 1/U.
   Mix m;
   m.patterns = {ok};
-  CHECK(says([&] { check_mix(m, lim); }, "needs protocol 6"));
+  CHECK_NOTHROW(check_mix(m, lim));
+  const device::PatternTiming t = pattern_timing(ok, 10);
+  CHECK(t.width_us == 0);
+  CHECK(t.shape.n == 4);
+  CHECK(t.shape.duration_us[2] == 50);
+  CHECK(t.shape.units[0] == 1);
+  CHECK(t.shape.units[3] == -5);
+  CHECK(t.length_us() == 1250);
 }
 
 TEST_CASE("a shaped stimulus round-trips through its document", "[pulse]") {
