@@ -59,6 +59,19 @@ def test_deliver_on_the_emulator_as_stimctl_does(tmp_path, sai_doc):
         assert s.deliver(stim.to_json(), duration_s=0.1)["pulses"] == 20
 
 
+def test_a_shaped_pulse_is_delivered_phase_by_phase(tmp_path, sai_doc):
+    shape = [(500, 0.1), (200, 1), (50, 0), (500, -0.5)]
+    stim = tp.make_pulse(sai_doc, 1.0, 100, count=5, phases=shape)
+    rec = tmp_path / "rec.jsonl"
+    with tp.Stimulator("emu", record=str(rec)) as s:
+        assert s.deliver(stim)["pulses"] == 5
+    for p in records(rec):  # U = 10: units are the levels x 10; zero charge exactly
+        assert p["phases"] == [{"duration_us": d, "units": round(l * 10)} for d, l in shape]
+        assert all(q == 0 for q in p["net_charge_nC"])
+        for unit_mA, w in zip(p["unit_currents_mA"], sai_doc.weights):
+            assert abs(unit_mA * 10 - w) <= 1.5 * 10 * 0.000977 + 1e-9
+
+
 def test_refused_stimuli_send_nothing(tmp_path, sai_doc):
     rec = tmp_path / "rec.jsonl"
     big = tp.make_pulse(sai_doc, 1.0, 200, duration_s=0.1).to_dict()
