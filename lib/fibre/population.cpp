@@ -167,6 +167,38 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
   return p;
 }
 
+std::optional<HalfSelectivity> selectivity_at_half(const Population& p,
+                                                   const std::string& target) {
+  const auto t_it = std::find(p.classes.begin(), p.classes.end(), target);
+  if (t_it == p.classes.end()) return std::nullopt;
+  const auto t = static_cast<std::size_t>(t_it - p.classes.begin());
+  const std::size_t nc = p.classes.size();
+  std::vector<std::vector<double>> th(nc);
+  std::vector<std::size_t> total(nc, 0);
+  for (const Afferent& a : p.afferents) {
+    const auto k = static_cast<std::size_t>(
+        std::find(p.classes.begin(), p.classes.end(), a.receptor) - p.classes.begin());
+    ++total[k];
+    if (a.threshold_mA) th[k].push_back(*a.threshold_mA);
+  }
+  std::sort(th[t].begin(), th[t].end());
+  const std::size_t half = (total[t] + 1) / 2;  // at least half of the class
+  if (total[t] == 0 || th[t].size() < half) return std::nullopt;
+  HalfSelectivity h;
+  h.i50_mA = th[t][half - 1];
+  double worst = 0;
+  for (std::size_t k = 0; k < nc; ++k) {
+    const auto n = std::count_if(th[k].begin(), th[k].end(), [&](double v) { return v <= h.i50_mA; });
+    h.fraction.push_back(total[k] ? static_cast<double>(n) / static_cast<double>(total[k]) : 0.0);
+    if (k != t && (h.worst.empty() || h.fraction[k] > worst)) {
+      worst = h.fraction[k];
+      h.worst = p.classes[k];
+    }
+  }
+  h.index = 1.0 - 2.0 * worst;
+  return h;
+}
+
 std::string recruitment_csv(const Population& p) {
   const std::size_t nc = p.classes.size();
   std::vector<std::vector<double>> th(nc);

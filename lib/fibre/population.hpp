@@ -90,6 +90,22 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
 // says where it comes from).  Header:
 // current_mA,recruited_<C>...,si_<C>...
 std::string recruitment_csv(const Population& p);
+// A mode's selectivity where half its target class is recruited (issue 40, item 3's
+// objective; docs/fibres.md, "Selectivity at half recruitment"): I50 is the least current
+// that recruits at least half of the target's afferents (a median of their thresholds),
+// f_K each class's fraction recruited there, and the index 1 - 2 max over the other
+// classes of f_K: 1 when no other afferent fires below I50 (the target fires first), 0
+// when half of some other class does, -1 when all of one does.  The worst non-target
+// (not the mean, as the recruitment curves' si_ columns) because "fires first" is lost to
+// any one class.  None when fewer than half of the target fire, or it is not a class.
+struct HalfSelectivity {
+  double i50_mA = 0;
+  std::vector<double> fraction;  // per class, at I50
+  double index = 0;
+  std::string worst;             // the non-target class most recruited at I50
+};
+std::optional<HalfSelectivity> selectivity_at_half(const Population& p, const std::string& target);
+
 // The afferents, one row each: class,x_mm,offset_mm,depth_mm,diameter_um,threshold_mA
 // (x_mm empty for horizontal fibres, offset_mm for vertical ones, threshold_mA when none).
 std::string population_csv(const Population& p);

@@ -217,6 +217,25 @@ std::string population_note(const fibre::Population& pop, const FibreSetup& f,
   return head + talk;
 }
 
+// "SAI mode at I50 = 0.79 mA (half of SAI recruited): RA 0.12, PC 0.03 recruited; selectivity
+// 0.76 (1 - 2 x the worst other class's, RA)", or why there is none.
+std::optional<std::string> half_selectivity_note(const fibre::Population& pop,
+                                                 const std::string& mode) {
+  if (std::find(pop.classes.begin(), pop.classes.end(), mode) == pop.classes.end())
+    return std::nullopt;
+  const auto h = fibre::selectivity_at_half(pop, mode);
+  if (!h) return mode + " mode: fewer than half of " + mode + " fire: no selectivity at I50";
+  std::string others;
+  for (std::size_t k = 0; k < pop.classes.size(); ++k)
+    if (pop.classes[k] != mode)
+      others += (others.empty() ? "" : ", ") + pop.classes[k] + " " + number_text(h->fraction[k]);
+  char b[96];
+  std::snprintf(b, sizeof b, "%.3g", h->index);
+  return mode + " mode at I50 = " + number_text(h->i50_mA) + " mA (half of " + mode +
+         " recruited): " + others + " recruited; selectivity " + b + " (1 - 2 x the worst " +
+         "other class's fraction, " + h->worst + ")";
+}
+
 ThresholdOutput run_population(const ThresholdPlan& p, const ThresholdProgress& progress) {
   const FibreSetup& f = p.fibre;
   fibre::PopulationOptions po = p.population;
@@ -233,6 +252,9 @@ ThresholdOutput run_population(const ThresholdPlan& p, const ThresholdProgress& 
   out.table = fibre::population_csv(pop);
   out.recruitment = fibre::recruitment_csv(pop);
   out.notes.push_back(population_note(pop, f, po));
+  if (p.doc.extra.contains("mode") && p.doc.extra["mode"].is_string())
+    if (const auto note = half_selectivity_note(pop, p.doc.extra["mode"].get<std::string>()))
+      out.notes.back() += "; " + *note;  // one summary line
   return out;
 }
 

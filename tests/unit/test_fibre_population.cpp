@@ -190,3 +190,55 @@ TEST_CASE("a population over a 2-D array", "[fibre][population][array2d]") {
   }
   CHECK(checked >= 2);
 }
+
+TEST_CASE("selectivity at half recruitment: I50, the fractions there, the worst other class",
+          "[fibre][population]") {
+  fibre::Population p;
+  p.classes = {"RA", "SAI", "PC"};
+  auto add = [&](const std::string& c, std::optional<double> th) {
+    fibre::Afferent a;
+    a.receptor = c;
+    a.threshold_mA = th;
+    p.afferents.push_back(a);
+  };
+  // SAI: 5 afferents, thresholds 1..4 and one that never fires: I50 = the 3rd lowest, 3 mA.
+  for (double t : {4.0, 1.0, 3.0, 2.0}) add("SAI", t);
+  add("SAI", std::nullopt);
+  // RA: 4, of which 1 at or below 3 mA (0.25); PC: 2, both below (1.0).
+  for (double t : {2.5, 3.5, 5.0, 9.0}) add("RA", t);
+  for (double t : {0.5, 3.0}) add("PC", t);
+  const auto h = fibre::selectivity_at_half(p, "SAI");
+  REQUIRE(h);
+  CHECK(h->i50_mA == 3.0);
+  CHECK(h->fraction == std::vector<double>{0.25, 0.6, 1.0});
+  CHECK(h->worst == "PC");
+  CHECK(h->index == -1.0);
+  // RA: half of 4 is the 2nd lowest, 3.5 mA: SAI 3 of 5 (0.6), PC all: -1; without PC's
+  // afferents, SAI's 0.6 is the worst: 1 - 1.2.
+  const auto ra = fibre::selectivity_at_half(p, "RA");
+  REQUIRE(ra);
+  CHECK(ra->i50_mA == 3.5);
+  CHECK(ra->index == -1.0);
+  p.afferents.erase(std::remove_if(p.afferents.begin(), p.afferents.end(),
+                                   [](const fibre::Afferent& a) { return a.receptor == "PC"; }),
+                    p.afferents.end());
+  CHECK(fibre::selectivity_at_half(p, "RA")->index == Approx(1.0 - 2 * 0.6));
+  // The target fires first: 1.  Fewer than half firing, or no such class: none.
+  fibre::Population first;
+  first.classes = {"SAI", "PC"};
+  for (double t : {1.0, 1.1}) {
+    fibre::Afferent a;
+    a.receptor = "SAI";
+    a.threshold_mA = t;
+    first.afferents.push_back(a);
+    a.receptor = "PC";
+    a.threshold_mA = t + 5;
+    first.afferents.push_back(a);
+  }
+  CHECK(fibre::selectivity_at_half(first, "SAI")->index == 1.0);
+  CHECK(fibre::selectivity_at_half(first, "SAI")->i50_mA == 1.0);
+  CHECK(!fibre::selectivity_at_half(first, "RA"));
+  for (auto& a : first.afferents)
+    if (a.receptor == "SAI") a.threshold_mA.reset();
+  CHECK(!fibre::selectivity_at_half(first, "SAI"));
+}
