@@ -91,6 +91,22 @@ std::optional<double> finite_arg(std::optional<double> v, const std::string& fla
   if (v) finite_arg(*v, flag);
   return v;
 }
+
+// phases=[(duration_us, level), ...]: --phases (at most 16, each number finite).
+using PyPhases = std::optional<std::vector<std::pair<double, double>>>;
+std::vector<tp::Phase> phases_arg(const PyPhases& phases) {
+  std::vector<tp::Phase> out;
+  if (!phases) return out;
+  if (phases->size() > tp::kMaxPhases)
+    tp::bad_input("--phases: more than " + std::to_string(tp::kMaxPhases) + " phases");
+  for (const auto& [d_us, level] : *phases) {
+    finite_arg(d_us, "--phases duration");
+    finite_arg(level, "--phases level");
+    out.push_back({d_us, level});
+  }
+  if (out.empty()) tp::bad_input("--phases: no phases");
+  return out;
+}
 std::vector<double> finite_list(const std::vector<double>& v, const std::string& flag) {
   for (double x : v) finite_arg(x, flag);
   return v;
@@ -389,7 +405,8 @@ PyDocument optimize_weights(
     const std::string& geometry, const std::optional<py::object>& stimulus,
     std::optional<double> width_us, std::optional<double> interphase_us,
     std::optional<double> balance_width_us, bool monophasic, std::optional<int> offsets,
-    std::optional<double> tolerance, std::optional<int> max_evaluations, bool timing) {
+    std::optional<double> tolerance, std::optional<int> max_evaluations, bool timing,
+    const PyPhases& phases) {
   if (mode && modes) tp::bad_input("mode and modes: give one");
   if (modes && !bank) tp::bad_input("modes: several modes with bank=True only (one: mode=)");
   if (modes && modes->empty()) tp::bad_input("--mode: no modes given");
@@ -419,6 +436,7 @@ PyDocument optimize_weights(
   r.fibre.interphase_us = interphase_us;
   r.fibre.balance_width_us = balance_width_us;
   r.fibre.monophasic = monophasic;
+  r.fibre.phases = phases_arg(phases);
   r.fibre.offsets = offsets.value_or(8);
   r.offsets_given = offsets.has_value();
   r.fibre.tolerance = tolerance;
@@ -486,7 +504,8 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
                            std::optional<py::object> stimulus,
                            std::optional<std::string> conductor, const std::string& geometry,
                            bool strength_duration, std::optional<std::vector<double>> widths_us,
-                           std::optional<long> population, std::optional<py::int_> seed) {
+                           std::optional<long> population, std::optional<py::int_> seed,
+                           const PyPhases& phases) {
   tp::ThresholdRequest r;
   if (conductor) r.conductor.model = *conductor;
   r.fibre.model = model;
@@ -496,6 +515,7 @@ py::object fiber_threshold(const PyDocument& d, const std::string& model,
   r.fibre.interphase_us = interphase_us;
   r.fibre.balance_width_us = balance_width_us;
   r.fibre.monophasic = monophasic;
+  r.fibre.phases = phases_arg(phases);
   r.fibre.offsets = offsets;
   r.fibre.tolerance = tolerance;
   if (tolerance) r.fibre.tolerance_text = number_arg(*tolerance);
@@ -548,8 +568,7 @@ PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, d
                       std::optional<double> width_us, std::optional<double> balance_width_us,
                       std::optional<double> interphase_us, std::optional<double> duration_s,
                       std::optional<long> count, std::optional<py::object> profile,
-                      std::optional<double> intensity,
-                      std::optional<std::vector<std::pair<double, double>>> phases) {
+                      std::optional<double> intensity, const PyPhases& phases) {
   if (amplitude_mA && intensity) tp::bad_input("--amplitude excludes --intensity");
   if (duration_s && count) tp::bad_input("--duration excludes --count");
   finite_arg(amplitude_mA, "--amplitude");
@@ -570,15 +589,7 @@ PyStimulus make_pulse(const PyDocument& d, std::optional<double> amplitude_mA, d
   r.width_us = width_us;
   r.balance_width_us = balance_width_us;
   r.interphase_us = interphase_us;
-  if (phases) {
-    if (phases->size() > tp::kMaxPhases)
-      tp::bad_input("--phases: more than " + std::to_string(tp::kMaxPhases) + " phases");
-    for (const auto& [d_us, level] : *phases) {
-      finite_arg(d_us, "--phases duration");
-      finite_arg(level, "--phases level");
-      r.phases.push_back({d_us, level});
-    }
-  }
+  r.phases = phases_arg(phases);
   r.count = count;
   r.duration_s = duration_s;
   tp::Mix m;
@@ -1046,6 +1057,7 @@ void bind_programs(py::module_& m) {
         py::arg("balance_width_us") = py::none(), py::arg("monophasic") = false,
         py::arg("offsets") = py::none(), py::arg("tolerance") = py::none(),
         py::arg("max_evaluations") = py::none(), py::arg("timing") = false,
+        py::arg("phases") = py::none(),
         "optimize-weights: the mode's minimax weights; at=[x] or [x, z]: a pixel; bank=True: "
         "every pad's pixels (or at=[[x, z], ...]'s); objective='threshold': then the weights "
         "by a fibre model's thresholds (fibre_model=, the pulse, max_evaluations=).  Returns "
@@ -1058,6 +1070,7 @@ void bind_programs(py::module_& m) {
         py::arg("conductor") = py::none(), py::arg("geometry") = "straight",
         py::arg("strength_duration") = false, py::arg("widths_us") = py::none(),
         py::arg("population") = py::none(), py::arg("seed") = py::none(),
+        py::arg("phases") = py::none(),
         "fiber-threshold: each receptor's threshold (mA), where it fired and the ratios; the "
         "document the program prints, as a dict (with stimulus=, threshold_multiples too).  "
         "geometry='afferent': RA as an afferent (docs/fibres.md).  strength_duration=True "

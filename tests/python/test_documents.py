@@ -245,6 +245,12 @@ def test_a_shaped_pulse_is_the_programs(sai_json):
         tp.make_pulse(doc, 1.0, count=3, phases=[(200, 1), (201, -1)])
     with pytest.raises(ValueError, match="--phases excludes --width"):
         tp.make_pulse(doc, 1.0, count=3, phases=shape, width_us=100)
+    # fiber_threshold(phases=) is fiber-threshold --phases.
+    cli = load(run("fiber-threshold", "--phases", "200:1,100:0,800:-0.25", "--tolerance", "0.05",
+                   stdin=sai_json)[0])
+    assert tp.fiber_threshold(doc, phases=[(200, 1), (100, 0), (800, -0.25)],
+                              tolerance=0.05) == cli
+    assert cli["thresholds"]["pulse"]["phases"][2] == {"duration_us": 800, "level": -0.25}
 
 
 def test_af_field_reads_any_view_as_its_copy(sai_doc):

@@ -72,7 +72,8 @@ def optimize_weights(doc: Document, mode: Optional[str] = None, *,
                      width_us: Optional[float] = None, interphase_us: Optional[float] = None,
                      balance_width_us: Optional[float] = None, monophasic: bool = False,
                      offsets: Optional[int] = None, tolerance: Optional[float] = None,
-                     max_evaluations: Optional[int] = None, timing: bool = False) -> Document: ...
+                     max_evaluations: Optional[int] = None, timing: bool = False,
+                     phases: Optional[Sequence[Tuple[float, float]]] = None) -> Document: ...
 def fiber_threshold(doc: Document, *, model: str = "mrg", width_us: Optional[float] = None,
                     interphase_us: Optional[float] = None,
                     balance_width_us: Optional[float] = None, monophasic: bool = False,
@@ -82,7 +83,8 @@ def fiber_threshold(doc: Document, *, model: str = "mrg", width_us: Optional[flo
                     strength_duration: bool = False,
                     widths_us: Optional[Sequence[float]] = None,
                     population: Optional[int] = None,
-                    seed: Optional[int] = None) -> dict[str, Any]: ...
+                    seed: Optional[int] = None,
+                    phases: Optional[Sequence[Tuple[float, float]]] = None) -> dict[str, Any]: ...
 def make_pulse(doc: Document, amplitude_mA: Optional[float] = None, frequency_hz: float = 200.0,
                *, width_us: Optional[float] = None, balance_width_us: Optional[float] = None,
                interphase_us: Optional[float] = None, duration_s: Optional[float] = None,
