@@ -2,7 +2,9 @@
 # through a pty to stim-emu, each record's phases are the document's durations and its
 # levels x U in units, the net charge 0, and each phase's currents within 1.5 x |units| DAC
 # steps of the current asked (the base codes: docs/protocol.md); a live currents frame on a
-# shaped pattern; the device's own refusals of raw shapes are unit tests (test_device_shape).
+# shaped pattern; the device's own refusals of raw set_shape frames (a net charge, a short
+# phase, 17 phases), each with its result (every rule: unit tests, test_device_shape).
+# TP_DEVICE=firmware (firmware.shaped): the pty parts against the board in QEMU.
 source "$TP_SOURCE/tests/cli/stimctl/common.sh"
 in=$TP_INPUTS/sai-weights.json
 make-pulse --amplitude 1 --count 3 --frequency 100 --phases 500:0.1,200:1,50:0,500:-0.5 \
@@ -50,3 +52,25 @@ check_shaped pty.jsonl "$([[ ${TP_DEVICE:-} == firmware ]] && echo 1 || echo 0)"
 jq -se 'map(.unit_currents_mA[3]) | (.[0] > 0.099 and .[-1] < 0.051 and .[-1] > 0.049)' live.jsonl > /dev/null ||
   fail "live frame: $(jq -sc 'map(.unit_currents_mA[3])' live.jsonl)"
 echo "ok: a live frame on a shaped pattern"
+# Raw set_shape frames (raw-frames), refused by the device itself with their reasons: a
+# net charge, a phase shorter than any device's min_width_us, 17 phases; a shape within
+# the rules accepted.  Body: token, index, period, phase, max_pulses, n, n x (us, units).
+T=$(le32 $((0x5A4E0001)))
+shape() { local n=$(($# / 2)); printf '%s' "${T}$(le16 0)$(le32 10000)$(le32 0)$(le32 0)$(printf '%02x' "$n")"
+  while (($#)); do printf '%s' "$(le16 "$1")$(le16 $(($2 & 0xFFFF)))"; shift 2; done; }
+seventeen=$(for i in $(seq 17); do echo 100 $((i % 2 ? 1 : -1)); done)
+start_emu
+{ echo "send 1 16 ${T}$(le16 1)08$(le16 100)"   # configure_table: 1 pattern, 8 channels
+  echo "send 2 20 $(shape 100 1 100 -2)"          # charge 100 - 200 units x us
+  echo "send 3 20 $(shape 5 2 10 -1)"             # a 5 us phase
+  echo "send 4 20 $(shape $seventeen)"            # 17 phases
+  echo "send 5 20 $(shape 100 2 50 0 200 -1)"     # within the rules
+  echo "sleep 100"; } | raw-frames "$PORT" > acks.txt || fail "raw-frames: $(cat acks.txt)"
+stop_emu
+result() { awk -v s="$1" '$1 == s { r = $2 } END { print r }' acks.txt; }
+[[ $(result 1) == 0 ]] || fail "configure_table: $(cat acks.txt)"
+[[ $(result 2) == 11 ]] || fail "a shape with net charge: result $(result 2), expected 11 (charge_not_zero)"
+[[ $(result 3) == 3 ]] || fail "a 5 us phase: result $(result 3), expected 3 (out_of_range)"
+[[ $(result 4) == 2 ]] || fail "17 phases: result $(result 4), expected 2 (bad_length)"
+[[ $(result 5) == 0 ]] || fail "a shape within the rules: result $(result 5), expected 0"
+echo "ok: the device refused raw shapes (net charge, 5 us phase, 17 phases) and took a valid one"
