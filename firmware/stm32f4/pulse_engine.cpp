@@ -141,7 +141,10 @@ void PulseEngine::on_alarm() {
       if (job_head_ == job_tail_) break;
       const PulseJob& job = jobs_[job_tail_ % kJobs];
       if (!loaded_) {
-        stage_->load(job.main, job.channels);
+        if (job.shape.n != 0)
+          load_shape_phase(job, 0);
+        else
+          stage_->load(job.main, job.channels);
         loaded_ = true;
       }
       // Its slot plus the delay, but never sooner after the previous pulse's start than
@@ -180,10 +183,27 @@ void PulseEngine::on_alarm() {
       last_length_us_ =
           std::uint64_t{current_.width_us} + current_.interphase_us + current_.balance_width_us;
       have_last_start_ = true;
+      if (current_.shape.n != 0) {
+        last_length_us_ = 0;
+        for (std::size_t k = 0; k < current_.shape.n; ++k)
+          last_length_us_ += current_.shape.duration_us[k];
+        check_shape_phase();
+        shape_k_ = 0;
+        shape_end_us_ = exec_us_ + current_.shape.duration_us[0];
+        phase_ = Phase::shaped;
+        load_shape_phase(current_, 1);
+        more = true;
+        continue;
+      }
       stage_->output(latched_main_, current_.channels);
       phase_ = Phase::main;
       stage_->load(current_.interphase_us ? kZeros : current_.balance, current_.channels);
       more = true;
+      continue;
+    }
+    if (phase_ == Phase::shaped) {
+      shaped_edge(now, next, more);
+      if (!more) break;
       continue;
     }
     const PulseJob& job = current_;
@@ -216,6 +236,46 @@ void PulseEngine::on_alarm() {
   alarm_->set(next, clock_->now_us());
 }
 
+void PulseEngine::load_shape_phase(const PulseJob& job, std::size_t k) {
+  device::shape_codes(job.main, job.channels, job.shape, k, loaded_codes_);
+  stage_->load(loaded_codes_, job.channels);
+}
+
+void PulseEngine::check_shape_phase() {
+  std::int16_t out[8];
+  stage_->output(out, current_.channels);
+  for (std::size_t c = 0; c < current_.channels; ++c)
+    if (out[c] != loaded_codes_[c]) {
+      readback_faults_ = readback_faults_ + 1;
+      return;
+    }
+}
+
+// A shaped pulse's next edge, when due: the end of phase k (the start of k + 1, whose codes
+// were loaded during phase k), checked by read-back, then phase k + 2's codes (or zeros)
+// loaded; the last edge ends the pulse.  more: an edge was taken.
+void PulseEngine::shaped_edge(std::uint64_t now, std::uint64_t& next, bool& more) {
+  const PulseJob& job = current_;
+  const std::uint64_t due = shape_end_us_;
+  if (now + early_us_ < due) {
+    next = std::min(next, due - early_us_);
+    more = false;
+    return;
+  }
+  const std::size_t k = shape_k_ + 1u;  // the edge's index: phase k starts (or the end)
+  edge(due, static_cast<int>(k));
+  check_shape_phase();
+  more = true;
+  if (k >= job.shape.n) {
+    finish_pulse();
+    return;
+  }
+  shape_k_ = static_cast<std::uint8_t>(k);
+  // Each phase's end: the measured first edge plus the durations so far (never shortened).
+  shape_end_us_ = due + job.shape.duration_us[k];
+  load_shape_phase(job, k + 1);
+}
+
 void PulseEngine::finish_pulse() {
   const PulseJob& job = current_;
   if (rec_head_ - rec_tail_ < kRecords) {
@@ -238,13 +298,22 @@ void PulseEngine::finish_pulse() {
     r.measured_width_us = static_cast<std::uint32_t>(edges_[1] - edges_[0]);
     r.measured_interphase_us = static_cast<std::uint32_t>(edges_[2] - edges_[1]);
     r.measured_balance_us = static_cast<std::uint32_t>(edges_[3] - edges_[2]);
+    if (job.shape.n != 0) {  // its phases as delivered (codes checked by read-back)
+      r.shape = job.shape;
+      std::copy(job.main, job.main + job.channels, r.main);  // the base codes
+      r.width_us = r.interphase_us = r.balance_width_us = 0;
+      r.measured_width_us = r.measured_interphase_us = r.measured_balance_us = 0;
+      std::fill(r.balance, r.balance + job.channels, std::int16_t{0});
+      for (std::size_t k = 0; k < job.shape.n; ++k)
+        r.measured_duration_us[k] = static_cast<std::uint32_t>(edges_[k + 1] - edges_[k]);
+    }
     r.dropped_before = records_lost_;
     records_lost_ = 0;
     rec_head_ = rec_head_ + 1;
   } else {
     records_lost_ = records_lost_ + 1;
   }
-  last_end_us_ = edges_[3];
+  last_end_us_ = job.shape.n != 0 ? edges_[job.shape.n] : edges_[3];
   phase_ = Phase::idle;
   if (stop_requested_ || (finish_requested_ && job_head_ == job_tail_)) outputs_off();
 }

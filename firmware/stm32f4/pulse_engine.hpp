@@ -9,9 +9,11 @@
 // punctual as the rest, and never sooner after the previous pulse's start than the core's
 // schedule put them (its slots: a pattern's period, or another pattern's pulse and the
 // gap); each pulse's later edges follow its measured first edge, so no phase is ever
-// shortened.  Stopping drops every queued pulse; a pulse already in its main phase
-// completes its balancing phase (its charge must be returned), then the outputs go to 0
-// and output-enable low.  An output started meanwhile waits for that.
+// shortened.  A shaped pulse (PulseJob::shape.n > 0) has n phases, each base x units_k
+// codes for its duration, latched edge by edge the same way; at each edge the DAC's output
+// is read back and compared with the phase's codes (a mismatch is an output fault).
+// Stopping drops every queued pulse; a pulse that has begun completes all its phases (its
+// charge must be returned), then the outputs go to 0 and output-enable low.  An output started meanwhile waits for that.
 
 #include <cstdint>
 
@@ -27,8 +29,9 @@ struct PulseJob {
   std::uint32_t slip_us = 0;
   std::uint64_t start_us = 0;  // the start command's time
   std::uint8_t channels = 0;
-  std::int16_t main[8] = {};
-  std::int16_t balance[8] = {};
+  std::int16_t main[8] = {};     // a shaped pulse's base codes (phase k: main x units_k)
+  std::int16_t balance[8] = {};  // biphasic only
+  device::Shape shape;           // n == 0: biphasic (main, gap, balance)
   std::uint16_t width_us = 0, interphase_us = 0, balance_width_us = 0;
   std::uint32_t period_us = 0;  // its pattern's
   std::uint32_t step_nA = 0;
@@ -57,15 +60,20 @@ class PulseEngine {
   void finish_output();  // the queued pulses first (a completed stimulus)
   bool pop_record(device::PulseRecord& r);
   std::uint32_t lost_pulses() const { return lost_; }
+  // Shaped-pulse edges whose read-back codes were not the phase's (an output fault).
+  std::uint32_t readback_faults() const { return readback_faults_; }
 
   // The SysTick interrupt.
   void on_alarm();
 
  private:
-  enum class Phase : std::uint8_t { idle, main, gap, balance };
+  enum class Phase : std::uint8_t { idle, main, gap, balance, shaped };
   static constexpr std::uint32_t kJobs = 32, kRecords = 8;
   void edge(std::uint64_t scheduled, int index);
   void finish_pulse();
+  void shaped_edge(std::uint64_t now, std::uint64_t& next, bool& more);
+  void load_shape_phase(const PulseJob& job, std::size_t k);  // zeros when k == n
+  void check_shape_phase();  // the read-back codes against the phase's (expected_)
 
   OutputStage* stage_ = nullptr;
   Clock* clock_ = nullptr;
@@ -84,7 +92,11 @@ class PulseEngine {
   bool loaded_ = false;          // the head job's main codes are in the DAC's inputs
   PulseJob current_;             // the pulse in flight (out of the queue)
   std::uint64_t exec_us_ = 0;    // its first edge, scheduled
-  std::uint64_t edges_[4] = {};  // its edges, measured
+  std::uint64_t edges_[device::kMaxPhases + 1] = {};  // its edges, measured
+  std::uint8_t shape_k_ = 0;          // a shaped pulse's phase in flight
+  std::uint64_t shape_end_us_ = 0;    // and that phase's end, scheduled
+  std::int16_t loaded_codes_[8] = {};  // the codes loaded for the next edge
+  volatile std::uint32_t readback_faults_ = 0;
   std::int16_t latched_main_[8] = {}, latched_balance_[8] = {};  // read back from the DAC
   volatile bool stop_requested_ = false;
   volatile bool finish_requested_ = false;
