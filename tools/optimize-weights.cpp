@@ -6,6 +6,7 @@
 // The flags fill an OptimizeRequest (lib/requests/optimize.hpp), which checks them and does
 // the work; the program prints what it returns.
 
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -27,6 +28,8 @@ struct Flags {
   bool timing = false, certify = false, no_header = false, header_only = false;
   std::string objective = "af";
   int max_evaluations = 12;
+  int population = 30;
+  std::uint64_t seed = 1;
   bool bank = false;
   int neighbourhood = 0;
 };
@@ -69,15 +72,32 @@ void declare(CLI::App& app, Flags& f) {
   app.add_option("--objective", f.objective,
                  "af: the paper's problem, the activating function (default); threshold: then "
                  "minimise the threshold ratio from a fibre model (see --fibre-model), starting "
-                 "from the AF optimum, never worse than it (JSON, one mode)")
-      ->check(CLI::IsMember({"af", "threshold"}));
-  auto* fibre_group = app.add_option_group("threshold objective");
+                 "from the AF optimum, never worse than it (JSON, one mode); selectivity: the "
+                 "weights and the pulse's shape that recruit the mode's afferents first in a "
+                 "sampled population (docs/fibres.md), from the AF and threshold optima, never "
+                 "worse than them (JSON, one mode; with --at, a pixel)")
+      ->check(CLI::IsMember({"af", "threshold", "selectivity"}));
+  auto* fibre_group = app.add_option_group("threshold and selectivity objectives");
   tp::cli::add_fibre_options(*fibre_group, f.text.fibre, "--fibre-model");
   tp::cli::add_integer(*fibre_group, "--max-evaluations", f.max_evaluations,
                        "Whole threshold searches, 10 to 10000 [12: about 3 s on 2 cores for the "
                        "paper's array; more polish by Nelder-Mead on whole searches, about 0.2 s "
-                       "each]",
+                       "each]; --objective selectivity: populations scored, 10 to 1000 [40: "
+                       "about a minute on 2 cores for the paper's array]",
                        10, 10000);
+  tp::cli::add_integer(*fibre_group, "--population", f.population,
+                       "--objective selectivity: afferents of each class in the population the "
+                       "design is scored on, 1 to 1000 [30]",
+                       1, 1000);
+  tp::cli::add_seed(*fibre_group, "--seed", f.seed,
+                    "--objective selectivity: the population's seed, 0 to 18446744073709551615 "
+                    "[1]; the held-out check's population is drawn with the next");
+  fibre_group
+      ->add_option("--max-charge", f.text.max_charge_nC,
+                   "--objective selectivity: the comfort bound on the charge per phase at the "
+                   "current recruiting half the target, nC, up to 100000 [twice the AF "
+                   "optimum's]")
+      ->type_name("NC");
   app.add_option("--at", f.text.at,
                  "A pixel: the target's largest AF at this place on the skin, X (a 1-D array) or "
                  "X,Z (a 2-D array), mm, within the array's extent plus one pitch; the target's AF "
@@ -118,6 +138,9 @@ tp::OptimizeRequest request_of(const CLI::App& app, const Flags& f) {
   r.timing = f.timing;
   r.certify = f.certify;
   if (f.objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
+  if (f.objective == "selectivity") r.objective = tp::OptimizeObjective::selectivity;
+  if (app.count("--population")) r.population = f.population;
+  if (app.count("--seed")) r.seed = f.seed;
   r.fibre_model_given = app.count("--fibre-model") > 0;
   r.offsets_given = app.count("--offsets") > 0;
   if (app.count("--max-evaluations")) r.max_evaluations = f.max_evaluations;

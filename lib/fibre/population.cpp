@@ -53,9 +53,13 @@ void run_jobs(const Setup& setup, const Conductor& conductor, const std::vector<
       const std::size_t i = next.fetch_add(1);
       if (i >= jobs.size()) return;
       try {
-        PotentialCache cache;
+        PotentialCache local;
+        PotentialCache* cache = o.memo ? &o.memo->caches[i] : &local;
+        ThresholdSettings settings = jobs[i].settings;
+        if (o.memo && o.memo->start_mA[i] > 0) settings.start_mA = {o.memo->start_mA[i]};
         const ReceptorThreshold t = receptor_threshold(
-            model, setup, conductor, weights, jobs[i].receptor, waveform, jobs[i].settings, &cache);
+            model, setup, conductor, weights, jobs[i].receptor, waveform, settings, cache);
+        if (o.memo) o.memo->start_mA[i] = t.threshold_mA.value_or(0.0);
         p.afferents[i].threshold_mA = t.threshold_mA;
         p.afferents[i].at_cut_end = t.threshold_mA && t.at_cut_end;
         if (o.progress) {
@@ -80,29 +84,37 @@ void run_jobs(const Setup& setup, const Conductor& conductor, const std::vector<
 }
 }  // namespace
 
-Population sample_population(const Setup& setup, const std::vector<double>& weights,
-                             const FibreModel& model, const PulseSpec& pulse,
-                             const ThresholdSettings& settings,
-                             const std::vector<AfferentClass>& classes,
-                             const PopulationOptions& o) {
+namespace {
+// The afferents sampled, each one's search, and their estimated work (checked, bad input
+// before any work).
+struct Plan {
+  Population p;
+  std::vector<Job> jobs;
+  double work = 0;
+};
+
+Plan plan_population(const Setup& setup, const Conductor& conductor_ref, const FibreModel& model,
+                     const PulseSpec& pulse, const ThresholdSettings& settings,
+                     const std::vector<AfferentClass>& classes, const PopulationOptions& o) {
+  const Conductor* conductor = &conductor_ref;
   if (!(o.per_class >= 1 && o.per_class <= static_cast<std::size_t>(kMaxPopulation)))
     bad_input("--population: " + std::to_string(o.per_class) + " outside [1, " +
               std::to_string(kMaxPopulation) + "]");
-  const auto conductor = make_conductor(setup.conductor, setup.array);
   const double margin = setup.lateral_margin_mm;
   const double x0 = setup.array.x_min_mm() - margin, x1 = setup.array.x_max_mm() + margin;
   const bool two_d = setup.array.two_d();
   const double z0 = two_d ? setup.array.z_min_mm() - margin : 0.0;
   const double z1 = two_d ? setup.array.z_max_mm() + margin : 0.0;
-  Population p;
+  Plan plan;
+  Population& p = plan.p;
   p.two_d = two_d;
   // The placed area: a 1-D array's extent and margin along x by the electrodes' length
   // across; a 2-D array's pads and margin in x and z.
   p.area_cm2 = (x1 - x0) * (two_d ? z1 - z0 : setup.array.length_mm) / 100.0;
 
   // Every fibre's receptor and settings, checked (and its work counted) before any work.
-  std::vector<Job> jobs;
-  double work = 0;
+  std::vector<Job>& jobs = plan.jobs;
+  double& work = plan.work;
   SplitMix64 rng{o.seed};
   const Waveform waveform = waveform_of(pulse, settings.delay_ms);
   for (const AfferentClass& c : classes) {
@@ -157,14 +169,39 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
       jobs.push_back(std::move(j));
     }
   }
-  check_threshold_work(work, kMaxThresholdWork, "--population",
+  return plan;
+}
+}  // namespace
+
+double population_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
+                       const ThresholdSettings& settings,
+                       const std::vector<AfferentClass>& classes, const PopulationOptions& o) {
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  return plan_population(setup, *conductor, model, pulse, settings, classes, o).work;
+}
+
+Population sample_population(const Setup& setup, const std::vector<double>& weights,
+                             const FibreModel& model, const PulseSpec& pulse,
+                             const ThresholdSettings& settings,
+                             const std::vector<AfferentClass>& classes,
+                             const PopulationOptions& o) {
+  const auto conductor = make_conductor(setup.conductor, setup.array);
+  Plan plan = plan_population(setup, *conductor, model, pulse, settings, classes, o);
+  const std::vector<Job>& jobs = plan.jobs;
+  Population& p = plan.p;
+  check_threshold_work(plan.work, kMaxThresholdWork, "--population",
                        "fewer afferents, a larger --tolerance, a shorter pulse");
 
+  if (o.memo && o.memo->caches.size() != jobs.size()) {
+    o.memo->caches.assign(jobs.size(), PotentialCache{});
+    o.memo->start_mA.assign(jobs.size(), 0.0);
+  }
   const unsigned threads = std::min<unsigned>(
       settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency()),
       static_cast<unsigned>(jobs.size()));
-  run_jobs(setup, *conductor, weights, model, waveform, jobs, threads, o, p);
-  return p;
+  run_jobs(setup, *conductor, weights, model, waveform_of(pulse, settings.delay_ms), jobs, threads,
+           o, p);
+  return std::move(p);
 }
 
 std::optional<HalfSelectivity> selectivity_at_half(const Population& p,

@@ -40,6 +40,15 @@ std::vector<AfferentClass> default_afferent_classes();
 // (kMaxThresholdWork) may refuse fewer.
 inline constexpr long kMaxPopulation = 10000;
 
+// What one population's searches leave for the next over the same afferents (a design that
+// evaluates many weights and pulses on one population): each afferent's unit potentials
+// (they do not depend on the weights or the pulse) and its last threshold, where the next
+// search starts (the answer does not depend on it, only the work does).
+struct PopulationMemo {
+  std::vector<PotentialCache> caches;  // per afferent; sized by the first use
+  std::vector<double> start_mA;        // per afferent; 0: none
+};
+
 struct PopulationOptions {
   std::size_t per_class = 100;  // 1 to kMaxPopulation
   std::uint64_t seed = 1;
@@ -47,6 +56,9 @@ struct PopulationOptions {
   // Called as each afferent's search ends, with the number ended and the number in all,
   // one call at a time (from the searching threads): a program's progress line.
   std::function<void(std::size_t done, std::size_t total)> progress;
+  // Kept between calls with the same setup, seed and classes (each afferent the same
+  // fibre); null: none.
+  PopulationMemo* memo = nullptr;
 };
 
 struct Afferent {
@@ -82,6 +94,12 @@ Population sample_population(const Setup& setup, const std::vector<double>& weig
                              const FibreModel& model, const PulseSpec& pulse,
                              const ThresholdSettings& settings,
                              const std::vector<AfferentClass>& classes, const PopulationOptions& o);
+
+// The estimated work of sample_population()'s searches (threshold_work()), with the same
+// checks before it; no search.
+double population_work(const Setup& setup, const FibreModel& model, const PulseSpec& pulse,
+                       const ThresholdSettings& settings, const std::vector<AfferentClass>& classes,
+                       const PopulationOptions& o);
 
 // The recruitment curves: one row at 0 and at each distinct threshold (ascending), each
 // class's fraction recruited at that current (threshold <= current), then each class's

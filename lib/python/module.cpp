@@ -406,12 +406,13 @@ PyDocument optimize_weights(
     std::optional<double> width_us, std::optional<double> interphase_us,
     std::optional<double> balance_width_us, bool monophasic, std::optional<int> offsets,
     std::optional<double> tolerance, std::optional<int> max_evaluations, bool timing,
-    const PyPhases& phases) {
+    const PyPhases& phases, std::optional<int> population, std::optional<std::uint64_t> seed,
+    std::optional<double> max_charge_nC) {
   if (mode && modes) tp::bad_input("mode and modes: give one");
   if (modes && !bank) tp::bad_input("modes: several modes with bank=True only (one: mode=)");
   if (modes && modes->empty()) tp::bad_input("--mode: no modes given");
-  if (objective != "af" && objective != "threshold")  // CLI11's words
-    tp::bad_input("--objective: " + objective + " not in {af,threshold}");
+  if (objective != "af" && objective != "threshold" && objective != "selectivity")  // CLI11's
+    tp::bad_input("--objective: " + objective + " not in {af,threshold,selectivity}");
   tp::OptimizeRequest r;
   r.modes = modes ? *modes : mode ? std::vector<std::string>{*mode} : std::vector<std::string>{};
   if (at && at->index() == 0) r.at_mm.push_back(std::get<0>(*at));
@@ -428,6 +429,10 @@ PyDocument optimize_weights(
   r.threads = threads;
   r.timing = timing;
   if (objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
+  if (objective == "selectivity") r.objective = tp::OptimizeObjective::selectivity;
+  r.population = population;
+  r.seed = seed;
+  r.max_charge_nC = max_charge_nC;
   r.fibre.model = fibre_model.value_or("mrg");
   r.fibre_model_given = fibre_model.has_value();
   r.fibre.geometry = geometry;
@@ -1057,11 +1062,14 @@ void bind_programs(py::module_& m) {
         py::arg("balance_width_us") = py::none(), py::arg("monophasic") = false,
         py::arg("offsets") = py::none(), py::arg("tolerance") = py::none(),
         py::arg("max_evaluations") = py::none(), py::arg("timing") = false,
-        py::arg("phases") = py::none(),
+        py::arg("phases") = py::none(), py::arg("population") = py::none(),
+        py::arg("seed") = py::none(), py::arg("max_charge_nC") = py::none(),
         "optimize-weights: the mode's minimax weights; at=[x] or [x, z]: a pixel; bank=True: "
         "every pad's pixels (or at=[[x, z], ...]'s); objective='threshold': then the weights "
-        "by a fibre model's thresholds (fibre_model=, the pulse, max_evaluations=).  Returns "
-        "the document the program prints.");
+        "by a fibre model's thresholds (fibre_model=, the pulse, max_evaluations=); "
+        "objective='selectivity': the weights and the pulse's shape by a sampled population's "
+        "recruitment (population=, seed=, max_charge_nC=, max_evaluations=).  Returns the "
+        "document the program prints.");
   m.def("fiber_threshold", &fiber_threshold, py::arg("doc"), py::kw_only(),
         py::arg("model") = "mrg", py::arg("width_us") = py::none(),
         py::arg("interphase_us") = py::none(), py::arg("balance_width_us") = py::none(),

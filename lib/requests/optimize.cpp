@@ -15,6 +15,7 @@
 #include "opt/bank.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"
+#include "opt/selectivity_design.hpp"
 #include "opt/threshold_objective.hpp"
 
 namespace tp {
@@ -32,7 +33,7 @@ void check_finite(const std::string& flag, std::optional<double> value) {
     parse_finite(std::isnan(*value) ? "nan" : *value > 0 ? "inf" : "-inf", flag);
 }
 
-enum class Design { modes, pixel, bank, threshold };
+enum class Design { modes, pixel, bank, threshold, selectivity };
 
 // The checked request: the document with its current limit, and what the design runs on.
 struct OptimizePlan {
@@ -44,10 +45,19 @@ struct OptimizePlan {
   BankOptions bank;
   FibreOptions fibre;
   fibre::ThresholdSearchOptions search;
+  fibre::SelectivityOptions selectivity;
 };
 
 bool by_threshold(const OptimizeRequest& r) {
   return r.objective == OptimizeObjective::threshold;
+}
+bool by_selectivity(const OptimizeRequest& r) {
+  return r.objective == OptimizeObjective::selectivity;
+}
+// The objectives by a fibre model (their flags, one mode, JSON).
+bool by_fibre(const OptimizeRequest& r) { return by_threshold(r) || by_selectivity(r); }
+std::string objective_flag(const OptimizeRequest& r) {
+  return by_selectivity(r) ? "--objective selectivity" : "--objective threshold";
 }
 
 std::string given_or(const std::string& given, const std::string& number) {
@@ -66,7 +76,12 @@ std::string at_text(const OptimizeRequest& r, std::size_t k) {
 void check_values(const OptimizeRequest& r) {
   if (r.pattern_starts) check_whole("--pattern-starts", *r.pattern_starts, 0, 4);
   if (r.random_starts) check_whole("--random-starts", *r.random_starts, 0, 1000);
-  if (r.max_evaluations) check_whole("--max-evaluations", *r.max_evaluations, 10, 10000);
+  if (r.max_evaluations)
+    check_whole("--max-evaluations", *r.max_evaluations, 10, by_selectivity(r) ? 1000 : 10000);
+  if (r.population) check_whole("--population", *r.population, 1, 1000);
+  check_finite("--max-charge", r.max_charge_nC);
+  if (r.max_charge_nC && !(*r.max_charge_nC > 0 && *r.max_charge_nC <= 1e5))
+    bad_input("--max-charge: " + number_text(*r.max_charge_nC) + " nC outside (0, 100000] nC");
   if (r.neighbourhood) check_whole("--neighbourhood", *r.neighbourhood, 3, 255);
   if (r.threads) check_whole("--threads", *r.threads, 1, 256);
   check_finite("--max-current", r.max_current_mA);
@@ -122,14 +137,20 @@ void check_modes(const Document& doc, const OptimizeRequest& r) {
         bad_input("--mode: " + quoted_text(r.modes[k]) + " given twice");
   }
   for (const std::string& m : r.modes) receptor_index(doc.setup, m);
-  if (r.modes.size() > 1 && !r.csv && !r.bank && !by_threshold(r))
+  if (r.modes.size() > 1 && !r.csv && !r.bank && !by_fibre(r))
     bad_input("--mode: several modes need --format csv (one row each)");
 }
 
 // The threshold objective's flags, refused with the AF objective (--threads serves a pixel
 // and a bank too).
 void check_threshold_flags(const OptimizeRequest& r) {
-  if (by_threshold(r)) return;
+  const std::pair<const char*, bool> design[] = {{"--population", r.population.has_value()},
+                                                 {"--seed", r.seed.has_value()},
+                                                 {"--max-charge", r.max_charge_nC.has_value()}};
+  for (const auto& [flag, is_given] : design)
+    if (is_given && !by_selectivity(r))
+      bad_input(std::string(flag) + ": applies to --objective selectivity only");
+  if (by_fibre(r)) return;
   const FibreOptions& f = r.fibre;
   const std::pair<const char*, bool> given[] = {
       {"--fibre-model", r.fibre_model_given},
@@ -138,13 +159,15 @@ void check_threshold_flags(const OptimizeRequest& r) {
       {"--interphase", f.interphase_us.has_value()},
       {"--balance-width", f.balance_width_us.has_value()},
       {"--monophasic", f.monophasic},
+      {"--phases", !f.phases.empty()},
+      {"--geometry", f.geometry != "straight"},
       {"--offsets", r.offsets_given},
       {"--tolerance", f.tolerance.has_value()},
       {"--threads", r.threads && !r.bank && r.at_mm.empty()},
       {"--max-evaluations", r.max_evaluations.has_value()}};
   for (const auto& [flag, is_given] : given)
     if (is_given)
-      bad_input(std::string(flag) + ": applies to --objective threshold only" +
+      bad_input(std::string(flag) + ": applies to --objective threshold or selectivity only" +
                 (std::string(flag) == "--threads" ? ", --at and --bank" : ""));
 }
 
@@ -176,7 +199,7 @@ FocusOptions focus_options(const OptimizeRequest& r, double max_current_mA) {
 }
 
 BankOptions bank_options(const OptimizeRequest& r, const OptimizePlan& p) {
-  if (by_threshold(r)) bad_input("--bank: designs by the AF objective only");
+  if (by_fibre(r)) bad_input("--bank: designs by the AF objective only");
   if (r.certify) bad_input("--certify: with --bank is not available yet");
   if (p.opt.min_target_af > 0) bad_input("--min-target-af: does not apply with --bank");
   if (r.csv || r.header_only || !r.header)
@@ -204,11 +227,11 @@ BankOptions bank_options(const OptimizeRequest& r, const OptimizePlan& p) {
 
 // The single-target designs' output options.
 void check_outputs(const OptimizeRequest& r) {
-  if (by_threshold(r) && (r.csv || r.modes.size() > 1))
-    bad_input("--objective threshold: one mode, JSON output");
-  if (by_threshold(r) && r.certify)
-    bad_input("--certify: certifies the AF problem, not --objective threshold");
-  if (by_threshold(r) && r.min_target_af > 0)
+  if (by_fibre(r) && (r.csv || r.modes.size() > 1))
+    bad_input(objective_flag(r) + ": one mode, JSON output");
+  if (by_fibre(r) && r.certify)
+    bad_input("--certify: certifies the AF problem, not " + objective_flag(r));
+  if (by_fibre(r) && r.min_target_af > 0)
     bad_input("--min-target-af: applies to the AF objective only");
   if (r.certify && r.csv)
     bad_input("--certify: the certified optimum is reported in JSON only (--format json)");
@@ -221,7 +244,8 @@ void plan_pixel(const OptimizeRequest& r, OptimizePlan& p) {
                               : std::max(1u, std::thread::hardware_concurrency());
   check_focus(p.doc.setup, p.focus);
   if (by_threshold(r))
-    bad_input("--at: designs by the AF objective only, not --objective threshold");
+    bad_input("--at: designs by the AF objective or --objective selectivity, not --objective "
+              "threshold");
   p.focus.certify = r.certify;
   if (p.opt.min_target_af > 0) bad_input("--min-target-af: does not apply with --at");
   if (!r.csv && r.modes.size() > 1)
@@ -233,10 +257,39 @@ void plan_pixel(const OptimizeRequest& r, OptimizePlan& p) {
         "linear programming)");
 }
 
+// The selectivity design's options: the population, the budget, the limits at I50 (the
+// document's current limit, make-pulse's default rate, the document's pads).
+void plan_selectivity(const OptimizeRequest& r, OptimizePlan& p) {
+  fibre::SelectivityOptions& s = p.selectivity;
+  s.per_class = static_cast<std::size_t>(r.population.value_or(30));
+  s.seed = r.seed.value_or(1);
+  s.held_out_seed = s.seed + 1;  // wraps at 2^64 - 1: still another population
+  s.max_evaluations = static_cast<std::size_t>(r.max_evaluations.value_or(40));
+  s.max_charge_nC = r.max_charge_nC.value_or(0.0);
+  s.limits.max_current_mA = p.opt.max_current_mA;
+  s.electrode_area_mm2 = p.doc.setup.array.width_mm * p.doc.setup.array.length_mm;
+  s.threads = static_cast<unsigned>(r.threads.value_or(0));
+  if (r.progress)
+    s.progress = [progress = r.progress, n = s.max_evaluations](std::size_t k,
+                                                               const std::string& stage) {
+      progress("selectivity design " + std::to_string(std::min(k, n)) + " of at most " +
+                   std::to_string(n) + " populations (" + stage + ")",
+               false);
+    };
+}
+
 void plan_threshold(const OptimizeRequest& r, OptimizePlan& p) {
   p.fibre = r.fibre;
   p.fibre.model_flag = "--fibre-model";
   p.fibre.threads = r.threads.value_or(0);
+  if (by_selectivity(r)) {
+    // A 1 % lattice unless --tolerance says otherwise: the populations rank designs, and a
+    // population's fractions move by whole afferents (docs/fibres.md).
+    if (!p.fibre.tolerance) p.fibre.tolerance = 0.01;
+    plan_selectivity(r, p);
+    p.design = Design::selectivity;
+    return;
+  }
   p.search.max_evaluations = static_cast<std::size_t>(r.max_evaluations.value_or(12));
   if (r.progress)
     p.search.progress = [progress = r.progress, n = p.search.max_evaluations](std::size_t k) {
@@ -268,10 +321,8 @@ OptimizePlan plan_optimize(const Document& doc, const OptimizeRequest& r) {
     plan_pixel(r, p);
   }
   if (r.header_only && !r.csv) bad_input("--header-only: needs --format csv");
-  if (p.design == Design::modes && by_threshold(r)) {
-    p.design = Design::threshold;
-    plan_threshold(r, p);
-  }
+  if (p.design == Design::modes && by_threshold(r)) p.design = Design::threshold;
+  if (by_fibre(r)) plan_threshold(r, p);
   return p;
 }
 
@@ -405,6 +456,131 @@ OptimizeOutput run_threshold(const OptimizePlan& p, const std::string& mode) {
   return out;
 }
 
+// The selectivity design's document: the input's, with the weights and the pulse found,
+// their AF ratio, the index and recruitment on the design's and the held-out population,
+// the starts scored alike, and the search with its front (docs/document-format.md).
+Json score_json(const fibre::SelectivityScore& s, const std::vector<std::string>& classes) {
+  Json j = Json::object();
+  j["index"] = s.fires ? Json(s.half.index) : Json(nullptr);
+  j["i50_mA"] = s.fires ? Json(s.half.i50_mA) : Json(nullptr);
+  Json rec = Json::object();
+  for (std::size_t k = 0; k < classes.size() && k < s.half.fraction.size(); ++k)
+    rec[classes[k]] = s.half.fraction[k];
+  j["recruited"] = s.fires ? rec : Json(nullptr);
+  j["worst"] = s.fires ? Json(s.half.worst) : Json(nullptr);
+  j["margin"] = s.fires ? Json(s.margin) : Json(nullptr);
+  j["charge_per_phase_nC"] = s.fires ? Json(s.charge_nC) : Json(nullptr);
+  if (!s.refused.empty()) j["refused"] = s.refused;
+  return j;
+}
+
+Json design_json(const fibre::ScoredDesign& d, const std::vector<std::string>& classes) {
+  Json j = Json::object();
+  j["name"] = d.name;
+  j["weights"] = d.design.weights;
+  Json pulse = Json::object();
+  pulse["phases"] = phases_to_json(d.design.phases);
+  j["pulse"] = pulse;
+  j["design_population"] = score_json(d.score, classes);
+  j["held_out"] = score_json(d.held_out, classes);
+  return j;
+}
+
+Json selectivity_document(const OptimizePlan& p, const std::string& mode,
+                          const fibre::SelectivityResult& r) {
+  const fibre::SelectivityOptions& o = p.selectivity;
+  std::vector<std::string> classes;
+  for (const fibre::AfferentClass& c : fibre::default_afferent_classes()) classes.push_back(c.receptor);
+  Document out = p.doc;
+  out.weights = r.best.design.weights;
+  std::vector<double> currents;
+  for (double w : r.best.design.weights) currents.push_back(w * p.opt.max_current_mA);
+  const Summary s = summarize(p.doc.setup, currents);
+  for (const char* stale : {"thresholds", "threshold_ratio", "threshold_search", "af_optimum"})
+    out.extra.erase(stale);
+  out.extra["mode"] = mode;
+  out.extra["objective"] = "selectivity";
+  Json pulse = Json::object();
+  pulse["phases"] = phases_to_json(r.best.design.phases);
+  out.extra["pulse"] = pulse;
+  const auto af_ratio = mode_ratio(s.peaks, mode);
+  out.extra["ratio"] = af_ratio ? Json(*af_ratio) : Json(nullptr);
+  if (!p.places.empty()) out.extra["at_mm"] = p.doc.setup.array.two_d()
+                                                  ? Json({p.places[0].first, p.places[0].second})
+                                                  : Json({p.places[0].first});
+  Json sel = score_json(r.best.score, classes);
+  sel["definition"] =
+      "1 - 2 x the largest fraction of another class recruited at I50, the least current "
+      "recruiting half of the target class (docs/fibres.md)";
+  Json pop = Json::object();
+  pop["per_class"] = o.per_class;
+  pop["seed"] = o.seed;
+  sel["population"] = pop;
+  Json held = score_json(r.best.held_out, classes);
+  held["seed"] = o.held_out_seed;
+  sel["held_out"] = held;
+  sel["comfort_bound_nC"] = r.max_charge_nC > 0 ? Json(r.max_charge_nC) : Json(nullptr);
+  out.extra["selectivity"] = sel;
+  Json starts = Json::array();
+  for (const fibre::ScoredDesign& d : r.starts) starts.push_back(design_json(d, classes));
+  out.extra["starts"] = starts;
+  Json search = Json::object();
+  search["method"] =
+      "from the starts, turns of a pass over the pulse's shape (polarity, main phase width, "
+      "recovery asymmetry, prepulse), one parameter at a time on a grid, and Nelder-Mead over "
+      "the zero-sum weights, on one population; each design scored where it can be delivered "
+      "at its I50";
+  search["evaluations"] = r.evaluations;
+  search["turns"] = r.turns;
+  search["improved"] = r.improved;
+  Json front = Json::array();
+  for (const fibre::FrontPoint& f : r.front) {
+    Json q = Json::object();
+    q["charge_per_phase_nC"] = f.charge_nC;
+    q["index"] = f.index;
+    q["i50_mA"] = f.i50_mA;
+    q["phases"] = describe_phases(f.phases);
+    front.push_back(q);
+  }
+  search["front"] = front;
+  out.extra["selectivity_search"] = search;
+  return document_to_json(out);
+}
+
+// The starts: the AF optimum (a pixel's focus, at --at), and on an array the threshold
+// optimum where it differs; each with the pulse asked.
+std::vector<fibre::ScoredDesign> selectivity_starts(const OptimizePlan& p, const std::string& mode,
+                                                   const FibreSetup& f,
+                                                   const std::vector<double>& af) {
+  const std::vector<Phase> phases = f.pulse.delivered();
+  std::vector<fibre::ScoredDesign> starts{{"af optimum", {af, phases}, {}, {}}};
+  if (!p.places.empty()) return starts;
+  fibre::ThresholdSearchOptions search;
+  const fibre::ThresholdOptimum t = fibre::optimize_threshold(
+      p.doc.setup, receptor_index(p.doc.setup, mode), af, *f.model, f.pulse, f.settings, search);
+  if (t.improved) starts.push_back({"threshold optimum", {t.weights, phases}, {}, {}});
+  return starts;
+}
+
+OptimizeOutput run_selectivity(const OptimizePlan& p, const std::string& mode) {
+  const std::vector<double> af = p.places.empty()
+                                     ? optimize_mode(p.doc.setup, mode, p.opt).weights
+                                     : optimize_focus(p.doc.setup, mode, p.focus).weights;
+  const FibreSetup f = apply_fibre_options(p.fibre, af);
+  fibre::check_selectivity(p.doc.setup, mode, *f.model, f.settings, p.selectivity);
+  const std::vector<fibre::ScoredDesign> starts = selectivity_starts(p, mode, f, af);
+  const fibre::SelectivityResult r =
+      fibre::design_for_selectivity(p.doc.setup, mode, starts, *f.model, f.settings, p.selectivity);
+  OptimizeOutput out;
+  out.document = selectivity_document(p, mode, r);
+  char line[1024];
+  std::snprintf(line, sizeof line, "%s, %zu populations of %zu a class, %s, %s",
+                fibre::selectivity_summary(r, mode).c_str(), r.evaluations,
+                p.selectivity.per_class, f.model->name(), describe_phases(r.best.design.phases).c_str());
+  out.notes.push_back(line);
+  return out;
+}
+
 }  // namespace
 
 void parse_optimize_text(const OptimizeText& t, OptimizeRequest& r) {
@@ -423,6 +599,7 @@ void parse_optimize_text(const OptimizeText& t, OptimizeRequest& r) {
   if (!t.radius_mm.empty()) r.radius_mm = parse_finite(t.radius_mm, "--radius");
   r.given.radius = t.radius_mm;
   if (!t.spill.empty()) r.spill = parse_finite(t.spill, "--spill");
+  if (!t.max_charge_nC.empty()) r.max_charge_nC = parse_finite(t.max_charge_nC, "--max-charge");
 }
 
 void check_optimize(const Document& doc, const OptimizeRequest& r) {
@@ -439,6 +616,7 @@ OptimizeOutput run_optimize(const Document& doc, const OptimizeRequest& r) {
   OptimizeOutput out = p.design == Design::bank        ? run_bank(p)
                        : p.design == Design::pixel     ? run_pixel(p, r)
                        : p.design == Design::threshold ? run_threshold(p, r.modes[0])
+                       : p.design == Design::selectivity ? run_selectivity(p, r.modes[0])
                                                        : run_modes(p, r);
   if (!r.csv) out.text = dump_json(out.document);
   return out;

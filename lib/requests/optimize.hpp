@@ -1,10 +1,13 @@
 #pragma once
 // optimize-weights' work, for the program and the Python module alike (docs/programs.md,
 // optimize-weights): a document and the options become the document the program prints.
-// Four designs: each mode's minimax weights (Eq. 32-34; JSON, or one CSV row a mode), a
-// pixel (at_mm: a focus), a bank of pixels, or the threshold objective (weights by a fibre
-// model's thresholds, from the AF optimum).  Bad input names the program's flags.
+// Five designs: each mode's minimax weights (Eq. 32-34; JSON, or one CSV row a mode), a
+// pixel (at_mm: a focus), a bank of pixels, the selectivity objective (weights and pulse
+// shape by a population's recruitment, on an array or at a pixel), or the threshold
+// objective (weights by a fibre model's thresholds, from the AF optimum).  Bad input names
+// the program's flags.
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -16,7 +19,7 @@
 
 namespace tp {
 
-enum class OptimizeObjective { af, threshold };
+enum class OptimizeObjective { af, threshold, selectivity };
 
 struct OptimizeRequest {
   // --mode: the target receptors (names in the document's table): one; several with CSV
@@ -40,6 +43,13 @@ struct OptimizeRequest {
   FibreOptions fibre;
   bool fibre_model_given = false, offsets_given = false;
   std::optional<int> max_evaluations;
+  // The selectivity objective (docs/fibres.md, "Designed for selectivity"): afferents of
+  // each class in its population, 1 to 1000 [30]; its seed [1] (the held-out check's: the
+  // next); its budget of populations (max_evaluations, 10 to 1000 [40]); the comfort bound on
+  // the charge per phase at I50, nC, 0 to 100000 [0: twice the AF optimum's].
+  std::optional<int> population;
+  std::optional<std::uint64_t> seed;
+  std::optional<double> max_charge_nC;
   // A pixel: at_mm holds its place, X (a 1-D array) or X, Z (a 2-D array), mm; with a
   // bank, the pixels (empty: every pad's centre).
   std::vector<std::vector<double>> at_mm;
@@ -72,7 +82,7 @@ struct OptimizeOutput {
 // threshold objective's fibre flags.
 struct OptimizeText {
   std::string modes;  // "SAI,PC"
-  std::string max_current_mA, min_target_af, radius_mm, spill;
+  std::string max_current_mA, min_target_af, radius_mm, spill, max_charge_nC;
   std::vector<std::string> at;  // each X or X,Z
   FibreText fibre;
 };

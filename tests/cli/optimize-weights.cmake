@@ -47,15 +47,26 @@ tp_cli_test(optimize-weights compare-models script ${CMAKE_CURRENT_SOURCE_DIR}/o
 tp_cli_test(optimize-weights large-array script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/large-array.sh)
 set_tests_properties(optimize-weights.large-array PROPERTIES TIMEOUT 300)
 
+# --objective selectivity (a population's recruitment; docs/fibres.md).
+tp_cli_test(optimize-weights selectivity-objective script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/selectivity.sh)
+tp_cli_test(optimize-weights refuses-population-without-selectivity refuses 2 --says "--population: applies to --objective selectivity only" -- optimize-weights --mode SAI --objective threshold --population 10)
+tp_cli_test(optimize-weights refuses-max-charge-without-selectivity refuses 2 --says "--max-charge: applies to --objective selectivity only" -- optimize-weights --mode SAI --max-charge 100)
+tp_cli_test(optimize-weights refuses-phases-without-fibre-objective refuses 2 --says "--phases: applies to --objective threshold or selectivity only" -- optimize-weights --mode SAI --phases 200:1,200:-1)
+tp_cli_test(optimize-weights refuses-selectivity-csv refuses 2 --says "--objective selectivity: one mode, JSON output" -- optimize-weights --mode SAI --objective selectivity --format csv)
+tp_cli_test(optimize-weights refuses-selectivity-evaluations refuses 2 --says "--max-evaluations: 2000 outside [10, 1000]" -- optimize-weights --mode SAI --objective selectivity --max-evaluations 2000)
+tp_cli_test(optimize-weights refuses-selectivity-charge refuses 2 --says "--max-charge: -5 nC outside (0, 100000" -- optimize-weights --mode SAI --objective selectivity --max-charge -5)
+tp_cli_test(optimize-weights refuses-selectivity-bank refuses 2 --says "--bank: designs by the AF objective only" -- optimize-weights --objective selectivity --bank --grid 3x3)
+tp_cli_test(optimize-weights refuses-selectivity-work refuses 2 --says "--objective selectivity (1000 populations of 1000 a class)" -- optimize-weights --mode SAI --objective selectivity --population 1000 --max-evaluations 1000)
+
 # --objective threshold (fibre thresholds; docs/fibres.md).
 tp_cli_test(optimize-weights threshold-objective script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/threshold.sh)
-tp_cli_test(optimize-weights refuses-fibre-flag-without-threshold refuses 2 --says "--fibre-model: applies to --objective threshold only" -- optimize-weights --mode SAI --fibre-model senn)
-tp_cli_test(optimize-weights refuses-width-without-threshold refuses 2 --says "--width: applies to --objective threshold only" -- optimize-weights --mode SAI --width 100)
+tp_cli_test(optimize-weights refuses-fibre-flag-without-threshold refuses 2 --says "--fibre-model: applies to --objective threshold or selectivity only" -- optimize-weights --mode SAI --fibre-model senn)
+tp_cli_test(optimize-weights refuses-width-without-threshold refuses 2 --says "--width: applies to --objective threshold or selectivity only" -- optimize-weights --mode SAI --width 100)
 tp_cli_test(optimize-weights refuses-threshold-csv refuses 2 --says "--objective threshold: one mode, JSON output" -- optimize-weights --mode SAI --objective threshold --format csv)
 tp_cli_test(optimize-weights refuses-threshold-modes refuses 2 --says "--objective threshold: one mode, JSON output" -- optimize-weights --mode SAI,PC --objective threshold)
 tp_cli_test(optimize-weights refuses-threshold-certify refuses 2 --says "--certify: certifies the AF problem, not --objective threshold" -- optimize-weights --mode SAI --objective threshold --certify)
 tp_cli_test(optimize-weights refuses-threshold-evaluations refuses 2 --says "--max-evaluations: 5 outside [10, 10000]" -- optimize-weights --mode SAI --objective threshold --max-evaluations 5)
-tp_cli_test(optimize-weights refuses-unknown-objective refuses 2 --says "--objective: charge not in {af,threshold}" -- optimize-weights --mode SAI --objective charge)
+tp_cli_test(optimize-weights refuses-unknown-objective refuses 2 --says "--objective: charge not in {af,threshold,selectivity}" -- optimize-weights --mode SAI --objective charge)
 tp_cli_test(optimize-weights refuses-threshold-unknown-fibre refuses 2 --says "--fibre-model: unknown fibre model 'hh'" -- optimize-weights --mode SAI --objective threshold --fibre-model hh)
 
 # --header-only: the CSV header, nothing computed (sweep-spacing checks options with it).
@@ -95,7 +106,7 @@ tp_cli_test(optimize-weights refuses-focus-certify-csv refuses 2 --says "--certi
   optimize-weights --mode SAI --at -0.5 --format csv --certify)
 tp_cli_test(optimize-weights golden-focus-certify golden optimize-weights/focus-certify-grid-sai.json --rtol 1e-6 --atol 1e-6 --
   optimize-weights --mode SAI --grid 3x2 --pitch 2 --pad 1x1 --at 2,1 --certify)
-tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 --says "--at: designs by the AF objective only" -- optimize-weights --mode SAI --at -0.5 --objective threshold)
+tp_cli_test(optimize-weights refuses-focus-threshold refuses 2 --says "--at: designs by the AF objective or --objective selectivity, not --objective threshold" -- optimize-weights --mode SAI --at -0.5 --objective threshold)
 tp_cli_test(optimize-weights refuses-focus-spill-unreachable refuses 1 --says "the least spill reachable is" --
   optimize-weights --mode SAI --at 0 --model rect3d)
 tp_cli_test(optimize-weights refuses-radius-within-quarter-pitch refuses 2 --says "--radius: 0.2 mm is not beyond a quarter pitch (0.25 mm)" --

@@ -96,11 +96,11 @@ CATCH_TEST_CASE("the request's checks say what optimize-weights says, in its ord
       {"unknown mode 'XY'", d, [](OptimizeRequest& r) { r.modes = {"SAI", "XY"}; }},
       {"--mode: several modes need --format csv (one row each)", d,
        [](OptimizeRequest& r) { r.modes = {"SAI", "PC"}; }},
-      {"--width: applies to --objective threshold only", d,
+      {"--width: applies to --objective threshold or selectivity only", d,
        [](OptimizeRequest& r) { r.fibre.width_us = 100; }},
-      {"--fibre-model: applies to --objective threshold only", d,
+      {"--fibre-model: applies to --objective threshold or selectivity only", d,
        [](OptimizeRequest& r) { r.fibre_model_given = true; }},
-      {"--threads: applies to --objective threshold only, --at and --bank", d,
+      {"--threads: applies to --objective threshold or selectivity only, --at and --bank", d,
        [](OptimizeRequest& r) { r.threads = 2; }},
       {"--at: expected X (a 1-D array), got '0,0'", d,
        [](OptimizeRequest& r) { r.at_mm = {{0, 0}}; }},
@@ -141,7 +141,7 @@ CATCH_TEST_CASE("the request's checks say what optimize-weights says, in its ord
        }},
       {"--at: (4.6) mm lies outside the array's extent plus one pitch", d,
        [](OptimizeRequest& r) { r.at_mm = {{4.6}}; }},
-      {"--at: designs by the AF objective only, not --objective threshold", d,
+      {"--at: designs by the AF objective or --objective selectivity, not --objective threshold", d,
        [](OptimizeRequest& r) {
          r.at_mm = {{-0.5}};
          r.objective = OptimizeObjective::threshold;

@@ -73,7 +73,9 @@ def optimize_weights(doc: Document, mode: Optional[str] = None, *,
                      balance_width_us: Optional[float] = None, monophasic: bool = False,
                      offsets: Optional[int] = None, tolerance: Optional[float] = None,
                      max_evaluations: Optional[int] = None, timing: bool = False,
-                     phases: Optional[Sequence[Tuple[float, float]]] = None) -> Document: ...
+                     phases: Optional[Sequence[Tuple[float, float]]] = None,
+                     population: Optional[int] = None, seed: Optional[int] = None,
+                     max_charge_nC: Optional[float] = None) -> Document: ...
 def fiber_threshold(doc: Document, *, model: str = "mrg", width_us: Optional[float] = None,
                     interphase_us: Optional[float] = None,
                     balance_width_us: Optional[float] = None, monophasic: bool = False,
