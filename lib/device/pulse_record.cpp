@@ -140,6 +140,14 @@ void write_tail(Writer& w, const PulseRecord& r) {
   w.text("}\n");
 }
 
+// Each channel's main-phase current (a shaped pulse's unit current), mA: "a, b, ...".
+void write_main_currents(Writer& w, const PulseRecord& r, std::size_t n, std::int64_t step) {
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    w.micro(r.main[i] * step);  // nA = 1e-6 mA
+  }
+}
+
 // A shaped pulse: its phases, the base codes' currents, and each channel's net charge.
 void write_shaped(Writer& w, const PulseRecord& r) {
   const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
@@ -156,10 +164,7 @@ void write_shaped(Writer& w, const PulseRecord& r) {
     charge_units += std::int64_t{r.shape.units[k]} * r.shape.duration_us[k];
   }
   w.text("], \"unit_currents_mA\": [");
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i) w.text(", ");
-    w.micro(r.main[i] * step);  // nA = 1e-6 mA
-  }
+  write_main_currents(w, r, n, step);
   w.text("], \"net_charge_nC\": [");
   for (std::size_t i = 0; i < n; ++i) {
     if (i) w.text(", ");
@@ -187,10 +192,7 @@ std::size_t format_record(const PulseRecord& r, char* out) {
   w.text(", \"balance_width_us\": ");
   w.uint(r.measured ? r.measured_balance_us : r.balance_width_us);
   w.text(", \"currents_mA\": [");
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i) w.text(", ");
-    w.micro(r.main[i] * step);  // nA = 1e-6 mA
-  }
+  write_main_currents(w, r, n, step);
   w.text("], \"net_charge_nC\": [");
   for (std::size_t i = 0; i < n; ++i) {
     if (i) w.text(", ");
