@@ -83,7 +83,7 @@ void declare(CLI::App& app, Flags& f) {
                        "Whole threshold searches, 10 to 10000 [12: about 3 s on 2 cores for the "
                        "paper's array; more polish by Nelder-Mead on whole searches, about 0.2 s "
                        "each]; --objective selectivity: populations scored, 10 to 1000 [40: "
-                       "about a minute on 2 cores for the paper's array]",
+                       "1 to 2 minutes on 2 cores for the paper's array]",
                        10, 10000);
   tp::cli::add_integer(*fibre_group, "--population", f.population,
                        "--objective selectivity: afferents of each class in the population the "
