@@ -406,7 +406,7 @@ PyDocument optimize_weights(
     std::optional<double> width_us, std::optional<double> interphase_us,
     std::optional<double> balance_width_us, bool monophasic, std::optional<int> offsets,
     std::optional<double> tolerance, std::optional<int> max_evaluations, bool timing,
-    const PyPhases& phases, std::optional<int> population, std::optional<std::uint64_t> seed,
+    const PyPhases& phases, std::optional<int> population, std::optional<py::int_> seed,
     std::optional<double> max_charge_nC) {
   if (mode && modes) tp::bad_input("mode and modes: give one");
   if (modes && !bank) tp::bad_input("modes: several modes with bank=True only (one: mode=)");
@@ -431,7 +431,7 @@ PyDocument optimize_weights(
   if (objective == "threshold") r.objective = tp::OptimizeObjective::threshold;
   if (objective == "selectivity") r.objective = tp::OptimizeObjective::selectivity;
   r.population = population;
-  r.seed = seed;
+  if (seed) r.seed = seed_arg(*seed);
   r.max_charge_nC = max_charge_nC;
   r.fibre.model = fibre_model.value_or("mrg");
   r.fibre_model_given = fibre_model.has_value();

@@ -131,6 +131,8 @@ def test_optimize_weights_refuses_as_the_program_does():
         (lambda: tp.optimize_weights(doc, "SAI", at=[-0.5], objective="threshold"),
          ("--at", "-0.5", "--objective", "threshold")),
         (lambda: tp.optimize_weights(doc, "SAI", population=10), ("--population", "10")),
+        (lambda: tp.optimize_weights(doc, "SAI", objective="selectivity", seed=-1),
+         ("--objective", "selectivity", "--seed", "-1")),
         (lambda: tp.optimize_weights(doc, "SAI", objective="selectivity", max_charge_nC=-5),
          ("--objective", "selectivity", "--max-charge", "-5")),
         (lambda: tp.optimize_weights(doc, "SAI", objective="selectivity", population=1000,
