@@ -87,11 +87,14 @@ void declare(CLI::App& app, Flags& f) {
                        10, 10000);
   tp::cli::add_integer(*fibre_group, "--population", f.population,
                        "--objective selectivity: afferents of each class in the population the "
-                       "design is scored on, 1 to 1000 [30]",
+                       "design is scored on, 1 to 1000 [30]; --bank: afferents of each class "
+                       "sampled about each mode's centre pixel, the modes' recruitment (their "
+                       "colours for render-tactile's gamut) [none]",
                        1, 1000);
   tp::cli::add_seed(*fibre_group, "--seed", f.seed,
-                    "--objective selectivity: the population's seed, 0 to 18446744073709551615 "
-                    "[1]; the held-out check's population is drawn with the next");
+                    "--objective selectivity or --bank --population: the population's seed, "
+                    "0 to 18446744073709551615 [1]; a design's held-out check is drawn with the "
+                    "next");
   fibre_group
       ->add_option("--max-charge", f.text.max_charge_nC,
                    "--objective selectivity: the comfort bound on the charge per phase at the "

@@ -134,6 +134,12 @@ int main(int argc, char** argv) {
     }
     const tp::RenderResult out = tp::run_render(r, bank);
     std::fputs((warning_text(out.warning) + note_text(images.note)).c_str(), stderr);
+    if (!out.gamut_note.empty())
+      std::fprintf(stderr, "render-tactile: note: %s\n", out.gamut_note.c_str());
+    if (out.gamut)
+      std::fprintf(stderr, "render-tactile: %s; mapped in %s ms\n",
+                   tp::gamut_summary(*out.gamut).c_str(),
+                   tp::number_text(std::round(out.gamut_ms * 100) / 100).c_str());
     if (!out.lowered.empty()) std::fprintf(stderr, "render-tactile: %s\n", out.lowered.c_str());
     std::fprintf(stderr, "render-tactile: %s; planned in %s ms\n",
                  tp::plan_summary(out.plan).c_str(),

@@ -101,10 +101,18 @@ Plan plan_population(const Setup& setup, const Conductor& conductor_ref, const F
     bad_input("--population: " + std::to_string(o.per_class) + " outside [1, " +
               std::to_string(kMaxPopulation) + "]");
   const double margin = setup.lateral_margin_mm;
-  const double x0 = setup.array.x_min_mm() - margin, x1 = setup.array.x_max_mm() + margin;
+  double x0 = setup.array.x_min_mm() - margin, x1 = setup.array.x_max_mm() + margin;
   const bool two_d = setup.array.two_d();
-  const double z0 = two_d ? setup.array.z_min_mm() - margin : 0.0;
-  const double z1 = two_d ? setup.array.z_max_mm() + margin : 0.0;
+  double z0 = two_d ? setup.array.z_min_mm() - margin : 0.0;
+  double z1 = two_d ? setup.array.z_max_mm() + margin : 0.0;
+  if (o.region_mm) {
+    const std::array<double, 4>& g = *o.region_mm;
+    if (!two_d) bad_input("--population: a region applies to a 2-D array only");
+    if (!(std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2]) &&
+          std::isfinite(g[3]) && g[0] < g[1] && g[2] < g[3]))
+      bad_input("--population: an empty region");
+    x0 = g[0], x1 = g[1], z0 = g[2], z1 = g[3];
+  }
   Plan plan;
   Population& p = plan.p;
   p.two_d = two_d;

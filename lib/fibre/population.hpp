@@ -8,6 +8,7 @@
 // per fibre serves every amplitude: the recruitment curve at any current is read off the
 // thresholds.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -59,6 +60,10 @@ struct PopulationOptions {
   // Kept between calls with the same setup, seed and classes (each afferent the same
   // fibre); null: none.
   PopulationMemo* memo = nullptr;
+  // 2-D arrays: where the afferents are placed, x0, x1, z0, z1 (mm; x0 < x1, z0 < z1), in
+  // place of the pads and the margin (a pixel's recruitment: the pitch around it, the bank's
+  // colours, render/recruitment.hpp).  Bad input on a 1-D array.
+  std::optional<std::array<double, 4>> region_mm;
 };
 
 struct Afferent {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "model/field.hpp"
@@ -56,6 +57,97 @@ BankEntry bank_entry(const Json& e, const Setup& setup, std::size_t primary, con
 
 }  // namespace
 
+std::array<double, 3> ModeRecruitment::fractions(double current_mA) const {
+  std::array<double, 3> f{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::vector<double>& t = thresholds_mA[k];
+    if (t.empty()) continue;
+    const auto n = std::upper_bound(t.begin(), t.end(), current_mA) - t.begin();
+    f[k] = static_cast<double>(n) / static_cast<double>(t.size());
+  }
+  return f;
+}
+
+Json recruitment_to_json(const BankRecruitment& r) {
+  Json j;
+  j["population"] = r.per_class;
+  j["seed"] = r.seed;
+  j["fibre_model"] = r.fibre_model;
+  j["pulse"] = r.pulse;
+  j["max_mA"] = r.max_mA;
+  j["region"] = "the pitch around each mode's pixel";
+  Json modes = Json::object();
+  for (std::size_t m = 0; m < 3; ++m) {
+    if (!r.mode[m]) continue;
+    const ModeRecruitment& q = *r.mode[m];
+    Json e;
+    e["pad"] = q.pad;
+    e["reference_mA"] = q.reference_mA;
+    Json t = Json::object();
+    for (std::size_t k = 0; k < 3; ++k) {
+      Json list = Json::array();
+      for (double v : q.thresholds_mA[k]) list.push_back(std::isfinite(v) ? Json(v) : Json());
+      t[kPrimaries[k]] = list;
+    }
+    e["thresholds_mA"] = t;
+    modes[kPrimaries[m]] = e;
+  }
+  j["modes"] = modes;
+  return j;
+}
+
+namespace {
+
+ModeRecruitment mode_recruitment(const Json& e, std::size_t pads, const std::string& w) {
+  ModeRecruitment q;
+  if (!e.is_object() || !e.contains("pad") || !e["pad"].is_number_integer() ||
+      e["pad"].get<long>() < 0 || e["pad"].get<long>() >= static_cast<long>(pads))
+    bad_input(w + ".pad: not a pad of the bank");
+  q.pad = e["pad"].get<long>();
+  q.reference_mA = get_finite(e, "reference_mA", w);
+  if (!(q.reference_mA > 0 && q.reference_mA <= 1000))
+    bad_input(w + ".reference_mA: outside (0, 1000]");
+  if (!e.contains("thresholds_mA") || !e["thresholds_mA"].is_object())
+    bad_input(w + ": no thresholds_mA");
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::string wk = w + ".thresholds_mA." + kPrimaries[k];
+    const Json& t = e["thresholds_mA"].contains(kPrimaries[k]) ? e["thresholds_mA"][kPrimaries[k]]
+                                                               : Json();
+    if (!t.is_array() || t.empty() || t.size() > 10000)
+      bad_input(wk + ": expected 1 to 10000 thresholds");
+    for (const Json& v : t) {
+      const double x = v.is_null() ? std::numeric_limits<double>::infinity() : json_finite(v, wk);
+      if (!(x > 0)) bad_input(wk + ": a threshold not above 0");
+      if (!q.thresholds_mA[k].empty() && x < q.thresholds_mA[k].back())
+        bad_input(wk + ": not ascending");
+      q.thresholds_mA[k].push_back(x);
+    }
+  }
+  return q;
+}
+
+}  // namespace
+
+BankRecruitment recruitment_from_json(const Json& j, std::size_t pads, const std::string& w) {
+  if (!j.is_object()) bad_input(w + ": not an object");
+  BankRecruitment r;
+  if (!j.contains("population") || !j["population"].is_number_integer() ||
+      j["population"].get<long>() < 1 || j["population"].get<long>() > 10000)
+    bad_input(w + ".population: not a count from 1 to 10000");
+  r.per_class = j["population"].get<long>();
+  if (j.contains("seed") && j["seed"].is_number_unsigned()) r.seed = j["seed"].get<std::uint64_t>();
+  if (j.contains("fibre_model") && j["fibre_model"].is_string())
+    r.fibre_model = j["fibre_model"].get<std::string>();
+  if (j.contains("pulse")) r.pulse = j["pulse"];
+  if (j.contains("max_mA")) r.max_mA = json_finite(j["max_mA"], w + ".max_mA");
+  if (!j.contains("modes") || !j["modes"].is_object()) bad_input(w + ": no modes");
+  for (std::size_t m = 0; m < 3; ++m)
+    if (j["modes"].contains(kPrimaries[m]))
+      r.mode[m] = mode_recruitment(j["modes"][kPrimaries[m]], pads,
+                                   w + ".modes." + kPrimaries[m]);
+  return r;
+}
+
 PixelBank pixel_bank_from_json(const Json& j) {
   if (!j.is_object() || !j.contains("bank") || !j.contains("pixels") || !j["pixels"].is_array())
     bad_input("bank: not a bank of pixels (optimize-weights --bank)");
@@ -85,6 +177,8 @@ PixelBank pixel_bank_from_json(const Json& j) {
         b.entry[k][m] = bank_entry(p["patterns"][kPrimaries[m]], b.doc.setup, m,
                                    where + ".patterns." + kPrimaries[m]);
   }
+  if (j.contains("recruitment"))
+    b.recruitment = recruitment_from_json(j["recruitment"], a.size(), "bank: recruitment");
   return b;
 }
 

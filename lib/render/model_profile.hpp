@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "fibre/models.hpp"
 #include "fibre/report.hpp"
 #include "psych/profile.hpp"
 #include "io/bank.hpp"
@@ -33,6 +34,22 @@ struct ModelProfile {
   std::array<long, 3> pixel = {-1, -1, -1};            // the pad whose pattern gave each threshold
   std::array<bool, 3> capped = {false, false, false};  // comfort held at the current limit
 };
+
+// The feasible pattern of a primary nearest the array's centre pad (the lowest index of a
+// tie): its pad; -1 when the bank has the mode but no feasible pattern of it, kNoMode when
+// the bank has no such mode.
+inline constexpr long kNoMode = -2;
+long centre_pattern(const PixelBank& bank, std::size_t primary);
+
+// The model's threshold of a bank pattern's target: the primary's receptor as the setup
+// has it, its fibre through the pattern's peak, searched up to max_mA; why none, if none.
+struct PatternThreshold {
+  std::optional<double> threshold_mA;
+  std::string reason;
+};
+PatternThreshold pattern_threshold(const PixelBank& bank, long pad, std::size_t primary,
+                                   const fibre::FibreModel& model, const PulseSpec& pulse,
+                                   double max_mA);
 
 // Bad input naming the primary when the model gives it no threshold within the current
 // limit (or none of its patterns is feasible), or comfort_factor is outside [1.1, 10].

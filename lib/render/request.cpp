@@ -52,6 +52,30 @@ RenderProfile render_profile(const RenderRequest& r, const PixelBank& bank) {
                           "; run calibrate"};
 }
 
+namespace {
+
+// A still's requested colours into the intensities nearest them in the modes' gamut, when
+// the bank carries the modes' recruitment; else why not, said (docs/rendering.md, "The
+// gamut").
+void map_image(RenderRequest& r, const PixelBank& bank, const Profile& profile, RenderResult& out) {
+  if (!bank.recruitment) {
+    out.gamut_note =
+        "the bank carries no recruitment (optimize-weights --bank --population N): each "
+        "channel drives its mode as given, whatever else the mode recruits";
+    return;
+  }
+  if (r.sequence) {
+    out.gamut_note = "a sequence's frames drive the modes as given (not mapped into the gamut)";
+    return;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  out.gamut = map_to_gamut(bank, profile, r.image);
+  out.gamut_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
 RenderResult run_render(const RenderRequest& request, const PixelBank& bank) {
   RenderRequest r = request;
   fit_to_bank(r, bank);
@@ -63,6 +87,7 @@ RenderResult run_render(const RenderRequest& request, const PixelBank& bank) {
   RenderOptions& o = r.options;
   o.duration_s = render_duration_s(r, r.frames ? r.frames->count() : 0);
   check_render_options(o);
+  map_image(r, bank, profile.profile, out);
   const auto t0 = std::chrono::steady_clock::now();
   out.plan = !r.sequence ? plan_render(bank, profile.profile, r.image, o)
              : r.frames
@@ -81,6 +106,7 @@ RenderResult run_render(const RenderRequest& request, const PixelBank& bank) {
   out.document = r.plan_only  ? plan_to_json(out.plan)
                  : r.sequence ? sequence_to_json(out.plan, bank)
                               : mix_to_json(out.plan.mix);
+  if (out.gamut) out.document["gamut"] = gamut_to_json(*out.gamut);
   return out;
 }
 

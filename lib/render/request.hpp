@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "render/model_profile.hpp"
+#include "render/recruitment.hpp"
 #include "render/render.hpp"
 
 namespace tp {
@@ -55,6 +56,13 @@ struct RenderResult {
   std::string warning;  // render_profile's
   std::string lowered;  // why rates were lowered (lowered_text; empty when not)
   double plan_ms = 0;   // the time the plan took
+  // A still's image mapped into the modes' gamut (the bank carries their recruitment,
+  // render/recruitment.hpp), in the document as "gamut"; none without it or for a sequence.
+  std::optional<GamutReport> gamut;
+  double gamut_ms = 0;  // the time the mapping took
+  // Why the channels were rendered as given: the bank carries no recruitment, or a
+  // sequence's frames are not mapped (empty: mapped, or nothing to say).
+  std::string gamut_note;
 };
 // Fits the request to the bank, checks its options (bad input naming them as
 // render-tactile's flags), plans it and checks the mix as a device would (unless it is

@@ -13,6 +13,7 @@
 #include "requests/optimize_reports.hpp"
 #include "core/ranges.hpp"
 #include "opt/bank.hpp"
+#include "render/recruitment.hpp"
 #include "opt/focus.hpp"
 #include "opt/minimax.hpp"
 #include "opt/selectivity_design.hpp"
@@ -46,6 +47,7 @@ struct OptimizePlan {
   FibreOptions fibre;
   fibre::ThresholdSearchOptions search;
   fibre::SelectivityOptions selectivity;
+  std::optional<RecruitmentOptions> recruitment;  // a bank's (--population)
 };
 
 bool by_threshold(const OptimizeRequest& r) {
@@ -148,8 +150,9 @@ void check_threshold_flags(const OptimizeRequest& r) {
                                                  {"--seed", r.seed.has_value()},
                                                  {"--max-charge", r.max_charge_nC.has_value()}};
   for (const auto& [flag, is_given] : design)
-    if (is_given && !by_selectivity(r))
-      bad_input(std::string(flag) + ": applies to --objective selectivity only");
+    if (is_given && !by_selectivity(r) && !(r.bank && std::string(flag) != "--max-charge"))
+      bad_input(std::string(flag) + ": applies to --objective selectivity" +
+                (std::string(flag) == "--max-charge" ? "" : " or --bank") + " only");
   if (by_fibre(r)) return;
   const FibreOptions& f = r.fibre;
   const std::pair<const char*, bool> given[] = {
@@ -206,6 +209,10 @@ BankOptions bank_options(const OptimizeRequest& r, const OptimizePlan& p) {
     bad_input("--bank: JSON output only (no --format csv, --header-only, --no-header)");
   if (r.pattern_starts || r.random_starts)
     bad_input("--pattern-starts, --random-starts: do not apply with --bank");
+  if (r.population && !r.at_mm.empty())
+    bad_input("--population: with --bank, every pad's pixel (no --at): render-tactile's bank");
+  if (r.population && !p.doc.setup.array.grid())
+    bad_input("--population: with --bank on a grid of pads only");
   BankOptions b;
   b.modes = r.modes;
   b.at = p.places;
@@ -223,6 +230,22 @@ BankOptions bank_options(const OptimizeRequest& r, const OptimizePlan& p) {
                q.judged == 1);  // the second stage: shown as it starts
     };
   return b;
+}
+
+// A bank's recruitment (--bank --population N [--seed S]): the modes' colours for
+// render-tactile's gamut, at its default pulse, by the MRG model.
+RecruitmentOptions recruitment_options(const OptimizeRequest& r) {
+  RecruitmentOptions o;
+  o.per_class = static_cast<std::size_t>(*r.population);
+  o.seed = r.seed.value_or(1);
+  o.threads = static_cast<unsigned>(r.threads.value_or(0));
+  if (r.progress)
+    o.progress = [progress = r.progress](std::size_t done, std::size_t total) {
+      progress("recruitment " + std::to_string(done) + " of " + std::to_string(total) +
+                   " afferents",
+               done == 1);
+    };
+  return o;
 }
 
 // The single-target designs' output options.
@@ -313,6 +336,7 @@ OptimizePlan plan_optimize(const Document& doc, const OptimizeRequest& r) {
   if (r.bank) {
     p.design = Design::bank;
     p.bank = bank_options(r, p);
+    if (r.population) p.recruitment = recruitment_options(r);
     return p;
   }
   check_outputs(r);
@@ -333,6 +357,13 @@ OptimizeOutput run_bank(const OptimizePlan& p) {
   OptimizeOutput out;
   const Bank result = optimize_bank(p.doc.setup, p.bank);
   out.document = bank_to_json(p.doc, result, p.bank);
+  std::string recruitment;
+  if (p.recruitment) {
+    const BankRecruitment rec =
+        bank_recruitment(pixel_bank_from_json(out.document), *p.recruitment);
+    out.document["recruitment"] = recruitment_to_json(rec);
+    recruitment = recruitment_note(rec);
+  }
   std::size_t infeasible = 0, broken = 0;
   for (const BankPattern& q : result.patterns) {
     if (!q.feasible)
@@ -349,6 +380,7 @@ OptimizeOutput run_bank(const OptimizePlan& p) {
                 result.solves, result.patterns.size() - static_cast<std::size_t>(result.solves),
                 infeasible, broken);
   out.notes.push_back(line);
+  if (!recruitment.empty()) out.notes.push_back(recruitment);
   return out;
 }
 

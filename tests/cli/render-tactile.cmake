@@ -7,7 +7,7 @@ tp_cli_test(render-tactile bank script ${CMAKE_CURRENT_SOURCE_DIR}/render-tactil
 set_tests_properties(render-tactile.bank PROPERTIES
   ENVIRONMENT "${TP_CLI_ENV};TP_RENDER_BANK=${TP_RENDER_BANK}" FIXTURES_SETUP render-bank
   PROCESSORS 2)
-foreach(script still budget sequence refusals profile-units model-profile pictures animation)
+foreach(script still budget sequence refusals profile-units model-profile pictures animation gamut)
   tp_cli_test(render-tactile ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/render-tactile/${script}.sh)
   set_tests_properties(render-tactile.${script} PROPERTIES
     ENVIRONMENT "${TP_CLI_ENV};TP_RENDER_BANK=${TP_RENDER_BANK}" FIXTURES_REQUIRED render-bank

@@ -1,0 +1,79 @@
+#pragma once
+// The tactile gamut's colours (issue 40, item 4; docs/rendering.md, "The gamut"): each
+// mode's recruitment, the fractions of RA, SAI and PC afferents its pattern recruits, is the
+// mode's true colour.  optimize-weights --bank --population N samples it once per mode (the
+// bank carries it); render-tactile reads each mode's colour at the person's full intensity
+// and maps every requested (R, G, B) = (RA, SAI, PC) to the mode intensities whose predicted
+// recruitment comes nearest (render/gamut.hpp), saying how many pixels fell outside.
+//
+// A person's currents are not the model's: a current I of primary M is read in multiples of
+// the person's threshold there, I / threshold_M, at the model's reference (the target's model
+// threshold, as the profile without calibration takes it): the colour at I is the fractions
+// recruited at reference_M x I / threshold_M.  The mix of modes is predicted linearly,
+// sum_M v_M colour_M(full intensity), for intensities v in [0, 1]: an approximation the docs
+// state (recruitment grows with the current, not in proportion to it).
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/json.hpp"
+#include "io/bank.hpp"
+#include "psych/profile.hpp"
+#include "pulse/thresholds.hpp"
+#include "render/gamut.hpp"
+#include "render/image.hpp"
+
+namespace tp {
+
+struct RecruitmentOptions {
+  std::size_t per_class = 30;  // afferents of each class, 1 to 1000
+  std::uint64_t seed = 1;
+  std::string fibre_model = "mrg";
+  PulseSpec pulse;             // render-tactile's default pulse: 200 us biphasic
+  double max_mA = 10;          // an afferent not firing below this is not recruited
+  unsigned threads = 0;        // 0: every core
+  // Called as each afferent's search ends (one call at a time): done, total.
+  std::function<void(std::size_t done, std::size_t total)> progress;
+};
+
+// Each mode's recruitment at its pattern nearest the array's centre (render/model_profile's
+// centre_pattern): afferents of each class sampled over the pitch around that pad (x and z),
+// each one's threshold.  Bad input for a bank with no feasible pattern of a mode it has, a
+// target with no model threshold below max_mA, or a population out of range.
+BankRecruitment bank_recruitment(const PixelBank& bank, const RecruitmentOptions& o);
+
+// optimize-weights' line on stderr: each mode's fractions at twice its reference (the
+// profile without calibration's full intensity), "recruitment, 30 afferents a class about
+// each mode's centre pixel, at 2 x its threshold: RA mode RA 0.40 SAI 0.97 PC 0.53; ...".
+std::string recruitment_note(const BankRecruitment& r);
+
+// The colours at a pad for a profile: mode M's fractions at reference_M x comfort_M /
+// threshold_M (the profile's range for M there); zero for a mode without recruitment or
+// without a range in the profile.
+GamutColours gamut_colours(const BankRecruitment& r, const Profile& profile, long pad);
+
+// A requested colour is outside the gamut when the nearest prediction misses it by more
+// than half an 8-bit step (the image's resolution).
+inline constexpr double kGamutTolerance = 0.5 / 255.0;
+
+struct GamutReport {
+  std::size_t requested = 0;  // pixels asking for anything
+  std::size_t outside = 0;    // of them, outside the gamut
+  double max_error = 0, mean_error = 0;  // over the requested pixels
+  std::vector<double> error;  // per pad (0 where nothing was asked)
+  GamutColours centre{};      // the colours at the array's centre pad
+};
+
+// Replaces each pad's requested colour by the mode intensities nearest it (nearest_in_gamut
+// with that pad's colours: gamut_colours, none for a mode with no feasible pattern there),
+// and says how near they came.  The bank must carry its recruitment.
+GamutReport map_to_gamut(const PixelBank& bank, const Profile& profile, PadIntensities& image);
+
+// The output's "gamut" field, and the stderr line: "gamut: 3 of 16 pixels asked for outside
+// the modes' gamut (error up to 0.41, mean 0.12, in fractions recruited)".
+Json gamut_to_json(const GamutReport& g);
+std::string gamut_summary(const GamutReport& g);
+
+}  // namespace tp

@@ -1,0 +1,55 @@
+# The gamut (issue 40, item 4; docs/rendering.md "The gamut"): optimize-weights --bank
+# --population N carries each mode's recruitment; render-tactile maps every requested colour
+# to the mode intensities nearest it, and says how near.  Checked: the recruitment's
+# reference is fiber-threshold's threshold for the same pattern through its peak (the peer);
+# the document's intensities predict, with the document's colours, exactly the errors it
+# reports, and the count outside is the count of errors above the tolerance; a colour made
+# of the modes' own colours is met; a bank without recruitment is said to render as given.
+source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
+optimize-weights --bank --grid 4x4 --pitch 2 --pad 1x1 --neighbourhood 3 --population 3 \
+  > rb.json 2> rb.err || fail "optimize-weights --population: $(cat rb.err)"
+grep -q "^optimize-weights: recruitment, 3 afferents a class about each mode's centre pixel" rb.err \
+  || fail "no recruitment line: $(cat rb.err)"
+jq -e '.recruitment.population == 3 and ([.recruitment.modes[] | .thresholds_mA[]
+       | length == 3 and (map(. // 1e300) | . == sort)] | length == 9 and all)' rb.json > /dev/null \
+  || fail "recruitment: $(jq -c .recruitment rb.json)"
+# The peer: fiber-threshold on the SAI mode's pattern at its pad, through its peak.
+P=$(jq '.recruitment.modes.SAI.pad' rb.json)
+jq --argjson k "$P" '.pixels[$k].patterns.SAI as $p | .weights = $p.weights
+    | .focus = {x_mm: $p.peak.x_mm, z_mm: $p.peak.z_mm} | del(.pixels, .bank, .recruitment)' rb.json > sai.json
+fiber-threshold --config sai.json > th.json 2> th.err || fail "fiber-threshold: $(cat th.err)"
+jq -e --slurpfile t th.json '(.recruitment.modes.SAI.reference_mA / $t[0].thresholds.receptors.SAI.threshold_mA - 1
+       | fabs) < 0.01' rb.json > /dev/null \
+  || fail "SAI reference $(jq .recruitment.modes.SAI.reference_mA rb.json) mA, fiber-threshold's $(jq .thresholds.receptors.SAI.threshold_mA th.json) mA"
+
+# A picture: pure RA, pure SAI, pure PC and grey pixels around the centre (pad 5 = (1, 1)).
+mkpng pic.png 4 4 "1,1,255,0,0" "2,1,0,255,0" "1,2,0,0,255" "2,2,128,128,128"
+render-tactile --bank rb.json --profile profile.json pic.png > pic.json 2> pic.err \
+  || fail "render-tactile: $(cat pic.err)"
+grep -q "^render-tactile: gamut: [0-9]* of 4 pixels asked for outside the modes' gamut (error up to" pic.err \
+  || fail "no gamut line: $(cat pic.err)"
+# Each pixel's intensities, from the patterns; predicted with the colours, against the request.
+jq -e '(.gamut.colours) as $c | .gamut as $g
+  | [.patterns[] | .primary as $m | range(0; .pixels | length) as $i
+     | {pad: .pixels[$i], m: $m, v: .intensities[$i]}] | group_by(.pad)
+  | map({pad: .[0].pad, v: (map({(.m): .v}) | add)})
+  | {"5": [1,0,0], "6": [0,1,0], "9": [0,0,1], "10": [128/255,128/255,128/255]} as $ask
+  | all(.[]; . as $p | $ask[($p.pad | tostring)] as $r
+        | ([range(0;3) | . as $k | (["RA","SAI","PC"] | map(($p.v[.] // 0) * $c[.][$k]) | add) - $r[$k]]
+           | map(. * .) | add | sqrt) as $e
+        | (($e - $g.error[$p.pad]) | fabs) < 1e-9)
+    and $g.requested == 4 and $g.outside == ($g.error | map(select(. > $g.tolerance)) | length)' pic.json > /dev/null \
+  || fail "the intensities do not give the errors reported: $(jq -c '.gamut' pic.json)"
+# A colour of the SAI mode's own colour at 60 % is inside: met within the tolerance.
+C=$(jq -r '.gamut.colours.SAI | map(. * 0.6 * 255 | round) | join(",")' pic.json)
+mkpng in.png 4 4 "1,1,$C"
+render-tactile --bank rb.json --profile profile.json in.png > in.json 2> in.err || fail "$(cat in.err)"
+jq -e '.gamut.outside == 0 and .gamut.error[5] < .gamut.tolerance' in.json > /dev/null \
+  || fail "SAI's own colour ($C) outside: $(jq -c '.gamut | del(.error)' in.json)"
+# Without recruitment in the bank: rendered as given, and said.
+mkpng g.png "$COLUMNS" "$ROWS" "1,1,0,255,0"
+render-tactile --bank "$BANK" --profile profile.json g.png > g.json 2> g.err || fail "$(cat g.err)"
+grep -q "^render-tactile: note: the bank carries no recruitment (optimize-weights --bank --population N)" g.err \
+  || fail "no note: $(cat g.err)"
+jq -e 'has("gamut") | not' g.json > /dev/null || fail "a gamut without recruitment"
+echo "ok: $(grep gamut: pic.err)"
