@@ -38,10 +38,11 @@ PrimaryRange range_from_json(const Json& j, const std::string& where, double max
   if (!j.is_object()) bad_input(where + ": expected an object");
   for (const auto& [key, value] : j.items())
     if (key != "threshold_mA" && key != "comfort_mA" && key != "trials" &&
-        key != "threshold_spread_mA" && key != "comfort_spread_mA")
+        key != "threshold_spread_mA" && key != "comfort_spread_mA" &&
+        key != "model_threshold_mA" && key != "colour")
       bad_input(where + ": unknown key '" + key +
-                "' (a range has threshold_mA, comfort_mA, trials, threshold_spread_mA and "
-                "comfort_spread_mA)");
+                "' (a range has threshold_mA, comfort_mA, trials, threshold_spread_mA, "
+                "comfort_spread_mA, model_threshold_mA and colour)");
   for (const char* key : {"threshold_mA", "comfort_mA"})
     if (!j.contains(key)) bad_input(where + ": no " + key);
   PrimaryRange r;
@@ -66,6 +67,24 @@ PrimaryRange range_from_json(const Json& j, const std::string& where, double max
       *field = json_finite(j[key], where + "." + key);
       if (*field < 0) bad_input(where + "." + key + ": negative");
     }
+  if (j.contains("model_threshold_mA")) {
+    r.model_threshold_mA = json_finite(j["model_threshold_mA"], where + ".model_threshold_mA");
+    if (!(r.model_threshold_mA > 0 && r.model_threshold_mA <= 1000))
+      bad_input(where + ".model_threshold_mA: " + number_beside(r.model_threshold_mA, 0, 1000) +
+                " mA outside (0, 1000] mA");
+  }
+  if (j.contains("colour")) {
+    const Json& c = j["colour"];
+    if (!c.is_array() || c.size() != 3)
+      bad_input(where + ".colour: expected 3 fractions (RA, SAI, PC)");
+    std::array<double, 3> f{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      f[k] = json_finite(c[k], where + ".colour");
+      if (!(f[k] >= 0 && f[k] <= 1))
+        bad_input(where + ".colour: " + number_beside(f[k], 0, 1) + " outside [0, 1]");
+    }
+    r.colour = f;
+  }
   return r;
 }
 
@@ -76,6 +95,8 @@ Json range_to_json(const PrimaryRange& r) {
     j["threshold_spread_mA"] = r.threshold_spread_mA;
     j["comfort_spread_mA"] = r.comfort_spread_mA;
   }
+  if (r.model_threshold_mA > 0) j["model_threshold_mA"] = r.model_threshold_mA;
+  if (r.colour) j["colour"] = Json::array({(*r.colour)[0], (*r.colour)[1], (*r.colour)[2]});
   return j;
 }
 

@@ -20,6 +20,13 @@ struct PrimaryRange {
   // What calibrate measured (0: not known): its trials, and each level's spread (mA).
   int trials = 0;
   double threshold_spread_mA = 0, comfort_spread_mA = 0;
+  // The fibre model's threshold for the same primary's pattern (calibrate writes it beside
+  // the person's, render/model_profile.hpp's pattern at the centre pixel; 0: not known).
+  double model_threshold_mA = 0;
+  // The fractions of RA, SAI and PC afferents the primary's mode recruits at this comfort
+  // limit, by the bank's recruitment (calibrate writes it when the bank has one;
+  // render/recruitment.hpp): the mode's colour for this person.  Each in [0, 1].
+  std::optional<std::array<double, 3>> colour{};
 };
 
 struct Profile {

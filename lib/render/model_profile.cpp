@@ -1,6 +1,7 @@
 #include "render/model_profile.hpp"
 
 #include <cmath>
+#include <exception>
 #include <limits>
 
 #include "core/error.hpp"
@@ -45,6 +46,31 @@ PatternThreshold pattern_threshold(const PixelBank& bank, long pad, std::size_t 
   s.through_mm = std::array<double, 2>{e.peak_x_mm, e.peak_z_mm};
   const fibre::ThresholdReport rep = fibre::compute_thresholds(setup, e.weights, model, pulse, s);
   return {rep.receptors[0].threshold_mA, rep.receptors[0].reason};
+}
+
+std::vector<std::string> add_model_thresholds(Profile& profile, const PixelBank& bank,
+                                              const std::string& fibre_model,
+                                              const PulseSpec& pulse, double max_mA) {
+  const std::unique_ptr<fibre::FibreModel> model = fibre::make_fibre_model(fibre_model);
+  std::vector<std::string> notes;
+  if (bank.doc.setup.array.size() != bank.pads() || bank.pads() == 0) return notes;
+  for (std::size_t p = 0; p < kPrimaries.size(); ++p) {
+    if (!profile.primary[p]) continue;
+    const long pad = centre_pattern(bank, p);
+    if (pad < 0) continue;
+    PatternThreshold t;
+    try {  // a prediction only: the person's profile stands without it
+      t = pattern_threshold(bank, pad, p, *model, pulse, max_mA);
+    } catch (const std::exception& e) {
+      t.reason = e.what();
+    }
+    if (t.threshold_mA)
+      profile.primary[p]->model_threshold_mA = *t.threshold_mA;
+    else
+      notes.push_back(std::string("the model gives ") + kPrimaries[p] + " no threshold within " +
+                      number_text(max_mA) + " mA (" + t.reason + "): no model_threshold_mA");
+  }
+  return notes;
 }
 
 ModelProfile model_profile(const PixelBank& bank, const ModelProfileOptions& o) {

@@ -8,6 +8,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "fibre/models.hpp"
 #include "fibre/report.hpp"
@@ -50,6 +51,14 @@ struct PatternThreshold {
 PatternThreshold pattern_threshold(const PixelBank& bank, long pad, std::size_t primary,
                                    const fibre::FibreModel& model, const PulseSpec& pulse,
                                    double max_mA);
+
+// Each primary's model threshold beside the person's (calibrate's profile): its pattern
+// nearest the centre (centre_pattern), under the fibre model and pulse, searched up to
+// max_mA, in each primary-wide range the profile has (per-pixel ranges are left without).
+// Returns a note for each primary the model gives no threshold (none: every one known).
+std::vector<std::string> add_model_thresholds(Profile& profile, const PixelBank& bank,
+                                              const std::string& fibre_model,
+                                              const PulseSpec& pulse, double max_mA);
 
 // Bad input naming the primary when the model gives it no threshold within the current
 // limit (or none of its patterns is feasible), or comfort_factor is outside [1.1, 10].

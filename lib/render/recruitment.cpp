@@ -109,9 +109,18 @@ GamutColours gamut_colours(const BankRecruitment& r, const Profile& profile, lon
     if (!has) continue;
     const PrimaryRange& range = profile.range(static_cast<int>(m), pad);
     const double at_mA = r.mode[m]->reference_mA * range.comfort_mA / range.threshold_mA;
-    c[m] = r.mode[m]->fractions(at_mA);
+    c[m] = range.colour ? *range.colour : r.mode[m]->fractions(at_mA);
   }
   return c;
+}
+
+void add_colours(Profile& profile, const BankRecruitment& r) {
+  for (std::size_t m = 0; m < 3; ++m)
+    if (profile.primary[m] && r.mode[m]) {
+      PrimaryRange& range = *profile.primary[m];
+      range.colour = r.mode[m]->fractions(r.mode[m]->reference_mA * range.comfort_mA /
+                                          range.threshold_mA);
+    }
 }
 
 GamutReport map_to_gamut(const PixelBank& bank, const Profile& profile, PadIntensities& image) {

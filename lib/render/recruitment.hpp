@@ -49,9 +49,14 @@ BankRecruitment bank_recruitment(const PixelBank& bank, const RecruitmentOptions
 // each mode's centre pixel, at 2 x its threshold: RA mode RA 0.40 SAI 0.97 PC 0.53; ...".
 std::string recruitment_note(const BankRecruitment& r);
 
-// The colours at a pad for a profile: mode M's fractions at reference_M x comfort_M /
-// threshold_M (the profile's range for M there); zero for a mode without recruitment or
-// without a range in the profile.
+// Each primary-wide range of the profile gains its colour (calibrate, with a bank that
+// carries recruitment; per-pixel ranges are read at render time).
+void add_colours(Profile& profile, const BankRecruitment& r);
+
+// The colours at a pad for a profile: the range's own colour where it carries one
+// (calibrate's), else mode M's fractions at reference_M x comfort_M / threshold_M (the
+// profile's range for M there); zero for a mode without recruitment or without a range in
+// the profile.
 GamutColours gamut_colours(const BankRecruitment& r, const Profile& profile, long pad);
 
 // A requested colour is outside the gamut when the nearest prediction misses it by more

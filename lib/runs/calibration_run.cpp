@@ -1,5 +1,8 @@
 #include "runs/calibration_run.hpp"
 
+#include "render/model_profile.hpp"
+#include "render/recruitment.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -13,6 +16,7 @@
 #include "host/terminal.hpp"
 #include "host/transport.hpp"
 #include "model/primaries.hpp"
+#include "render/model_profile.hpp"
 
 namespace tp::runs {
 namespace {
@@ -80,13 +84,24 @@ std::unique_ptr<host::Transport> open_port(const CalibrateRequest& r, const Pixe
 }
 
 // What was found, for stderr: the notes, then the summary; a runtime failure (after the
-// notes) when no primary was.
-Profile finish(const Calibration& cal, const std::function<void(const std::string&)>& tell) {
+// notes) when no primary was.  The profile gains the model's thresholds beside the
+// person's (a note for each primary the model gives none).
+Profile finish(const Calibration& cal, const PixelBank& bank, const CalibrateRequest& r,
+               const std::function<void(const std::string&)>& tell) {
   for (const std::string& note : cal.notes()) tell("calibrate: " + note);
-  const Profile p = cal.profile();
+  Profile p = cal.profile();
   bool any = false;
   for (const auto& range : p.primary) any = any || range.has_value();
   if (!any) failure("no primary found (said above): no profile; the log has every trial");
+  // The model's prediction beside each measured threshold (docs/calibration.md).
+  const CalibrationOptions o = calibration_options(r.spec);
+  PulseSpec pulse;
+  pulse.width_us = o.width_us;
+  pulse.balance_width_us = o.balance_width_us;
+  for (const std::string& note :
+       add_model_thresholds(p, bank, "mrg", pulse, bank.doc.max_current_mA))
+    tell("calibrate: note: " + note);
+  if (bank.recruitment) add_colours(p, *bank.recruitment);  // the modes' colours for this person
   tell("calibrate: " + cal.summary());
   return p;
 }
@@ -107,7 +122,7 @@ Profile run_calibration(const CalibrateRequest& r, const PixelBank& bank, Calibr
   person.say("calibrate: " + cal.length_text() + "\n");
   while (!cal.done()) run_trial(cal, *transport, person, log, flag, bank.columns);
   log.close();
-  return finish(cal, tell);
+  return finish(cal, bank, r, tell);
 }
 
 }  // namespace tp::runs

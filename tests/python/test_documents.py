@@ -33,6 +33,13 @@ def test_a_pixel_and_a_bank_are_the_programs_json():
     cli = run("optimize-weights", "--bank", "--grid", "3x2", "--pitch", "2", "--pad", "1x1")[0]
     bank = tp.optimize_weights(tp.Document.create(grid="3x2", pitch_mm=2, pad="1x1"), bank=True)
     assert bank.to_json().encode() == cli
+    # With the modes' recruitment (the gamut's colours), 2 afferents a class.
+    cli = run("optimize-weights", "--bank", "--grid", "3x2", "--pitch", "2", "--pad", "1x1",
+              "--population", "2", "--seed", "5")[0]
+    bank = tp.optimize_weights(tp.Document.create(grid="3x2", pitch_mm=2, pad="1x1"), bank=True,
+                               population=2, seed=5)
+    assert bank.to_json().encode() == cli
+    assert bank["recruitment"]["population"] == 2 and bank["recruitment"]["seed"] == 5
 
 
 def test_the_threshold_objective_is_the_programs_json():

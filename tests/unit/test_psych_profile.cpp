@@ -47,6 +47,25 @@ TEST_CASE("a profile: its currents, and every range outside its bounds refused",
   Json odd = profile_json();
   odd["primaries"]["XY"] = {{"threshold_mA", 0.1}, {"comfort_mA", 0.2}};
   refused(odd, "not a primary");
+  // The model's threshold beside the person's (calibrate): carried both ways, in range.
+  Json model = profile_json();
+  model["primaries"]["SAI"]["model_threshold_mA"] = 0.0864;
+  const Profile m = profile_from_json(model, 2.0, 64);
+  CHECK(m.primary[1]->model_threshold_mA == 0.0864);
+  CHECK(m.primary[0]->model_threshold_mA == 0);  // not known
+  CHECK(profile_to_json(m) == model);
+  model["primaries"]["SAI"]["model_threshold_mA"] = 0.0;
+  refused(model, "primaries.SAI.model_threshold_mA: 0 mA outside (0, 1000] mA");
+  model["primaries"]["SAI"].erase("model_threshold_mA");
+  model["primaries"]["SAI"]["colour"] = Json::array({0.5, 1.0, 0.0});
+  CHECK(*profile_from_json(model, 2.0, 64).primary[1]->colour == std::array<double, 3>{0.5, 1, 0});
+  model["primaries"]["SAI"]["colour"] = Json::array({0.5, 1.5, 0.0});
+  refused(model, "primaries.SAI.colour: 1.5 outside [0, 1]");
+  model["primaries"]["SAI"]["colour"] = Json::array({0.5});
+  refused(model, "primaries.SAI.colour: expected 3 fractions (RA, SAI, PC)");
+  model["primaries"]["SAI"].erase("colour");
+  model["primaries"]["SAI"]["model_mA"] = 0.1;
+  refused(model, "unknown key 'model_mA'");
   Json partial = profile_json();
   partial["primaries"].erase("PC");
   const Profile r = profile_from_json(partial, 2.0, 64);

@@ -41,9 +41,12 @@ BankRecruitment three_modes() {
   return r;
 }
 
-Profile twice_threshold() {
+Profile profile_at(double threshold_mA, double comfort_mA) {
   Profile p;
-  for (auto& range : p.primary) range = PrimaryRange{0.4, 0.8};
+  PrimaryRange range;
+  range.threshold_mA = threshold_mA;
+  range.comfort_mA = comfort_mA;
+  for (auto& r : p.primary) r = range;
   return p;
 }
 
@@ -82,7 +85,7 @@ TEST_CASE("recruitment: fractions at a current, JSON both ways, refusals",
 TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, outside counted",
           "[render][gamut]") {
   const BankRecruitment r = three_modes();
-  const Profile p = twice_threshold();
+  const Profile p = profile_at(0.4, 0.8);
   const GamutColours c = gamut_colours(r, p, 0);
   CHECK(c[0] == std::array<double, 3>{0.75, 0.25, 0});
   CHECK(c[1] == std::array<double, 3>{0, 1, 0.25});
@@ -125,9 +128,16 @@ TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, out
   CHECK(j["error"].size() == 4);
   // A person's profile reads the colour at the person's multiple of threshold: comfort at
   // 1.5 x threshold reads the thresholds at 1.5 x the reference.
-  Profile narrow;
-  for (auto& range : narrow.primary) range = PrimaryRange{1.0, 1.5};
+  Profile narrow = profile_at(1.0, 1.5);
   CHECK(gamut_colours(r, narrow, 0)[0] == r.mode[0]->fractions(1.5));
+  // calibrate's colours (add_colours) are those, carried by the profile, and read first.
+  Profile person = narrow;
+  add_colours(person, r);
+  REQUIRE(person.primary[0]->colour);
+  CHECK(*person.primary[0]->colour == r.mode[0]->fractions(1.5));
+  person.primary[1]->colour = std::array<double, 3>{0.1, 0.2, 0.3};
+  CHECK(gamut_colours(r, person, 0)[1] == std::array<double, 3>{0.1, 0.2, 0.3});
+  CHECK(profile_to_json(person)["primaries"]["SAI"]["colour"] == Json::array({0.1, 0.2, 0.3}));
   // A mode the profile has no range for is no colour.
   narrow.primary[2].reset();
   CHECK(gamut_colours(r, narrow, 0)[2] == std::array<double, 3>{0, 0, 0});

@@ -51,6 +51,14 @@ observe 0.2 0.5 "${cal[@]}" --log seen.csv --output seen.json || fail "observed:
 jq -e '.primaries.SAI as $r | ($r.threshold_mA / 0.2 | log | fabs) <= (1.25 | sqrt | log) + 1e-9
     and ($r.comfort_mA / 0.5 | log | fabs) <= (1.25 | sqrt | log) + 1e-9' seen.json > /dev/null \
   || fail "observed 0.2 and 0.5 mA: $(jq -c .primaries seen.json)"
+# The model's threshold beside the person's: fiber-threshold's for the SAI pattern at the
+# centre pixel (pad 27 of the 8 x 8 bank), through its peak, at calibrate's pulse.
+jq '.pixels[27].patterns.SAI as $p | .weights = $p.weights
+    | .focus = {x_mm: $p.peak.x_mm, z_mm: $p.peak.z_mm} | del(.pixels, .bank)' "$BANK" > sai27.json
+fiber-threshold --config sai27.json > th.json 2> th.err || fail "fiber-threshold: $(cat th.err)"
+jq -e --slurpfile t th.json '(.primaries.SAI.model_threshold_mA / $t[0].thresholds.receptors.SAI.threshold_mA - 1
+    | fabs) < 1e-9' seen.json > /dev/null \
+  || fail "model_threshold_mA $(jq .primaries.SAI.model_threshold_mA seen.json), fiber-threshold's $(jq .thresholds.receptors.SAI.threshold_mA th.json)"
 # Up front, from the procedure's own numbers; each staircase as it starts; the summary.
 n=$(($(lines seen.csv) - 1))
 grep -qE "^calibrate: SAI at 1 pixel: 2 staircases, about [0-9]+ trials of 0.05 s, at most 160$" said.txt \
@@ -68,6 +76,21 @@ tail -n +2 seen.csv | cut -d, -f9 | "${cal[@]}" --log again.csv --output again.j
   || fail "the log's answers again"
 cmp -s seen.csv again.csv && cmp -s seen.json again.json || fail "the log's answers again: another session"
 echo "ok: the log's answers again: the same $n trials and profile"
+# With a bank that carries recruitment (here made by hand: 4 SAI-mode afferents a class at
+# pad 27, reference 0.1 mA), the same answers give the same thresholds and each mode's
+# colour at the person's comfort limit: the fractions at 0.1 x comfort / threshold mA.
+jq '.recruitment = {population: 4, modes: {SAI: {pad: 27, reference_mA: 0.1,
+      thresholds_mA: {RA: [0.05, 0.2, 0.3, null], SAI: [0.02, 0.1, 0.15, 0.4], PC: [0.3, 0.5, 0.9, null]}}}}' \
+  "$BANK" > rbank.json
+cal_r=("${cal[@]}"); cal_r[2]=rbank.json
+tail -n +2 seen.csv | cut -d, -f9 | "${cal_r[@]}" --log colour.csv --output colour.json 2> colour.err \
+  || fail "with recruitment: $(cat colour.err)"
+jq -e --slurpfile b rbank.json '.primaries.SAI as $r | ($b[0].recruitment.modes.SAI) as $m
+    | (0.1 * $r.comfort_mA / $r.threshold_mA) as $at
+    | [$m.thresholds_mA.RA, $m.thresholds_mA.SAI, $m.thresholds_mA.PC]
+    | map(map(select(. != null and . <= $at)) | length / 4) == $r.colour' colour.json > /dev/null \
+  || fail "the SAI colour: $(jq -c .primaries.SAI colour.json)"
+echo "ok: with recruitment, SAI's colour $(jq -c .primaries.SAI.colour colour.json)"
 # Bad input before anything is sent.
 refuses 2 --says "calibrate: --ceiling: 2.5 mA outside (0, 2] mA" -- calibrate --bank "$BANK" --log x.csv --ceiling 2.5 --responses -
 refuses 2 --says "calibrate: --start: 1.5 mA outside [0.001, 1] mA" -- calibrate --bank "$BANK" --log x.csv --start 1.5 --responses -

@@ -46,6 +46,13 @@ mkpng in.png 4 4 "1,1,$C"
 render-tactile --bank rb.json --profile profile.json in.png > in.json 2> in.err || fail "$(cat in.err)"
 jq -e '.gamut.outside == 0 and .gamut.error[5] < .gamut.tolerance' in.json > /dev/null \
   || fail "SAI's own colour ($C) outside: $(jq -c '.gamut | del(.error)' in.json)"
+# What was delivered beside the gamut's error (scripts/plot-render's fifth panel).
+if command -v gnuplot > /dev/null; then
+  stimctl --port emu --emu-channels 16 --record rec.jsonl < pic.json 2> st.err || fail "stimctl: $(cat st.err)"
+  "$TP_SOURCE/scripts/plot-render" pic.json rec.jsonl -o fig.png 2> plot.err || fail "plot-render: $(cat plot.err)"
+  [[ $(pngtopnm fig.png | head -c 32 | sed -n 2p) == "1750 400" ]] \
+    || fail "plot-render: not five panels of 350 x 400: $(pngtopnm fig.png | head -c 32 | sed -n 2p)"
+fi
 # Without recruitment in the bank: rendered as given, and said.
 mkpng g.png "$COLUMNS" "$ROWS" "1,1,0,255,0"
 render-tactile --bank "$BANK" --profile profile.json g.png > g.json 2> g.err || fail "$(cat g.err)"
