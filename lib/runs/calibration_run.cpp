@@ -1,8 +1,5 @@
 #include "runs/calibration_run.hpp"
 
-#include "render/model_profile.hpp"
-#include "render/recruitment.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -17,6 +14,7 @@
 #include "host/transport.hpp"
 #include "model/primaries.hpp"
 #include "render/model_profile.hpp"
+#include "render/recruitment.hpp"
 
 namespace tp::runs {
 namespace {
