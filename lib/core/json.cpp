@@ -159,4 +159,9 @@ int json_int(const Json& j, const std::string& what) {
   return static_cast<int>(v);
 }
 
+void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where) {
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!known.count(it.key())) bad_input(where + ": unknown key " + quoted_text(it.key()));
+}
+
 }  // namespace tp

@@ -2,6 +2,7 @@
 // JSON input and output shared by all programs.
 
 #include <cstddef>
+#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -39,5 +40,7 @@ std::string dump_json(const Json& j);
 // Helpers for strict field access with messages that name the field.
 double json_finite(const Json& j, const std::string& what);
 int json_int(const Json& j, const std::string& what);
+// Bad input, "<where>: unknown key 'k'", for a key of object j outside `known`.
+void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where);
 
 }  // namespace tp

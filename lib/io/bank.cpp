@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/number.hpp"
 #include "model/field.hpp"
 #include "model/primaries.hpp"
 #include "core/text.hpp"
@@ -98,26 +99,33 @@ Json recruitment_to_json(const BankRecruitment& r) {
 
 namespace {
 
-ModeRecruitment mode_recruitment(const Json& e, std::size_t pads, const std::string& w) {
+ModeRecruitment mode_recruitment(const Json& e, std::size_t pads, long population,
+                                 double max_mA, const std::string& w) {
   ModeRecruitment q;
-  if (!e.is_object() || !e.contains("pad") || !e["pad"].is_number_integer() ||
-      e["pad"].get<long>() < 0 || e["pad"].get<long>() >= static_cast<long>(pads))
+  if (!e.is_object()) bad_input(w + ": not an object (leave a mode out when it has none)");
+  reject_unknown(e, {"pad", "reference_mA", "thresholds_mA"}, w);
+  if (!e.contains("pad") || !e["pad"].is_number_integer() || e["pad"].get<long>() < 0 ||
+      e["pad"].get<long>() >= static_cast<long>(pads))
     bad_input(w + ".pad: not a pad of the bank");
   q.pad = e["pad"].get<long>();
   q.reference_mA = get_finite(e, "reference_mA", w);
-  if (!(q.reference_mA > 0 && q.reference_mA <= 1000))
-    bad_input(w + ".reference_mA: outside (0, 1000]");
+  if (!(q.reference_mA > 0 && q.reference_mA <= max_mA))
+    bad_input(w + ".reference_mA: outside (0, max_mA = " + number_text(max_mA) + "]");
   if (!e.contains("thresholds_mA") || !e["thresholds_mA"].is_object())
     bad_input(w + ": no thresholds_mA");
+  reject_unknown(e["thresholds_mA"], {kPrimaries.begin(), kPrimaries.end()}, w + ".thresholds_mA");
   for (std::size_t k = 0; k < 3; ++k) {
     const std::string wk = w + ".thresholds_mA." + kPrimaries[k];
     const Json& t = e["thresholds_mA"].contains(kPrimaries[k]) ? e["thresholds_mA"][kPrimaries[k]]
                                                                : Json();
-    if (!t.is_array() || t.empty() || t.size() > 10000)
-      bad_input(wk + ": expected 1 to 10000 thresholds");
+    if (!t.is_array() || t.size() != static_cast<std::size_t>(population))
+      bad_input(wk + ": expected " + std::to_string(population) +
+                " thresholds (the population), ascending, null for none");
     for (const Json& v : t) {
       const double x = v.is_null() ? std::numeric_limits<double>::infinity() : json_finite(v, wk);
       if (!(x > 0)) bad_input(wk + ": a threshold not above 0");
+      if (std::isfinite(x) && x > max_mA)
+        bad_input(wk + ": a threshold above max_mA (" + number_text(max_mA) + "; null for none)");
       if (!q.thresholds_mA[k].empty() && x < q.thresholds_mA[k].back())
         bad_input(wk + ": not ascending");
       q.thresholds_mA[k].push_back(x);
@@ -130,20 +138,32 @@ ModeRecruitment mode_recruitment(const Json& e, std::size_t pads, const std::str
 
 BankRecruitment recruitment_from_json(const Json& j, std::size_t pads, const std::string& w) {
   if (!j.is_object()) bad_input(w + ": not an object");
+  reject_unknown(j, {"population", "seed", "fibre_model", "pulse", "max_mA", "region", "modes"}, w);
   BankRecruitment r;
   if (!j.contains("population") || !j["population"].is_number_integer() ||
-      j["population"].get<long>() < 1 || j["population"].get<long>() > 10000)
-    bad_input(w + ".population: not a count from 1 to 10000");
+      j["population"].get<long>() < 1 || j["population"].get<long>() > 1000)
+    bad_input(w + ".population: not a count from 1 to 1000");
   r.per_class = j["population"].get<long>();
-  if (j.contains("seed") && j["seed"].is_number_unsigned()) r.seed = j["seed"].get<std::uint64_t>();
-  if (j.contains("fibre_model") && j["fibre_model"].is_string())
+  if (j.contains("seed")) {
+    if (!j["seed"].is_number_unsigned()) bad_input(w + ".seed: not a whole number from 0");
+    r.seed = j["seed"].get<std::uint64_t>();
+  }
+  if (j.contains("fibre_model")) {
+    if (!j["fibre_model"].is_string()) bad_input(w + ".fibre_model: not a string");
     r.fibre_model = j["fibre_model"].get<std::string>();
-  if (j.contains("pulse")) r.pulse = j["pulse"];
-  if (j.contains("max_mA")) r.max_mA = json_finite(j["max_mA"], w + ".max_mA");
+  }
+  if (j.contains("pulse")) {
+    if (!j["pulse"].is_object()) bad_input(w + ".pulse: not an object");
+    r.pulse = j["pulse"];
+  }
+  // Absent: the cap optimize-weights --bank --population searches to.
+  r.max_mA = j.contains("max_mA") ? json_finite(j["max_mA"], w + ".max_mA") : 10.0;
+  if (!(r.max_mA > 0 && r.max_mA <= 1000)) bad_input(w + ".max_mA: outside (0, 1000]");
   if (!j.contains("modes") || !j["modes"].is_object()) bad_input(w + ": no modes");
+  reject_unknown(j["modes"], {kPrimaries.begin(), kPrimaries.end()}, w + ".modes");
   for (std::size_t m = 0; m < 3; ++m)
     if (j["modes"].contains(kPrimaries[m]))
-      r.mode[m] = mode_recruitment(j["modes"][kPrimaries[m]], pads,
+      r.mode[m] = mode_recruitment(j["modes"][kPrimaries[m]], pads, r.per_class, r.max_mA,
                                    w + ".modes." + kPrimaries[m]);
   return r;
 }

@@ -13,11 +13,6 @@
 namespace tp {
 namespace {
 
-void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where) {
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (!known.count(it.key())) bad_input(where + ": unknown key " + quoted_text(it.key()));
-}
-
 std::vector<double> finite_list(const Json& j, const std::string& what) {
   if (!j.is_array()) bad_input(what + ": expected an array of numbers");
   std::vector<double> out;

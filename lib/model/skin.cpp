@@ -20,11 +20,6 @@ namespace {
 
 constexpr const char* kSkinFormat = "tactile-primaries/skin/1";
 
-void reject_unknown(const Json& j, const std::set<std::string>& known, const std::string& where) {
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (!known.count(it.key())) bad_input(where + ": unknown key " + quoted_text(it.key()));
-}
-
 }  // namespace
 
 Skin skin_from_json(const Json& j, const std::string& where) {

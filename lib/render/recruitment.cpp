@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "core/error.hpp"
 #include "core/number.hpp"
@@ -27,18 +28,24 @@ std::array<double, 4> pitch_around(const ElectrodeArray& a, long pad) {
   return {x - 0.5 * px, x + 0.5 * px, z - 0.5 * pz, z + 0.5 * pz};
 }
 
-// One mode's thresholds, per class, ascending (+infinity: none below the cap).
-ModeRecruitment sample_mode(const PixelBank& bank, std::size_t m, const fibre::FibreModel& model,
-                            const RecruitmentOptions& o, std::size_t& done, std::size_t total) {
+// One mode's thresholds, per class, ascending (+infinity: none below the cap); none, with
+// the reason in `why`, for a mode with no feasible pattern or no threshold below the cap.
+std::optional<ModeRecruitment> sample_mode(const PixelBank& bank, std::size_t m,
+                                           const fibre::FibreModel& model,
+                                           const RecruitmentOptions& o, std::size_t& done,
+                                           std::size_t total, std::string& why) {
   ModeRecruitment q;
   q.pad = centre_pattern(bank, m);
-  if (q.pad < 0)
-    bad_input(std::string("--population: the bank has no feasible ") + kPrimaries[m] +
-              " pattern to sample its recruitment at");
+  if (q.pad < 0) {
+    why = "the bank has no feasible pattern of it";
+    return std::nullopt;
+  }
   const PatternThreshold ref = pattern_threshold(bank, q.pad, m, model, o.pulse, o.max_mA);
-  if (!ref.threshold_mA)
-    bad_input(std::string("--population: the model gives ") + kPrimaries[m] +
-              " no threshold within " + number_text(o.max_mA) + " mA (" + ref.reason + ")");
+  if (!ref.threshold_mA) {
+    why = "the model gives it no threshold within " + number_text(o.max_mA) + " mA at pad " +
+          std::to_string(q.pad) + " (" + ref.reason + ")";
+    return std::nullopt;
+  }
   q.reference_mA = *ref.threshold_mA;
   fibre::ThresholdSettings s;
   s.max_mA = o.max_mA;
@@ -66,7 +73,8 @@ ModeRecruitment sample_mode(const PixelBank& bank, std::size_t m, const fibre::F
 
 }  // namespace
 
-BankRecruitment bank_recruitment(const PixelBank& bank, const RecruitmentOptions& o) {
+BankRecruitment bank_recruitment(const PixelBank& bank, const RecruitmentOptions& o,
+                                 std::vector<std::string>* omitted) {
   if (!(o.per_class >= 1 && o.per_class <= 1000))
     bad_input("--population: " + std::to_string(o.per_class) + " outside [1, 1000]");
   const std::unique_ptr<fibre::FibreModel> model = fibre::make_fibre_model(o.fibre_model);
@@ -80,12 +88,21 @@ BankRecruitment bank_recruitment(const PixelBank& bank, const RecruitmentOptions
   for (std::size_t m = 0; m < 3; ++m) modes += centre_pattern(bank, m) != kNoMode;
   const std::size_t total = modes * 3 * o.per_class;
   std::size_t done = 0;
-  for (std::size_t m = 0; m < 3; ++m)
-    if (centre_pattern(bank, m) != kNoMode) r.mode[m] = sample_mode(bank, m, *model, o, done, total);
+  for (std::size_t m = 0; m < 3; ++m) {
+    if (centre_pattern(bank, m) == kNoMode) continue;
+    std::string why;
+    r.mode[m] = sample_mode(bank, m, *model, o, done, total, why);
+    if (!r.mode[m] && omitted)
+      omitted->push_back(std::string("recruitment: no ") + kPrimaries[m] + " mode sampled: " +
+                         why + "; render-tactile never drives it");
+  }
   return r;
 }
 
 std::string recruitment_note(const BankRecruitment& r) {
+  if (!r.mode[0] && !r.mode[1] && !r.mode[2])
+    return "recruitment: no mode sampled (the bank carries none; render-tactile drives nothing "
+           "with it)";
   std::string out = "recruitment, " + std::to_string(r.per_class) +
                     " afferents a class about each mode's centre pixel, at 2 x its threshold:";
   const char* sep = " ";
@@ -101,15 +118,16 @@ std::string recruitment_note(const BankRecruitment& r) {
   return out;
 }
 
-GamutColours gamut_colours(const BankRecruitment& r, const Profile& profile, long pad) {
-  GamutColours c{};
+GamutModes gamut_modes(const BankRecruitment& r, const Profile& profile, long pad) {
+  GamutModes c;
   for (std::size_t m = 0; m < 3; ++m) {
     if (!r.mode[m]) continue;
     const bool has = profile.primary[m] || (profile.pixel.count(pad) && profile.pixel.at(pad)[m]);
     if (!has) continue;
     const PrimaryRange& range = profile.range(static_cast<int>(m), pad);
     const double at_mA = r.mode[m]->reference_mA * range.comfort_mA / range.threshold_mA;
-    c[m] = range.colour ? *range.colour : r.mode[m]->fractions(at_mA);
+    c.onset[m] = r.mode[m]->fractions(r.mode[m]->reference_mA);
+    c.full[m] = range.colour ? *range.colour : r.mode[m]->fractions(at_mA);
   }
   return c;
 }
@@ -127,17 +145,16 @@ GamutReport map_to_gamut(const PixelBank& bank, const Profile& profile, PadInten
   const BankRecruitment& r = *bank.recruitment;
   GamutReport g;
   g.error.assign(image.value.size(), 0.0);
-  g.centre = gamut_colours(r, profile, static_cast<long>(bank.doc.setup.array.centre_index()));
+  g.centre = gamut_modes(r, profile, static_cast<long>(bank.doc.setup.array.centre_index()));
   double sum = 0;
   for (std::size_t k = 0; k < image.value.size() && k < bank.pads(); ++k) {
     std::array<double, 3>& v = image.value[k];
     if (!(v[0] > 0 || v[1] > 0 || v[2] > 0)) continue;
-    GamutColours c = gamut_colours(r, profile, static_cast<long>(k));
+    GamutModes c = gamut_modes(r, profile, static_cast<long>(k));
     for (std::size_t m = 0; m < 3; ++m)
-      if (!bank.entry[k][m].feasible) c[m] = {0, 0, 0};
+      if (!bank.entry[k][m].feasible) c.onset[m] = c.full[m] = {0, 0, 0};
     const GamutAnswer a = nearest_in_gamut(c, v);
-    // Intensities below one part in 10^9 are nothing: no pulse for rounding's noise.
-    for (std::size_t m = 0; m < 3; ++m) v[m] = a.intensity[m] < 1e-9 ? 0.0 : a.intensity[m];
+    v = a.intensity;  // 0: off; on: kLeastOn (the threshold) or more
     ++g.requested;
     g.outside += a.error > kGamutTolerance;
     g.max_error = std::max(g.max_error, a.error);
@@ -148,6 +165,35 @@ GamutReport map_to_gamut(const PixelBank& bank, const Profile& profile, PadInten
   return g;
 }
 
+std::string unlit_by_gamut(const PixelBank& bank, const Profile& profile, const GamutReport& g) {
+  std::string why;
+  for (std::size_t m = 0; m < 3; ++m) {
+    const std::string mode = kPrimaries[m];
+    std::string reason;
+    if (!bank.recruitment || !bank.recruitment->mode[m])
+      reason = "the bank's recruitment has no " + mode + " mode";
+    else if (!profile.primary[m] && profile.pixel.empty())
+      reason = "the profile has no range for " + mode;
+    if (!reason.empty()) why += (why.empty() ? "" : "; ") + mode + ": " + reason;
+  }
+  return count_text(g.requested, "pixel") + " ask" + (g.requested == 1 ? "s" : "") +
+         " for colour, and the nearest the modes come to each is nothing (" +
+         (why.empty() ? "the modes recruit none of the classes asked for" : why) + ")";
+}
+
+std::string recruitment_pulse_note(const BankRecruitment& r, const PulseSpec& render_pulse) {
+  const Json mine = pulse_spec_to_json(render_pulse);
+  if (r.pulse == mine) return "";
+  std::string theirs;
+  try {
+    theirs = pulse_spec_from_json(r.pulse, "bank: recruitment.pulse").describe();
+  } catch (const Error&) {  // not a pulse this version reads
+    theirs = "another";
+  }
+  return "the bank's recruitment was sampled with a " + theirs + " pulse, not this render's " +
+         render_pulse.describe() + " pulse: the gamut's colours are that pulse's";
+}
+
 Json gamut_to_json(const GamutReport& g) {
   Json j;
   j["requested"] = g.requested;
@@ -155,10 +201,15 @@ Json gamut_to_json(const GamutReport& g) {
   j["tolerance"] = kGamutTolerance;
   j["max_error"] = g.max_error;
   j["mean_error"] = g.mean_error;
-  Json colours = Json::object();
-  for (std::size_t m = 0; m < 3; ++m)
-    colours[kPrimaries[m]] = Json::array({g.centre[m][0], g.centre[m][1], g.centre[m][2]});
+  Json colours = Json::object(), onset = Json::object();
+  for (std::size_t m = 0; m < 3; ++m) {
+    const auto& f = g.centre.full[m];
+    const auto& o = g.centre.onset[m];
+    colours[kPrimaries[m]] = Json::array({f[0], f[1], f[2]});
+    onset[kPrimaries[m]] = Json::array({o[0], o[1], o[2]});
+  }
   j["colours"] = colours;
+  j["onset_colours"] = onset;
   j["error"] = g.error;
   return j;
 }

@@ -26,13 +26,19 @@ void fit_to_bank(RenderRequest& r, const PixelBank& bank) {
               std::to_string(ranges::max_channels) + "); --plan plans it");
 }
 
+PulseSpec render_pulse(const RenderOptions& o) {
+  PulseSpec p;
+  p.width_us = o.width_us;
+  p.interphase_us = o.interphase_us;
+  p.balance_width_us = o.balance_width_us;
+  return p;
+}
+
 RenderProfile render_profile(const RenderRequest& r, const PixelBank& bank) {
   if (r.profile) return {*r.profile, ""};
   const RenderOptions& o = r.options;
   ModelProfileOptions m;
-  m.pulse.width_us = o.width_us;
-  m.pulse.interphase_us = o.interphase_us;
-  m.pulse.balance_width_us = o.balance_width_us;
+  m.pulse = render_pulse(o);
   m.max_current_mA = o.limits.max_current_mA;
   m.comfort_factor = r.comfort_factor;
   const ModelProfile mp = model_profile(bank, m);
@@ -72,6 +78,7 @@ void map_image(RenderRequest& r, const PixelBank& bank, const Profile& profile, 
   out.gamut = map_to_gamut(bank, profile, r.image);
   out.gamut_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.gamut_note = recruitment_pulse_note(*bank.recruitment, render_pulse(r.options));
 }
 
 }  // namespace
@@ -95,6 +102,8 @@ RenderResult run_render(const RenderRequest& request, const PixelBank& bank) {
                  : plan_sequence(bank, profile.profile, SequenceFrames(bank.columns, bank.rows), o);
   out.plan_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (out.plan.lit.empty() && out.gamut && out.gamut->requested > 0)
+    bad_input(r.image_name + ": " + unlit_by_gamut(bank, profile.profile, *out.gamut));
   if (out.plan.lit.empty())
     bad_input(r.sequence ? "no frame lights a pixel"
                          : r.image_name + ": no pixel is lit (all black)");

@@ -48,6 +48,8 @@ struct RenderProfile {
   std::string warning;  // empty with the request's own profile
 };
 RenderProfile render_profile(const RenderRequest& r, const PixelBank& bank);
+// The pulse the render delivers (--width, --interphase, --balance-width).
+PulseSpec render_pulse(const RenderOptions& o);
 
 struct RenderResult {
   RenderPlan plan;

@@ -213,6 +213,8 @@ BankOptions bank_options(const OptimizeRequest& r, const OptimizePlan& p) {
     bad_input("--population: with --bank, every pad's pixel (no --at): render-tactile's bank");
   if (r.population && !p.doc.setup.array.grid())
     bad_input("--population: with --bank on a grid of pads only");
+  if (r.seed && !r.population)
+    bad_input("--seed: with --bank, seeds the recruitment's population: give --population N");
   BankOptions b;
   b.modes = r.modes;
   b.at = p.places;
@@ -357,12 +359,12 @@ OptimizeOutput run_bank(const OptimizePlan& p) {
   OptimizeOutput out;
   const Bank result = optimize_bank(p.doc.setup, p.bank);
   out.document = bank_to_json(p.doc, result, p.bank);
-  std::string recruitment;
+  std::vector<std::string> recruitment;
   if (p.recruitment) {
     const BankRecruitment rec =
-        bank_recruitment(pixel_bank_from_json(out.document), *p.recruitment);
+        bank_recruitment(pixel_bank_from_json(out.document), *p.recruitment, &recruitment);
     out.document["recruitment"] = recruitment_to_json(rec);
-    recruitment = recruitment_note(rec);
+    recruitment.push_back(recruitment_note(rec));
   }
   std::size_t infeasible = 0, broken = 0;
   for (const BankPattern& q : result.patterns) {
@@ -380,7 +382,7 @@ OptimizeOutput run_bank(const OptimizePlan& p) {
                 result.solves, result.patterns.size() - static_cast<std::size_t>(result.solves),
                 infeasible, broken);
   out.notes.push_back(line);
-  if (!recruitment.empty()) out.notes.push_back(recruitment);
+  out.notes.insert(out.notes.end(), recruitment.begin(), recruitment.end());
   return out;
 }
 

@@ -50,6 +50,7 @@ set_tests_properties(optimize-weights.large-array PROPERTIES TIMEOUT 300)
 # --objective selectivity (a population's recruitment; docs/fibres.md).
 tp_cli_test(optimize-weights selectivity-objective script ${CMAKE_CURRENT_SOURCE_DIR}/optimize-weights/selectivity.sh)
 tp_cli_test(optimize-weights refuses-population-without-selectivity refuses 2 --says "--population: applies to --objective selectivity or --bank only" -- optimize-weights --mode SAI --objective threshold --population 10)
+tp_cli_test(optimize-weights refuses-bank-seed-alone refuses 2 --says "--seed: with --bank, seeds the recruitment's population: give --population N" -- optimize-weights --bank --grid 4x4 --pitch 2 --pad 1x1 --seed 3)
 tp_cli_test(optimize-weights refuses-bank-population-at refuses 2 --says "--population: with --bank, every pad's pixel (no --at)" -- optimize-weights --bank --grid 4x4 --pitch 2 --pad 1x1 --at=0,0 --population 3)
 tp_cli_test(optimize-weights refuses-bank-max-charge refuses 2 --says "--max-charge: applies to --objective selectivity only" -- optimize-weights --bank --grid 4x4 --pitch 2 --pad 1x1 --max-charge 100)
 tp_cli_test(optimize-weights refuses-max-charge-without-selectivity refuses 2 --says "--max-charge: applies to --objective selectivity only" -- optimize-weights --mode SAI --max-charge 100)

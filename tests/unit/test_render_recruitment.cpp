@@ -5,7 +5,9 @@
 // profile without calibration's threshold).
 #include <catch2/catch.hpp>
 
+#include <functional>
 #include <limits>
+#include <utility>
 
 #include "core/error.hpp"
 #include "render/recruitment.hpp"
@@ -26,6 +28,7 @@ BankRecruitment three_modes() {
   r.per_class = 4;
   r.fibre_model = "mrg";
   r.max_mA = 10;
+  r.pulse = pulse_spec_to_json(PulseSpec{});
   const std::array<std::array<std::vector<double>, 3>, 3> t = {{
       {{{0.5, 1.0, 1.5, 3.0}, {1.9, 2.5, 4.0, kNone}, {2.5, 3.0, 5.0, kNone}}},
       {{{2.5, 3.0, 5.0, kNone}, {0.2, 0.4, 1.0, 2.0}, {1.0, 3.0, 4.0, kNone}}},
@@ -69,7 +72,7 @@ TEST_CASE("recruitment: fractions at a current, JSON both ways, refusals",
     CHECK(back.mode[m]->thresholds_mA == r.mode[m]->thresholds_mA);
   }
   Json j = recruitment_to_json(r);
-  j["modes"]["SAI"]["thresholds_mA"]["PC"] = Json::array({2.0, 1.0});
+  j["modes"]["SAI"]["thresholds_mA"]["PC"] = Json::array({2.0, 1.0, 3.0, 4.0});
   CHECK_THROWS_WITH(recruitment_from_json(j, 3, "bank: recruitment"),
                     "bank: recruitment.modes.SAI.thresholds_mA.PC: not ascending");
   j = recruitment_to_json(r);
@@ -77,19 +80,62 @@ TEST_CASE("recruitment: fractions at a current, JSON both ways, refusals",
   CHECK_THROWS_WITH(recruitment_from_json(j, 3, "bank: recruitment"),
                     "bank: recruitment.modes.PC.pad: not a pad of the bank");
   j = recruitment_to_json(r);
-  j["modes"]["RA"]["thresholds_mA"]["SAI"] = Json::array({-1.0});
+  j["modes"]["RA"]["thresholds_mA"]["SAI"] = Json::array({-1.0, 1.0, 2.0, 3.0});
   CHECK_THROWS_WITH(recruitment_from_json(j, 3, "bank: recruitment"),
                     "bank: recruitment.modes.RA.thresholds_mA.SAI: a threshold not above 0");
+  // As strict as the profile: every key known, each list the population long, every number
+  // in its range, nothing dropped quietly.
+  const std::pair<std::function<void(Json&)>, std::string> bad[] = {
+      {[](Json& b) { b["colour"] = 1; }, "bank: recruitment: unknown key 'colour'"},
+      {[](Json& b) { b["modes"]["RB"] = Json::object(); },
+       "bank: recruitment.modes: unknown key 'RB'"},
+      {[](Json& b) { b["modes"]["RA"] = nullptr; },
+       "bank: recruitment.modes.RA: not an object (leave a mode out when it has none)"},
+      {[](Json& b) { b["modes"]["PC"]["offset_mA"] = 0.1; },
+       "bank: recruitment.modes.PC: unknown key 'offset_mA'"},
+      {[](Json& b) { b["modes"]["PC"]["thresholds_mA"]["SA"] = Json::array(); },
+       "bank: recruitment.modes.PC.thresholds_mA: unknown key 'SA'"},
+      {[](Json& b) { b["modes"]["SAI"]["thresholds_mA"]["RA"].erase(0); },
+       "bank: recruitment.modes.SAI.thresholds_mA.RA: expected 4 thresholds (the population), "
+       "ascending, null for none"},
+      {[](Json& b) { b["modes"]["SAI"]["thresholds_mA"]["RA"][2] = 11.0; },
+       "bank: recruitment.modes.SAI.thresholds_mA.RA: a threshold above max_mA (10; null for "
+       "none)"},
+      {[](Json& b) { b["modes"]["RA"]["reference_mA"] = 12.0; },
+       "bank: recruitment.modes.RA.reference_mA: outside (0, max_mA = 10]"},
+      {[](Json& b) { b["max_mA"] = 0; }, "bank: recruitment.max_mA: outside (0, 1000]"},
+      {[](Json& b) {
+         b.erase("max_mA");
+         b["modes"]["SAI"]["thresholds_mA"]["RA"][2] = 10.5;
+       },
+       "bank: recruitment.modes.SAI.thresholds_mA.RA: a threshold above max_mA (10; null for "
+       "none)"},
+      {[](Json& b) { b["seed"] = -1; }, "bank: recruitment.seed: not a whole number from 0"},
+      {[](Json& b) { b["seed"] = "1"; }, "bank: recruitment.seed: not a whole number from 0"},
+      {[](Json& b) { b["population"] = 1001; },
+       "bank: recruitment.population: not a count from 1 to 1000"},
+      {[](Json& b) { b["pulse"] = 200; }, "bank: recruitment.pulse: not an object"},
+      {[](Json& b) { b["fibre_model"] = 1; }, "bank: recruitment.fibre_model: not a string"},
+  };
+  for (const auto& [spoil, message] : bad) {
+    j = recruitment_to_json(r);
+    spoil(j);
+    CHECK_THROWS_WITH(recruitment_from_json(j, 3, "bank: recruitment"), message);
+  }
 }
 
 TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, outside counted",
           "[render][gamut]") {
   const BankRecruitment r = three_modes();
   const Profile p = profile_at(0.4, 0.8);
-  const GamutColours c = gamut_colours(r, p, 0);
-  CHECK(c[0] == std::array<double, 3>{0.75, 0.25, 0});
-  CHECK(c[1] == std::array<double, 3>{0, 1, 0.25});
-  CHECK(c[2] == std::array<double, 3>{0.25, 0.5, 1});
+  const GamutModes c = gamut_modes(r, p, 0);
+  CHECK(c.full[0] == std::array<double, 3>{0.75, 0.25, 0});
+  CHECK(c.full[1] == std::array<double, 3>{0, 1, 0.25});
+  CHECK(c.full[2] == std::array<double, 3>{0.25, 0.5, 1});
+  // At the person's threshold, each mode's fractions at its reference.
+  CHECK(c.onset[0] == std::array<double, 3>{0.5, 0, 0});
+  CHECK(c.onset[1] == std::array<double, 3>{0, 0.75, 0.25});
+  CHECK(c.onset[2] == std::array<double, 3>{0, 0.25, 0.75});
   PixelBank bank = two_pads();  // 2 x 1 pads, every pattern feasible; two more for the image
   bank.columns = 2;
   bank.rows = 2;
@@ -101,7 +147,8 @@ TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, out
   im.rows = 2;
   im.value.assign(4, {0, 0, 0});
   // Pad 0: 0.5 RA + 0.25 SAI mode, inside; pad 1: pure RA afferents, outside; pad 3: dark.
-  const std::array<double, 3> inside = {0.5 * 0.75, 0.5 * 0.25 + 0.25, 0.25 * 0.25};
+  // RA's mode at 0.5 (halfway from its onset colour to its full one) and SAI's at 0.25.
+  const std::array<double, 3> inside = {0.625, 0.125 + 0.8125, 0.25};
   im.value[0] = inside;
   im.value[1] = {1, 0, 0};
   im.value[2] = {0, 0, 0.5};
@@ -110,7 +157,7 @@ TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, out
   const GamutReport g = map_to_gamut(bank, p, im);
   CHECK(im.value[0][0] == Approx(0.5).margin(1e-6));
   CHECK(im.value[0][1] == Approx(0.25).margin(1e-6));
-  CHECK(im.value[0][2] == Approx(0).margin(1e-6));
+  CHECK(im.value[0][2] == 0);  // off, not on at its threshold
   CHECK(g.error[0] < 1e-6);
   for (std::size_t m = 0; m < 3; ++m) {
     CHECK(im.value[1][m] == Approx(out.intensity[m]).margin(1e-12));
@@ -126,21 +173,24 @@ TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, out
   const Json j = gamut_to_json(g);
   CHECK(j["outside"] == 2);
   CHECK(j["error"].size() == 4);
+  CHECK(j["onset_colours"]["SAI"] == Json::array({0, 0.75, 0.25}));
   // A person's profile reads the colour at the person's multiple of threshold: comfort at
   // 1.5 x threshold reads the thresholds at 1.5 x the reference.
   Profile narrow = profile_at(1.0, 1.5);
-  CHECK(gamut_colours(r, narrow, 0)[0] == r.mode[0]->fractions(1.5));
+  CHECK(gamut_modes(r, narrow, 0).full[0] == r.mode[0]->fractions(1.5));
+  CHECK(gamut_modes(r, narrow, 0).onset[0] == r.mode[0]->fractions(1.0));
   // calibrate's colours (add_colours) are those, carried by the profile, and read first.
   Profile person = narrow;
   add_colours(person, r);
   REQUIRE(person.primary[0]->colour);
   CHECK(*person.primary[0]->colour == r.mode[0]->fractions(1.5));
   person.primary[1]->colour = std::array<double, 3>{0.1, 0.2, 0.3};
-  CHECK(gamut_colours(r, person, 0)[1] == std::array<double, 3>{0.1, 0.2, 0.3});
+  CHECK(gamut_modes(r, person, 0).full[1] == std::array<double, 3>{0.1, 0.2, 0.3});
   CHECK(profile_to_json(person)["primaries"]["SAI"]["colour"] == Json::array({0.1, 0.2, 0.3}));
   // A mode the profile has no range for is no colour.
   narrow.primary[2].reset();
-  CHECK(gamut_colours(r, narrow, 0)[2] == std::array<double, 3>{0, 0, 0});
+  CHECK(gamut_modes(r, narrow, 0).full[2] == std::array<double, 3>{0, 0, 0});
+  CHECK(gamut_modes(r, narrow, 0).onset[2] == std::array<double, 3>{0, 0, 0});
 }
 
 TEST_CASE("recruitment of a bank: the references are the model profile's thresholds",
@@ -162,6 +212,22 @@ TEST_CASE("recruitment of a bank: the references are the model profile's thresho
     }
   }
   CHECK(dump_json(recruitment_to_json(bank_recruitment(b, o))) == dump_json(recruitment_to_json(r)));
+  // A mode with no feasible pattern anywhere is left out, and said, not the whole run lost.
+  PixelBank no_pc = b;
+  for (auto& pixel : no_pc.entry) {
+    pixel[2] = BankEntry{};
+    pixel[2].present = true;
+    pixel[2].reason = "no pattern";
+  }
+  std::vector<std::string> omitted;
+  const BankRecruitment without = bank_recruitment(no_pc, o, &omitted);
+  CHECK(!without.mode[2]);
+  REQUIRE(without.mode[1]);
+  CHECK(without.mode[1]->thresholds_mA == r.mode[1]->thresholds_mA);
+  REQUIRE(omitted.size() == 1);
+  CHECK(omitted[0] ==
+        "recruitment: no PC mode sampled: the bank has no feasible pattern of it; "
+        "render-tactile never drives it");
   o.per_class = 1001;
   CHECK_THROWS_WITH(bank_recruitment(b, o), "--population: 1001 outside [1, 1000]");
 
@@ -182,4 +248,18 @@ TEST_CASE("recruitment of a bank: the references are the model profile's thresho
   CHECK(!plain.gamut);
   CHECK(!plain.document.contains("gamut"));
   CHECK(plain.gamut_note.find("the bank carries no recruitment") != std::string::npos);
+  // Another pulse than the recruitment's is said; a mapping that lights nothing says why.
+  RenderRequest narrow = q;
+  narrow.options.width_us = 100;
+  narrow.options.balance_width_us = 100;
+  CHECK(run_render(narrow, with).gamut_note ==
+        "the bank's recruitment was sampled with a 200 us biphasic pulse, not this render's "
+        "100 us biphasic pulse: the gamut's colours are that pulse's");
+  PixelBank none = with;
+  none.recruitment->mode = {};
+  q.image_name = "dot.png";
+  CHECK_THROWS_WITH(run_render(q, none),
+                    "dot.png: 1 pixel asks for colour, and the nearest the modes come to each is "
+                    "nothing (RA: the bank's recruitment has no RA mode; SAI: the bank's "
+                    "recruitment has no SAI mode; PC: the bank's recruitment has no PC mode)");
 }

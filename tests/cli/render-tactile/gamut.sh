@@ -28,20 +28,26 @@ render-tactile --bank rb.json --profile profile.json pic.png > pic.json 2> pic.e
   || fail "render-tactile: $(cat pic.err)"
 grep -q "^render-tactile: gamut: [0-9]* of 4 pixels asked for outside the modes' gamut (error up to" pic.err \
   || fail "no gamut line: $(cat pic.err)"
-# Each pixel's intensities, from the patterns; predicted with the colours, against the request.
-jq -e '(.gamut.colours) as $c | .gamut as $g
+# Each requested pixel's intensities, from the patterns (none: off), predicted with the
+# colours (a mode on: its onset colour, plus its intensity times the way to its full one),
+# against the request: the error reported, for every pixel asked for, lit or not.
+jq -e '.gamut.colours as $c | .gamut.onset_colours as $o | .gamut as $g
   | [.patterns[] | .primary as $m | range(0; .pixels | length) as $i
-     | {pad: .pixels[$i], m: $m, v: .intensities[$i]}] | group_by(.pad)
-  | map({pad: .[0].pad, v: (map({(.m): .v}) | add)})
+     | {pad: .pixels[$i], m: $m, v: .intensities[$i]}] as $lit
   | {"5": [1,0,0], "6": [0,1,0], "9": [0,0,1], "10": [128/255,128/255,128/255]} as $ask
-  | all(.[]; . as $p | $ask[($p.pad | tostring)] as $r
-        | ([range(0;3) | . as $k | (["RA","SAI","PC"] | map(($p.v[.] // 0) * $c[.][$k]) | add) - $r[$k]]
-           | map(. * .) | add | sqrt) as $e
-        | (($e - $g.error[$p.pad]) | fabs) < 1e-9)
+  | all($ask | to_entries[]; (.key | tonumber) as $pad | .value as $r
+        | ([$lit[] | select(.pad == $pad) | {(.m): .v}] | add // {}) as $v
+        | ([range(0;3) | . as $k
+            | (["RA","SAI","PC"] | map(($v[.] // 0) as $x
+                | if $x > 0 then $o[.][$k] + $x * ($c[.][$k] - $o[.][$k]) else 0 end) | add)
+              - $r[$k]] | map(. * .) | add | sqrt) as $e
+        | (($e - $g.error[$pad]) | fabs) < 1e-9)
     and $g.requested == 4 and $g.outside == ($g.error | map(select(. > $g.tolerance)) | length)' pic.json > /dev/null \
   || fail "the intensities do not give the errors reported: $(jq -c '.gamut' pic.json)"
-# A colour of the SAI mode's own colour at 60 % is inside: met within the tolerance.
-C=$(jq -r '.gamut.colours.SAI | map(. * 0.6 * 255 | round) | join(",")' pic.json)
+# The SAI mode's own colour at 60 % of the way from its onset is inside: met within the
+# tolerance.
+C=$(jq -r '.gamut as $g | [range(0;3) | $g.onset_colours.SAI[.] + 0.6 * ($g.colours.SAI[.] - $g.onset_colours.SAI[.])]
+           | map(. * 255 | round) | join(",")' pic.json)
 mkpng in.png 4 4 "1,1,$C"
 render-tactile --bank rb.json --profile profile.json in.png > in.json 2> in.err || fail "$(cat in.err)"
 jq -e '.gamut.outside == 0 and .gamut.error[5] < .gamut.tolerance' in.json > /dev/null \
