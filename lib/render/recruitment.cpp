@@ -178,7 +178,10 @@ std::string unlit_by_gamut(const PixelBank& bank, const Profile& profile, const 
   }
   return count_text(g.requested, "pixel") + " ask" + (g.requested == 1 ? "s" : "") +
          " for colour, and the nearest the modes come to each is nothing (" +
-         (why.empty() ? "the modes recruit none of the classes asked for" : why) + ")";
+         (why.empty() ? "off is nearer than any mix: the modes bring more of the other classes "
+                        "than of those asked for"
+                      : why) +
+         ")";
 }
 
 std::string recruitment_pulse_note(const BankRecruitment& r, const PulseSpec& render_pulse) {

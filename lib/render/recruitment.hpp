@@ -83,7 +83,8 @@ GamutReport map_to_gamut(const PixelBank& bank, const Profile& profile, PadInten
 
 // Why mapping into the gamut lit no pixel of the image: "3 pixels ask for colour, and the
 // nearest the modes come to each is nothing (RA: the bank's recruitment has no RA mode; PC:
-// the profile has no range for PC)", naming each mode that cannot be driven.
+// the profile has no range for PC)", naming each mode that cannot be driven, or saying that
+// off is nearer than any mix.
 std::string unlit_by_gamut(const PixelBank& bank, const Profile& profile, const GamutReport& g);
 
 // A note when the render's pulse is not the one the recruitment was sampled with (the

@@ -59,6 +59,14 @@ if command -v gnuplot > /dev/null; then
   [[ $(pngtopnm fig.png | head -c 32 | sed -n 2p) == "1750 400" ]] \
     || fail "plot-render: not five panels of 350 x 400: $(pngtopnm fig.png | head -c 32 | sed -n 2p)"
 fi
+# A recruitment without modes lights nothing: refused, naming why (not "all black").
+jq '.recruitment.modes = {}' rb.json > none.json
+refuses 2 --says "pic.png: 4 pixels ask for colour, and the nearest the modes come to each is nothing (RA: the bank's recruitment has no RA mode; SAI: the bank's recruitment has no SAI mode; PC: the bank's recruitment has no PC mode)" \
+  -- render-tactile --bank none.json --profile profile.json pic.png
+# Another pulse than the recruitment's is said.
+render-tactile --bank rb.json --profile profile.json --width 100 pic.png > w.json 2> w.err || fail "$(cat w.err)"
+grep -q "^render-tactile: note: the bank's recruitment was sampled with a 200 us biphasic pulse, not this render's 100 us biphasic pulse: the gamut's colours are that pulse's" w.err \
+  || fail "no pulse note: $(cat w.err)"
 # Without recruitment in the bank: rendered as given, and said.
 mkpng g.png "$COLUMNS" "$ROWS" "1,1,0,255,0"
 render-tactile --bank "$BANK" --profile profile.json g.png > g.json 2> g.err || fail "$(cat g.err)"
