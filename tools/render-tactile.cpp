@@ -122,20 +122,22 @@ int main(int argc, char** argv) {
       tp::runs::for_each_frame_line(0, bank, sink);
     });
     if (!f.frames_for.empty()) {
-      const tp::FramesToPlay play = tp::frames_to_play(f, r, bank, images.frames);
+      tp::FramesToPlay play = tp::frames_to_play(f, r, bank, images.frames);
       std::fputs((warning_text(play.profile.warning) + note_text(images.note)).c_str(), stderr);
       const std::size_t n = tp::runs::play_frames(
-          {play.sequence, play.profile.profile, bank, r.fps}, play.amplitudes,
-          tp::images_from_stdin(f) ? 0 : -1, [](const std::string& line) {
-            tp::cli::write_stdout(line);
-          });
+          {play.sequence, play.profile.profile, bank, r.fps, play.gamut ? &*play.gamut : nullptr},
+          play.amplitudes, tp::images_from_stdin(f) ? 0 : -1,
+          [](const std::string& line) { tp::cli::write_stdout(line); });
+      // Said once the frames are played (a frame refused on the way gets its one line).
+      std::fputs(note_text(play.gamut_note).c_str(), stderr);
+      if (play.gamut)
+        std::fprintf(stderr, "render-tactile: %s\n", tp::gamut_summary(*play.gamut).c_str());
       std::fprintf(stderr, "render-tactile: %s\n", tp::runs::playback_summary(n, r.fps).c_str());
       return;
     }
     const tp::RenderResult out = tp::run_render(r, bank);
     std::fputs((warning_text(out.warning) + note_text(images.note)).c_str(), stderr);
-    if (!out.gamut_note.empty())
-      std::fprintf(stderr, "render-tactile: note: %s\n", out.gamut_note.c_str());
+    std::fputs(note_text(out.gamut_note).c_str(), stderr);
     if (out.gamut)
       std::fprintf(stderr, "render-tactile: %s; mapped in %s ms\n",
                    tp::gamut_summary(*out.gamut).c_str(),

@@ -197,8 +197,25 @@ std::string recruitment_pulse_note(const BankRecruitment& r, const PulseSpec& re
          render_pulse.describe() + " pulse: the gamut's colours are that pulse's";
 }
 
+void map_frame(const PixelBank& bank, const Profile& profile, PadIntensities& frame,
+               GamutReport& tally) {
+  const GamutReport g = map_to_gamut(bank, profile, frame);
+  const double sum = tally.mean_error * static_cast<double>(tally.requested) +
+                     g.mean_error * static_cast<double>(g.requested);
+  ++tally.frames;
+  tally.requested += g.requested;
+  tally.outside += g.outside;
+  tally.max_error = std::max(tally.max_error, g.max_error);
+  tally.mean_error = tally.requested ? sum / static_cast<double>(tally.requested) : 0.0;
+  if (tally.error.size() < g.error.size()) tally.error.resize(g.error.size(), 0.0);
+  for (std::size_t k = 0; k < g.error.size(); ++k)
+    tally.error[k] = std::max(tally.error[k], g.error[k]);
+  tally.centre = g.centre;
+}
+
 Json gamut_to_json(const GamutReport& g) {
   Json j;
+  if (g.frames > 0) j["frames"] = g.frames;
   j["requested"] = g.requested;
   j["outside"] = g.outside;
   j["tolerance"] = kGamutTolerance;
@@ -223,7 +240,7 @@ std::string gamut_summary(const GamutReport& g) {
                 "gamut: %zu of %zu pixels asked for outside the modes' gamut (error up to "
                 "%.3g, mean %.3g, in fractions recruited)",
                 g.outside, g.requested, g.max_error, g.mean_error);
-  return b;
+  return g.frames > 0 ? std::string(b) + " over " + count_text(g.frames, "frame") : b;
 }
 
 }  // namespace tp

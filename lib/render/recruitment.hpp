@@ -69,10 +69,11 @@ GamutModes gamut_modes(const BankRecruitment& r, const Profile& profile, long pa
 inline constexpr double kGamutTolerance = 0.5 / 255.0;
 
 struct GamutReport {
-  std::size_t requested = 0;  // pixels asking for anything
+  std::size_t frames = 0;     // a sequence's frames mapped (0: a still)
+  std::size_t requested = 0;  // pixels asking for anything (over every frame)
   std::size_t outside = 0;    // of them, outside the gamut
   double max_error = 0, mean_error = 0;  // over the requested pixels
-  std::vector<double> error;  // per pad (0 where nothing was asked)
+  std::vector<double> error;  // per pad (0 where nothing was asked; a sequence's: the most)
   GamutModes centre;          // the colours at the array's centre pad
 };
 
@@ -90,6 +91,12 @@ std::string unlit_by_gamut(const PixelBank& bank, const Profile& profile, const 
 // A note when the render's pulse is not the one the recruitment was sampled with (the
 // colours are that pulse's), else "".
 std::string recruitment_pulse_note(const BankRecruitment& r, const PulseSpec& render_pulse);
+
+// A sequence's frame mapped as a still's image (map_to_gamut), its report added to the
+// sequence's: counts summed, the errors' maximum per pad and overall, their mean over every
+// pixel asked for in every frame.
+void map_frame(const PixelBank& bank, const Profile& profile, PadIntensities& frame,
+               GamutReport& tally);
 
 // The output's "gamut" field, and the stderr line: "gamut: 3 of 16 pixels asked for outside
 // the modes' gamut (error up to 0.41, mean 0.12, in fractions recruited)".

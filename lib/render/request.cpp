@@ -36,6 +36,7 @@ PulseSpec render_pulse(const RenderOptions& o) {
 
 RenderProfile render_profile(const RenderRequest& r, const PixelBank& bank) {
   if (r.profile) return {*r.profile, ""};
+  if (r.model_profile) return *r.model_profile;
   const RenderOptions& o = r.options;
   ModelProfileOptions m;
   m.pulse = render_pulse(o);
@@ -60,25 +61,30 @@ RenderProfile render_profile(const RenderRequest& r, const PixelBank& bank) {
 
 namespace {
 
-// A still's requested colours into the intensities nearest them in the modes' gamut, when
-// the bank carries the modes' recruitment; else why not, said (docs/rendering.md, "The
-// gamut").
+// Why the bank's channels drive their modes as given, or that its recruitment's pulse is not
+// the render's ("" when it is).
+std::string gamut_note(const PixelBank& bank, const RenderOptions& o) {
+  if (!bank.recruitment)
+    return "the bank carries no recruitment (optimize-weights --bank --population N): each "
+           "channel drives its mode as given, whatever else the mode recruits";
+  return recruitment_pulse_note(*bank.recruitment, render_pulse(o));
+}
+
+// A still's requested colours into the intensities nearest them in the modes' gamut, or a
+// sequence's mapping (render_images'), when the bank carries the modes' recruitment
+// (docs/rendering.md, "The gamut").
 void map_image(RenderRequest& r, const PixelBank& bank, const Profile& profile, RenderResult& out) {
-  if (!bank.recruitment) {
-    out.gamut_note =
-        "the bank carries no recruitment (optimize-weights --bank --population N): each "
-        "channel drives its mode as given, whatever else the mode recruits";
-    return;
-  }
+  out.gamut_note = gamut_note(bank, r.options);
+  if (!bank.recruitment) return;
   if (r.sequence) {
-    out.gamut_note = "a sequence's frames drive the modes as given (not mapped into the gamut)";
+    out.gamut = r.frames_gamut;
+    out.gamut_ms = r.frames_gamut_ms;
     return;
   }
   const auto t0 = std::chrono::steady_clock::now();
   out.gamut = map_to_gamut(bank, profile, r.image);
   out.gamut_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  out.gamut_note = recruitment_pulse_note(*bank.recruitment, render_pulse(r.options));
 }
 
 }  // namespace
@@ -103,7 +109,8 @@ RenderResult run_render(const RenderRequest& request, const PixelBank& bank) {
   out.plan_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (out.plan.lit.empty() && out.gamut && out.gamut->requested > 0)
-    bad_input(r.image_name + ": " + unlit_by_gamut(bank, profile.profile, *out.gamut));
+    bad_input((r.sequence ? std::string("the sequence's frames") : r.image_name) + ": " +
+              unlit_by_gamut(bank, profile.profile, *out.gamut));
   if (out.plan.lit.empty())
     bad_input(r.sequence ? "no frame lights a pixel"
                          : r.image_name + ": no pixel is lit (all black)");
@@ -176,11 +183,11 @@ void check_inputs_given(const RenderSpec& s) {
   if (stdin_uses > 1) bad_input("- (stdin) given more than once");
 }
 
-// The PNG images on the bank's pads, each read and checked; a sequence's kept as
-// SequenceFrames keeps them (not returned).  `note` as render_images says.
+// The PNG images on the bank's pads, each read and checked; a sequence's given to `keep`
+// (not returned).  `note` as render_images says.
 std::vector<PadIntensities> read_images(const std::vector<std::string>& paths,
                                         const PixelBank& bank, bool resample,
-                                        SequenceFrames* kept, std::string& note) {
+                                        const FrameSink& keep, std::string& note) {
   std::vector<PadIntensities> out;
   std::size_t translucent = 0;  // images with a pixel not opaque
   for (const std::string& f : paths) {
@@ -189,8 +196,8 @@ std::vector<PadIntensities> read_images(const std::vector<std::string>& paths,
       note = "image '" + f + "': " + count_text(im.translucent, "pixel") + " of " +
              std::to_string(im.rgb.size() / 3) + " not opaque";
     PadIntensities p = pad_intensities(im, bank.columns, bank.rows, resample);
-    if (kept) {
-      kept->add(p, f);
+    if (keep) {
+      keep(p, f);
     } else {
       out.push_back(std::move(p));
     }
@@ -225,16 +232,39 @@ void fit_spec_to_bank(const RenderSpec& s, const PixelBank& bank, RenderRequest&
 
 bool images_from_stdin(const RenderSpec& s) { return s.images.size() == 1 && s.images[0] == "-"; }
 
+namespace {
+
+// A sequence's frames into r.frames, each mapped into the gamut first when the bank carries
+// recruitment (with the profile run_render will plan with, computed here once).
+FrameSink sequence_sink(const PixelBank& bank, RenderRequest& r) {
+  r.frames.emplace(bank.columns, bank.rows);
+  if (!bank.recruitment) return [&r](const PadIntensities& im, const std::string& where) {
+    r.frames->add(im, where);
+  };
+  if (!r.profile) r.model_profile = render_profile(r, bank);
+  r.frames_gamut.emplace();
+  return [&r, &bank](const PadIntensities& im, const std::string& where) {
+    PadIntensities mapped = im;
+    const auto t0 = std::chrono::steady_clock::now();
+    map_frame(bank, render_profile(r, bank).profile, mapped, *r.frames_gamut);
+    r.frames_gamut_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    r.frames->add(mapped, where);
+  };
+}
+
+}  // namespace
+
 RenderImages render_images(const RenderSpec& s, const PixelBank& bank, RenderRequest& r,
                            const StdinFrames& read_stdin) {
   RenderImages out;
   const bool from_stdin = images_from_stdin(s);
-  if (s.sequence) r.frames.emplace(bank.columns, bank.rows);
+  const FrameSink keep = s.sequence ? sequence_sink(bank, r) : FrameSink();
   if (s.sequence && from_stdin) {
-    read_stdin([&](const PadIntensities& im, const std::string& where) { r.frames->add(im, where); });
+    read_stdin(keep);
     if (r.frames->count() == 0) bad_input("--sequence -: no frames on stdin");
   } else if (!(from_stdin && !s.frames_for.empty())) {
-    out.frames = read_images(s.images, bank, s.resample, s.sequence ? &*r.frames : nullptr, out.note);
+    out.frames = read_images(s.images, bank, s.resample, keep, out.note);
   }
   if (!s.sequence && s.frames_for.empty()) {
     r.image = out.frames[0];
@@ -249,9 +279,15 @@ FramesToPlay frames_to_play(const RenderSpec& s, const RenderRequest& r, const P
   Sequence seq = sequence_from_json(read_json(s.frames_for, "stimulus"), bank, p.profile,
                                     "--frames " + s.frames_for);
   std::vector<std::vector<double>> out;
-  for (std::size_t k = 0; k < frames.size(); ++k)
-    out.push_back(frame_amplitudes(seq, p.profile, frames[k], s.images[k]));
-  return {std::move(p), std::move(seq), std::move(out)};
+  std::optional<GamutReport> gamut;
+  if (bank.recruitment) gamut.emplace();
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    PadIntensities frame = frames[k];
+    if (gamut) map_frame(bank, p.profile, frame, *gamut);
+    out.push_back(frame_amplitudes(seq, p.profile, frame, s.images[k]));
+  }
+  std::string note = gamut_note(bank, r.options);
+  return {std::move(p), std::move(seq), std::move(out), std::move(gamut), std::move(note)};
 }
 
 }  // namespace tp

@@ -16,6 +16,12 @@
 
 namespace tp {
 
+// The profile a request renders with (render_profile).
+struct RenderProfile {
+  Profile profile;
+  std::string warning;  // empty with the request's own profile
+};
+
 struct RenderRequest {
   RenderOptions options;   // its duration_s: render_duration_s's
   bool sequence = false;   // a sequence's stimulus (for stimctl --live), not a still's
@@ -30,6 +36,11 @@ struct RenderRequest {
   PadIntensities image;                           // a still's
   std::string image_name = "image";               // for messages: its file
   std::optional<SequenceFrames> frames;           // a sequence's (none: every pattern)
+  // render_images' work for run_render: the profile it mapped a sequence's frames with (the
+  // fibre model's, computed once), and how near the frames came to the gamut.
+  std::optional<RenderProfile> model_profile;
+  std::optional<GamutReport> frames_gamut;
+  double frames_gamut_ms = 0;
 };
 
 // The request's duration: as given, else a still's 1 s, a sequence's `frames` and one
@@ -42,11 +53,8 @@ double render_duration_s(const RenderRequest& r, std::size_t frames);
 void fit_to_bank(RenderRequest& r, const PixelBank& bank);
 
 // The profile the request renders with: its own, or (none given) the fibre model's for
-// the request's pulse, with a warning that says so and gives each primary's range.
-struct RenderProfile {
-  Profile profile;
-  std::string warning;  // empty with the request's own profile
-};
+// the request's pulse (r.model_profile when render_images computed it), with a warning that
+// says so and gives each primary's range.
 RenderProfile render_profile(const RenderRequest& r, const PixelBank& bank);
 // The pulse the render delivers (--width, --interphase, --balance-width).
 PulseSpec render_pulse(const RenderOptions& o);
@@ -58,12 +66,13 @@ struct RenderResult {
   std::string warning;  // render_profile's
   std::string lowered;  // why rates were lowered (lowered_text; empty when not)
   double plan_ms = 0;   // the time the plan took
-  // A still's image mapped into the modes' gamut (the bank carries their recruitment,
-  // render/recruitment.hpp), in the document as "gamut"; none without it or for a sequence.
+  // A still's image or a sequence's frames mapped into the modes' gamut (the bank carries
+  // their recruitment, render/recruitment.hpp), in the document as "gamut"; none without it
+  // or for a sequence without frames.
   std::optional<GamutReport> gamut;
   double gamut_ms = 0;  // the time the mapping took
-  // Why the channels were rendered as given: the bank carries no recruitment, or a
-  // sequence's frames are not mapped (empty: mapped, or nothing to say).
+  // Why the channels were rendered as given (the bank carries no recruitment), or that the
+  // recruitment's pulse is not the render's; empty: nothing to say.
   std::string gamut_note;
 };
 // Fits the request to the bank, checks its options (bad input naming them as
@@ -102,9 +111,10 @@ using StdinFrames = std::function<void(const FrameSink& frame)>;
 
 // The images the request renders, read and checked before anything is written: a still's
 // into r.image; a sequence's into r.frames (as SequenceFrames keeps them, so memory does
-// not grow with their number; from stdin through `read_stdin`); --frames' PNGs returned,
-// their amplitudes to be played (from stdin: none, read as they come).  `note`: when some
-// pixel was not opaque, what was composited onto black, else empty.
+// not grow with their number; from stdin through `read_stdin`), each mapped into the gamut
+// first when the bank carries recruitment (r.frames_gamut); --frames' PNGs returned, their
+// amplitudes to be played (from stdin: none, read as they come).  `note`: when some pixel
+// was not opaque, what was composited onto black, else empty.
 struct RenderImages {
   std::vector<PadIntensities> frames;  // --frames' PNG frames
   std::string note;
@@ -113,11 +123,15 @@ RenderImages render_images(const RenderSpec& s, const PixelBank& bank, RenderReq
                            const StdinFrames& read_stdin);
 
 // --frames: the sequence's stimulus (its file) read and checked against the bank and the
-// profile, and each PNG frame's amplitudes, all checked before the first is played.
+// profile, and each PNG frame's amplitudes (mapped into the gamut first, as --sequence
+// mapped its frames, when the bank carries recruitment), all checked before the first is
+// played.
 struct FramesToPlay {
   RenderProfile profile;
   Sequence sequence;
   std::vector<std::vector<double>> amplitudes;  // the PNG frames'
+  std::optional<GamutReport> gamut;             // the frames' mapping (stdin's: as played)
+  std::string gamut_note;                       // as RenderResult's
 };
 FramesToPlay frames_to_play(const RenderSpec& s, const RenderRequest& r, const PixelBank& bank,
                             const std::vector<PadIntensities>& frames);

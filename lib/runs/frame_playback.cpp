@@ -52,7 +52,10 @@ std::size_t play_frames(const Playback& p, const std::vector<std::vector<double>
     for (const auto& a : given) emit(a);
   } else {
     for_each_frame_line(from_fd, p.bank, [&](const PadIntensities& f, const std::string& where) {
-      emit(frame_amplitudes(p.sequence, p.profile, f, where));
+      if (!p.gamut) return emit(frame_amplitudes(p.sequence, p.profile, f, where));
+      PadIntensities mapped = f;
+      map_frame(p.bank, p.profile, mapped, *p.gamut);
+      emit(frame_amplitudes(p.sequence, p.profile, mapped, where));
     });
   }
   if (k > 0) std::this_thread::sleep_until(t0 + static_cast<long>(k) * period);

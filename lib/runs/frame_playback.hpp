@@ -30,6 +30,9 @@ struct Playback {
   const Profile& profile;
   const PixelBank& bank;
   double fps;
+  // Where stdin's frames are mapped into the gamut (render/recruitment.hpp's map_frame)
+  // before their amplitudes are taken, and the mapping told; none: played as given.
+  GamutReport* gamut = nullptr;
 };
 std::size_t play_frames(const Playback& p, const std::vector<std::vector<double>>& given,
                         int from_fd, const std::function<void(const std::string&)>& write);

@@ -174,6 +174,23 @@ TEST_CASE("the gamut: an image mapped pixel by pixel, inside back to itself, out
   CHECK(j["outside"] == 2);
   CHECK(j["error"].size() == 4);
   CHECK(j["onset_colours"]["SAI"] == Json::array({0, 0.75, 0.25}));
+  CHECK(!j.contains("frames"));
+  // A sequence's frames, tallied: counts summed, the most per pad, the mean over all.
+  GamutReport tally;
+  PadIntensities first = im, second = im;
+  first.value = {inside, {1, 0, 0}, {0, 0, 0.5}, {0, 0, 0}};
+  second.value = {{0, 0, 0}, {0, 0, 0.5}, {0, 0, 0}, {0, 0, 0}};
+  map_frame(bank, p, first, tally);
+  map_frame(bank, p, second, tally);
+  CHECK(first.value == im.value);  // mapped as the still was
+  CHECK(tally.frames == 2);
+  CHECK(tally.requested == 4);
+  CHECK(tally.outside == 3);
+  CHECK(tally.error[1] == Approx(std::max(out.error, blue.error)));
+  CHECK(tally.error[2] == Approx(blue.error));
+  CHECK(tally.mean_error == Approx((g.error[0] + out.error + 2 * blue.error) / 4));
+  CHECK(gamut_summary(tally).find(") over 2 frames") != std::string::npos);
+  CHECK(gamut_to_json(tally)["frames"] == 2);
   // A person's profile reads the colour at the person's multiple of threshold: comfort at
   // 1.5 x threshold reads the thresholds at 1.5 x the reference.
   Profile narrow = profile_at(1.0, 1.5);

@@ -4,7 +4,8 @@
 # reference is fiber-threshold's threshold for the same pattern through its peak (the peer);
 # the document's intensities predict, with the document's colours, exactly the errors it
 # reports, and the count outside is the count of errors above the tolerance; a colour made
-# of the modes' own colours is met; a bank without recruitment is said to render as given.
+# of the modes' own colours is met; a sequence's frames are mapped alike, by --sequence and
+# by --frames; a bank without recruitment is said to render as given.
 source "$TP_SOURCE/tests/cli/render-tactile/common.sh"
 optimize-weights --bank --grid 4x4 --pitch 2 --pad 1x1 --neighbourhood 3 --population 3 \
   > rb.json 2> rb.err || fail "optimize-weights --population: $(cat rb.err)"
@@ -59,6 +60,28 @@ if command -v gnuplot > /dev/null; then
   [[ $(pngtopnm fig.png | head -c 32 | sed -n 2p) == "1750 400" ]] \
     || fail "plot-render: not five panels of 350 x 400: $(pngtopnm fig.png | head -c 32 | sed -n 2p)"
 fi
+# A sequence's frames are mapped as a still's image: its stimulus starts from frame 1's
+# mapped intensities, the amplitudes --frames plays for that frame (a PNG, and the same
+# frame as a JSON line on stdin), and stderr tells the mapping over the frames.
+render-tactile --bank rb.json --profile profile.json --sequence pic.png in.png > seq.json 2> seq.err \
+  || fail "--sequence: $(cat seq.err)"
+grep -q "^render-tactile: gamut: [0-9]* of 5 pixels asked for outside the modes' gamut (.*) over 2 frames; mapped in [0-9.]* ms$" seq.err \
+  || fail "no sequence gamut line: $(cat seq.err)"
+jq -e '.gamut.frames == 2 and .gamut.requested == 5 and (.gamut.error | length) == 16' seq.json > /dev/null \
+  || fail "the sequence's gamut: $(jq -c '.gamut | del(.error)' seq.json)"
+render-tactile --bank rb.json --profile profile.json --frames seq.json pic.png > f.jsonl 2> f.err \
+  || fail "--frames: $(cat f.err)"
+grep -q "^render-tactile: gamut: .* over 1 frame$" f.err || fail "no --frames gamut line: $(cat f.err)"
+jq -nc '{rgb: [range(16) | if . == 5 then [255,0,0] elif . == 6 then [0,255,0] elif . == 9 then [0,0,255]
+                           elif . == 10 then [128,128,128] else [0,0,0] end]}' > line.jsonl
+render-tactile --bank rb.json --profile profile.json --frames seq.json - < line.jsonl > l.jsonl 2> l.err \
+  || fail "--frames -: $(cat l.err)"
+for played in f.jsonl l.jsonl; do
+  jq -se --slurpfile s seq.json 'length == 1 and (.[0].amplitudes | length) == ($s[0].start_amplitudes_mA | length)
+      and ([.[0].amplitudes, $s[0].start_amplitudes_mA] | transpose | all(((.[0] - .[1]) | fabs) < 1e-9))
+      and ($s[0].start_amplitudes_mA | any(. > 0))' "$played" > /dev/null \
+    || fail "$played: $(cat "$played") against the sequence's start $(jq -c .start_amplitudes_mA seq.json)"
+done
 # A recruitment without modes lights nothing: refused, naming why (not "all black").
 jq '.recruitment.modes = {}' rb.json > none.json
 refuses 2 --says "pic.png: 4 pixels ask for colour, and the nearest the modes come to each is nothing (RA: the bank's recruitment has no RA mode; SAI: the bank's recruitment has no SAI mode; PC: the bank's recruitment has no PC mode)" \
