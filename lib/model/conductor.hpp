@@ -9,6 +9,7 @@
 // (model/conductor.cpp).
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,16 @@ class Conductor {
   // source_depth_mm).  What the checks need to keep fibres, grids and planes clear of the
   // singularities (fibre::fibre_nodes, validate_setup, check_grid, check_plane).
   virtual double buried_source_depth_mm() const { return 0.0; }
+
+  // Pad i's spreading (access) resistance in kOhm, the series resistance of the
+  // electrode-skin interface (device/skin_circuit.hpp): the mean potential over the pad for
+  // 1 mA through it alone, where the model can give it.  rect3d gives the closed form of a
+  // uniformly loaded rectangle on a half-space (docs/skin.md); none elsewhere (the 2-D
+  // models have no zero at infinity, a point source's own potential is infinite, and the
+  // layered model's is not done).
+  virtual std::optional<double> spreading_resistance_kohm(std::size_t /*pad*/) const {
+    return std::nullopt;
+  }
 
   // Depths (mm) where the conductor's resistivity changes (the layered model's interfaces):
   // Psi is harmonic in space between them.

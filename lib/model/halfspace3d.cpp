@@ -138,6 +138,17 @@ class Rect3d : public Conductor {
   bool planar_harmonic() const override { return false; }
   bool three_d() const override { return true; }
 
+  // The mean over the pad of the potential its own uniform current density sets up:
+  // rho / (2 pi w^2 L^2) times the fourfold integral of 1 / |r - r'| over the pad twice,
+  //     F(w, L) = 2/3 (w^3 + L^3 - d^3) + 2 w^2 L asinh(L / w) + 2 w L^2 asinh(w / L),
+  // d = sqrt(w^2 + L^2) (docs/skin.md).  Ohm m over mm is kOhm.
+  std::optional<double> spreading_resistance_kohm(std::size_t /*pad*/) const override {
+    const double w = 2 * half_w_, l = 2 * half_l_, d = std::hypot(w, l);
+    const double f = 2.0 / 3.0 * (w * w * w + l * l * l - d * d * d) +
+                     2 * w * w * l * std::asinh(l / w) + 2 * w * l * l * std::asinh(w / l);
+    return k_ * f / (w * l);  // k = rho / (2 pi w L)
+  }
+
   void unit_potentials_3d(double x_mm, double y_mm, double z_mm, double* psi) const override {
     // G(a, b): the double integral of 1/R over a corner's quadrant.
     const double y2 = y_mm * y_mm;
