@@ -24,7 +24,10 @@ constexpr const char* kSkinFormat = "tactile-primaries/skin/1";
 
 Skin skin_from_json(const Json& j, const std::string& where) {
   if (!j.is_object()) bad_input(where + ": expected a JSON object");
-  reject_unknown(j, {"format", "name", "description", "valid_to_mm", "layers", "note"}, where);
+  // electrode, overrides and events are an emulator's (host/skin_file.hpp; docs/skin.md).
+  reject_unknown(j, {"format", "name", "description", "valid_to_mm", "layers", "note",
+                     "electrode", "overrides", "events"},
+                 where);
   if (j.contains("format") &&
       (!j["format"].is_string() || j["format"].get<std::string>() != kSkinFormat))
     bad_input(where + ": 'format' must be \"" + kSkinFormat + "\"");

@@ -1,0 +1,62 @@
+#pragma once
+// A skin scenario (issue 41, item 2; docs/skin.md, "Skin scenarios"): every channel's
+// electrode-skin interface (skin_circuit.hpp) at any time of a session, from a base
+// interface, per-channel overrides and a script of timed events (a pad lifted, part of a
+// pad touching, sweat lowering Rp along a ramp).  What an emulator's skin is made of; the
+// host reads it from a skin file (host/skin_file.hpp).  Portable: fixed capacity, no heap.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "device/protocol.hpp"
+#include "device/skin_circuit.hpp"
+
+namespace tp::device {
+
+// The interface's values an override or an event may set.
+enum class SkinField : std::uint8_t { rs_kohm, rp_kohm, cp_nf, j_half_mA_mm2, contact };
+inline constexpr std::size_t kSkinFields = 5;
+
+// One event: from t_us on, on its channels, `field` moves linearly from its value at t_us to
+// `target` over ramp_us (0: at once).  A later event on the same field and channel starts
+// from where the earlier one has brought it, and takes over.
+struct SkinEvent {
+  std::uint64_t t_us = 0;
+  std::uint64_t ramp_us = 0;
+  std::uint64_t channels = 0;  // bit c: channel c
+  SkinField field = SkinField::contact;
+  double target = 0;
+};
+
+class SkinScenario {
+ public:
+  static constexpr std::size_t kMaxEvents = 512;  // field changes, all events together
+
+  // Every channel starts from `base` (its area too).
+  explicit SkinScenario(const SkinInterface& base = SkinInterface{});
+
+  // Channel c starts with `field` at `value` instead of the base's.
+  void set_override(std::size_t channel, SkinField field, double value);
+  // Adds an event; false when kMaxEvents are held (nothing is added).  Events may be added
+  // in any order: evaluation takes them by time, and in the order added at one time.
+  bool add_event(const SkinEvent& e);
+
+  // Channel c's interface at t_us from the start of the output.
+  SkinInterface at(std::size_t channel, std::uint64_t t_us) const;
+
+  std::size_t events() const { return n_; }
+
+ private:
+  double field_at(std::size_t channel, SkinField f, std::uint64_t t_us) const;
+
+  double start_[kMaxChannels][kSkinFields] = {};
+  double area_mm2_ = 1.0;
+  SkinEvent event_[kMaxEvents];
+  std::size_t n_ = 0;
+};
+
+// The value of a field of an interface, and the interface with it set.
+double skin_field(const SkinInterface& s, SkinField f);
+void set_skin_field(SkinInterface& s, SkinField f, double value);
+
+}  // namespace tp::device

@@ -1,0 +1,152 @@
+// Skin files read into an emulator's skin scenario (skin_file.hpp).
+
+#include "host/skin_file.hpp"
+
+#include <cmath>
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/number.hpp"
+#include "core/ranges.hpp"
+
+namespace tp::host {
+
+namespace {
+
+using device::SkinField;
+
+constexpr const char* kFormat = "tactile-primaries/skin/1";
+
+struct FieldSpec {
+  const char* key;
+  SkinField field;
+  ranges::Range range;
+};
+// j_half_mA_mm2 may also be 0 (Rp constant), checked apart.
+constexpr FieldSpec kFields[] = {
+    {"rs_kohm", SkinField::rs_kohm, {0.01, 1000, "kOhm"}},
+    {"rp_kohm", SkinField::rp_kohm, {0.1, 10000, "kOhm"}},
+    {"cp_nf", SkinField::cp_nf, {0.01, 10000, "nF"}},
+    {"j_half_mA_mm2", SkinField::j_half_mA_mm2, {0.001, 1000, "mA/mm^2"}},
+    {"contact", SkinField::contact, {0, 1, ""}},
+};
+
+double field_value(const Json& j, const FieldSpec& f, const std::string& where) {
+  const double v = json_finite(j[f.key], where + "." + f.key);
+  if (f.field == SkinField::j_half_mA_mm2 && v == 0) return v;
+  ranges::check(v, f.range, where + "." + f.key);
+  return v;
+}
+
+// The channels a list names: an array of channel indices, or "all".
+std::uint64_t channel_set(const Json& j, std::size_t channels, const std::string& where) {
+  if (j.is_string() && j.get<std::string>() == "all")
+    return channels >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << channels) - 1;
+  if (!j.is_array() || j.empty())
+    bad_input(where + ": expected a list of channel indices, or \"all\"");
+  std::uint64_t set = 0;
+  for (const Json& c : j) {
+    if (!c.is_number_integer() || c.get<long>() < 0 ||
+        c.get<long>() >= static_cast<long>(channels))
+      bad_input(where + ": " + c.dump() + " is not a channel (0 to " +
+                std::to_string(channels - 1) + ")");
+    set |= std::uint64_t{1} << c.get<long>();
+  }
+  return set;
+}
+
+device::SkinInterface electrode_of(const Json& j, const std::string& where) {
+  device::SkinInterface s;
+  if (!j.is_object()) bad_input(where + ": expected an object");
+  reject_unknown(j, {"rs_kohm", "rp_kohm", "cp_nf", "j_half_mA_mm2", "area_mm2", "contact", "note"},
+                 where);
+  for (const FieldSpec& f : kFields)
+    if (j.contains(f.key)) device::set_skin_field(s, f.field, field_value(j, f, where));
+  if (j.contains("area_mm2")) {
+    s.area_mm2 = json_finite(j["area_mm2"], where + ".area_mm2");
+    ranges::check(s.area_mm2, {0.01, 10000, "mm^2"}, where + ".area_mm2");
+  }
+  return s;
+}
+
+double seconds(const Json& j, const char* key, const std::string& where) {
+  const double v = json_finite(j[key], where + "." + key);
+  ranges::check(v, {0, skin_file_ranges::max_time_s, "s"}, where + "." + key);
+  return v;
+}
+
+void add_overrides(const Json& list, std::size_t channels, device::SkinScenario& s,
+                   const std::string& where) {
+  if (!list.is_array()) bad_input(where + ": expected a list");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = where + "[" + std::to_string(k) + "]";
+    const Json& o = list[k];
+    if (!o.is_object()) bad_input(at + ": expected an object");
+    reject_unknown(o, {"channels", "rs_kohm", "rp_kohm", "cp_nf", "j_half_mA_mm2", "contact", "note"},
+                   at);
+    if (!o.contains("channels")) bad_input(at + ": no channels");
+    const std::uint64_t set = channel_set(o["channels"], channels, at + ".channels");
+    for (const FieldSpec& f : kFields) {
+      if (!o.contains(f.key)) continue;
+      const double v = field_value(o, f, at);
+      for (std::size_t c = 0; c < channels; ++c)
+        if (set >> c & 1u) s.set_override(c, f.field, v);
+    }
+  }
+}
+
+void add_events(const Json& list, std::size_t channels, device::SkinScenario& s,
+                const std::string& where) {
+  if (!list.is_array()) bad_input(where + ": expected a list");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = where + "[" + std::to_string(k) + "]";
+    const Json& e = list[k];
+    if (!e.is_object()) bad_input(at + ": expected an object");
+    reject_unknown(e, {"t_s", "ramp_s", "channels", "rs_kohm", "rp_kohm", "cp_nf",
+                       "j_half_mA_mm2", "contact", "note"},
+                   at);
+    if (!e.contains("t_s")) bad_input(at + ": no t_s");
+    if (!e.contains("channels")) bad_input(at + ": no channels");
+    device::SkinEvent ev;
+    ev.t_us = static_cast<std::uint64_t>(std::llround(seconds(e, "t_s", at) * 1e6));
+    ev.ramp_us = e.contains("ramp_s")
+                     ? static_cast<std::uint64_t>(std::llround(seconds(e, "ramp_s", at) * 1e6))
+                     : 0;
+    ev.channels = channel_set(e["channels"], channels, at + ".channels");
+    bool any = false;
+    for (const FieldSpec& f : kFields) {
+      if (!e.contains(f.key)) continue;
+      any = true;
+      ev.field = f.field;
+      ev.target = field_value(e, f, at);
+      if (!s.add_event(ev))
+        bad_input(at + ": more than " + std::to_string(device::SkinScenario::kMaxEvents) +
+                  " changes in the events");
+    }
+    if (!any)
+      bad_input(at + ": changes nothing (give contact, rp_kohm, rs_kohm, cp_nf or j_half_mA_mm2)");
+  }
+}
+
+}  // namespace
+
+device::SkinScenario skin_scenario_from_json(const Json& j, std::size_t channels,
+                                             const std::string& where) {
+  if (channels < 1 || channels > device::kMaxChannels)
+    bad_input(where + ": " + std::to_string(channels) + " channels outside [1, 64]");
+  if (!j.is_object()) bad_input(where + ": expected a JSON object");
+  reject_unknown(j, {"format", "name", "description", "note", "valid_to_mm", "layers",
+                     "electrode", "overrides", "events"},
+                 where);
+  if (!j.contains("format") || !j["format"].is_string() ||
+      j["format"].get<std::string>() != kFormat)
+    bad_input(where + ": 'format' must be \"" + std::string(kFormat) + "\"");
+  if (!j.contains("electrode"))
+    bad_input(where + ": no electrode (the interface: rs_kohm, rp_kohm, cp_nf)");
+  device::SkinScenario s(electrode_of(j["electrode"], where + ": electrode"));
+  if (j.contains("overrides")) add_overrides(j["overrides"], channels, s, where + ": overrides");
+  if (j.contains("events")) add_events(j["events"], channels, s, where + ": events");
+  return s;
+}
+
+}  // namespace tp::host

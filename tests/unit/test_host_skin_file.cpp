@@ -1,0 +1,106 @@
+// Skin scenarios (device/skin_scenario.hpp) and the skin files an emulator reads
+// (host/skin_file.hpp, issue 41 item 2): the issue's own example, read and evaluated over
+// time (overrides, a lifted pad, a quarter contact, a sweat ramp on every channel), ramps
+// that overlap, and each bad field refused by name.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "core/error.hpp"
+#include "core/json.hpp"
+#include "host/skin_file.hpp"
+#include "model/skin.hpp"
+
+using namespace tp;
+using device::SkinField;
+
+namespace {
+const char* kExample = R"({"format": "tactile-primaries/skin/1",
+  "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0},
+  "overrides": [{"channels": [2], "rp_kohm": 80.0}],
+  "events": [{"t_s": 0.5, "channels": [3], "contact": 0.0},
+             {"t_s": 0.2, "channels": [5], "contact": 0.25},
+             {"t_s": 0.0, "channels": "all", "rp_kohm": 10.0, "ramp_s": 2.0}]})";
+
+std::uint64_t us(double s) { return static_cast<std::uint64_t>(s * 1e6); }
+
+std::string refusal(const std::string& text, std::size_t channels = 8) {
+  try {
+    host::skin_scenario_from_json(parse_json_strict(text, "skin"), channels, "--skin s.json");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+}  // namespace
+
+TEST_CASE("skin files: the issue's example over time", "[host][skin]") {
+  const device::SkinScenario s =
+      host::skin_scenario_from_json(parse_json_strict(kExample, "skin"), 8, "--skin s.json");
+  CHECK(s.events() == 3);
+  CHECK(s.at(0, 0).rs_kohm == 1.0);
+  CHECK(s.at(0, 0).cp_nf == 30.0);
+  CHECK(s.at(0, 0).rp_kohm == 50.0);
+  CHECK(s.at(2, 0).rp_kohm == 80.0);                     // the override
+  CHECK(s.at(0, us(1.0)).rp_kohm == Approx(30.0));        // sweat: halfway from 50 to 10
+  CHECK(s.at(2, us(1.0)).rp_kohm == Approx(45.0));        // from its own 80
+  CHECK(s.at(7, us(2.5)).rp_kohm == 10.0);                // and there after the ramp
+  CHECK(s.at(3, us(0.499999)).contact == 1.0);
+  CHECK(s.at(3, us(0.5)).contact == 0.0);                 // lifted at once
+  CHECK(s.at(5, us(0.3)).contact == 0.25);
+  CHECK(s.at(4, us(9.0)).contact == 1.0);
+}
+
+TEST_CASE("skin scenarios: a later event starts from where an earlier ramp has got to",
+          "[device][skin]") {
+  device::SkinScenario s;
+  device::SkinEvent sweat{0, us(2.0), 1u, SkinField::rp_kohm, 10.0};
+  device::SkinEvent dry{us(1.0), us(1.0), 1u, SkinField::rp_kohm, 90.0};
+  REQUIRE(s.add_event(dry));  // added out of order: taken by time
+  REQUIRE(s.add_event(sweat));
+  CHECK(s.at(0, us(0.5)).rp_kohm == Approx(40.0));
+  CHECK(s.at(0, us(1.0)).rp_kohm == Approx(30.0));   // the second starts here...
+  CHECK(s.at(0, us(1.5)).rp_kohm == Approx(60.0));   // ...and takes over: 30 to 90
+  CHECK(s.at(0, us(5.0)).rp_kohm == Approx(90.0));
+  CHECK(s.at(1, us(5.0)).rp_kohm == 50.0);           // another channel: untouched
+  for (std::size_t k = 2; k < device::SkinScenario::kMaxEvents; ++k) REQUIRE(s.add_event(sweat));
+  CHECK(!s.add_event(sweat));
+  CHECK(s.events() == device::SkinScenario::kMaxEvents);
+}
+
+TEST_CASE("skin files: bad fields refused by name", "[host][skin]") {
+  const std::string head = R"({"format": "tactile-primaries/skin/1", )";
+  CHECK(refusal(R"({"electrode": {}})") ==
+        "--skin s.json: 'format' must be \"tactile-primaries/skin/1\"");
+  CHECK(refusal(head + R"("layers": []})") ==
+        "--skin s.json: no electrode (the interface: rs_kohm, rp_kohm, cp_nf)");
+  CHECK(refusal(head + R"("electrode": {"rp": 5}})") ==
+        "--skin s.json: electrode: unknown key 'rp'");
+  CHECK(refusal(head + R"("electrode": {"cp_nf": 0}})") ==
+        "--skin s.json: electrode.cp_nf: 0 nF outside [0.01, 10000] nF");
+  CHECK(refusal(head + R"("electrode": {}, "events": [{"t_s": 1, "channels": [8], "contact": 0}]})") ==
+        "--skin s.json: events[0].channels: 8 is not a channel (0 to 7)");
+  CHECK(refusal(head + R"("electrode": {}, "events": [{"t_s": 1, "channels": "all", "contact": 1.5}]})") ==
+        "--skin s.json: events[0].contact: 1.5 outside [0, 1]");
+  CHECK(refusal(head + R"("electrode": {}, "events": [{"t_s": -1, "channels": [0], "contact": 0}]})") ==
+        "--skin s.json: events[0].t_s: -1 s outside [0, 86400] s");
+  CHECK(refusal(head + R"("electrode": {}, "events": [{"t_s": 1, "channels": [0]}]})") ==
+        "--skin s.json: events[0]: changes nothing (give contact, rp_kohm, rs_kohm, cp_nf or "
+        "j_half_mA_mm2)");
+  CHECK(refusal(head + R"("electrode": {}, "overrides": [{"rp_kohm": 3}]})") ==
+        "--skin s.json: overrides[0]: no channels");
+  CHECK(refusal(head + R"("electrode": {}, "overrides": [{"channels": [], "rp_kohm": 3}]})") ==
+        "--skin s.json: overrides[0].channels: expected a list of channel indices, or \"all\"");
+  CHECK(refusal(head + R"("electrode": {}, "wind": 1})") == "--skin s.json: unknown key 'wind'");
+  CHECK(refusal(head + R"("electrode": {"j_half_mA_mm2": 0}})") == "(accepted)");
+  std::string many = head + R"("electrode": {}, "events": [)";
+  for (int k = 0; k < 513; ++k) many += std::string(k ? "," : "") + R"({"t_s": 1, "channels": [0], "contact": 1})";
+  CHECK(refusal(many + "]}") == "--skin s.json: events[512]: more than 512 changes in the events");
+  // One file may carry the conductor's layers and the emulator's interface: each reads its own.
+  Json both = parse_json_strict(kExample, "skin");
+  both["valid_to_mm"] = 4.0;
+  both["layers"] = Json::array({Json{{"thickness_mm", 0.35}, {"resistivity_ohm_m", 1500.0}},
+                                Json{{"resistivity_ohm_m", 2.3}}});
+  CHECK(skin_from_json(both, "--skin both.json").layers.size() == 2);
+  CHECK(host::skin_scenario_from_json(both, 8, "--skin both.json").events() == 3);
+}
