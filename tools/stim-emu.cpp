@@ -37,6 +37,15 @@ int main(int argc, char** argv) {
                        "Pulses a second, over every pattern, the device reports it delivers on "
                        "time (its throughput), 1 to 10000 [10000]",
                        1, int{tp::device::hard::max_pulse_rate_hz});
+  std::string compliance;
+  app.add_option("--skin", r.skin_path,
+                 "The skin the electrodes touch (docs/skin.md): each pulse's voltage and "
+                 "impedance per channel in the record; events script contact and sweat "
+                 "[none: an ideal load]")
+      ->type_name("FILE");
+  app.add_option("--compliance-v", compliance,
+                 "With --skin: the output stage's compliance voltage, 1 to 1000 V [100]")
+      ->type_name("V");
   app.add_option("--record", r.record_path, "Write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--apply-log", r.apply_log_path, "Write 'n t_ns' per applied weight frame")
@@ -65,7 +74,8 @@ int main(int argc, char** argv) {
                      "in QEMU: scripts/firmware-emu); the path is printed once it answers")
           ->type_name("SOCKET");
   for (const char* device_option : {"--channels", "--max-current", "--dac-bits", "--watchdog-ms",
-                                    "--max-pulse-rate", "--record", "--apply-log", "--event-log"})
+                                    "--max-pulse-rate", "--record", "--apply-log", "--event-log",
+                                    "--skin", "--compliance-v"})
     forward->excludes(app.get_option(device_option));
 
   return tp::cli::run(app, argc, argv, [&] {
@@ -78,6 +88,7 @@ int main(int argc, char** argv) {
     if (!disconnect_after.empty())
       r.disconnect_after_s = tp::parse_finite(disconnect_after, "--disconnect-after");
     r.reply_delay_ms = tp::parse_finite(reply_delay_ms, "--reply-delay-ms");
+    if (!compliance.empty()) r.compliance_V = tp::parse_finite(compliance, "--compliance-v");
     const int rc = tp::host::run_pty_emulator(tp::host::pty_emulator_options(r));
     if (rc != 0) tp::failure("emulator stopped");
   });

@@ -58,6 +58,15 @@ int main(int argc, char** argv) {
       ->type_name("FILE");
   app.add_option("--emu-channels", emu_channels, "Emulator only: channel count, 1 to 64 [8]")
       ->check(CLI::Range(1, 64));
+  std::string emu_compliance;
+  app.add_option("--emu-skin", r.emu_skin_path,
+                 "Emulator only: the skin the electrodes touch (docs/skin.md): each pulse's "
+                 "voltage and impedance per channel in --record; events script contact and "
+                 "sweat [none: an ideal load]")
+      ->type_name("FILE");
+  app.add_option("--emu-compliance-v", emu_compliance,
+                 "With --emu-skin: the output stage's compliance voltage, 1 to 1000 V [100]")
+      ->type_name("V");
   app.add_option("--latency-log", r.latency_log,
                  "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
       ->type_name("FILE");
@@ -68,6 +77,8 @@ int main(int argc, char** argv) {
       return;
     }
     if (app.count("--emu-channels") > 0) r.emu_channels = emu_channels;
+    if (!emu_compliance.empty())
+      r.emu_compliance_V = tp::parse_finite(emu_compliance, "--emu-compliance-v");
     tp::host::check_delivery(r);
     // A stimulus (make-pulse's) or a mix of patterns (mix-stimuli's).
     const tp::Mix mix = tp::mix_from_json(tp::read_json(r.stimulus_path, "stimulus"));

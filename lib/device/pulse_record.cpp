@@ -128,7 +128,31 @@ void write_head(Writer& w, const PulseRecord& r) {
   w.uint(r.slip_us);
 }
 
+// "voltage_V": [..], "impedance_kohm": [..], null where a channel carried no current.
+void write_electrical(Writer& w, const PulseRecord& r) {
+  const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
+  const ElectricalRecord& e = *r.electrical;
+  w.text(", \"voltage_V\": [");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    if (e.carried[i])
+      w.micro(std::int64_t{e.voltage_mV[i]} * 1000);
+    else
+      w.text("null");
+  }
+  w.text("], \"impedance_kohm\": [");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i) w.text(", ");
+    if (e.carried[i])
+      w.micro(std::int64_t{e.impedance_ohm[i]} * 1000);
+    else
+      w.text("null");
+  }
+  w.text("]");
+}
+
 void write_tail(Writer& w, const PulseRecord& r) {
+  if (r.electrical) write_electrical(w, r);
   if (r.measured) {
     w.text(", \"start_us\": ");
     w.uint(r.start_us);

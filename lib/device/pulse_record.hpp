@@ -18,6 +18,14 @@ namespace tp::device {
 void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_width_us,
                    std::int16_t* out);
 
+// Each channel's voltage and impedance at a pulse's main phase's end; none where it carried
+// no current.
+struct ElectricalRecord {
+  bool carried[kMaxChannels] = {};
+  std::int32_t voltage_mV[kMaxChannels] = {};
+  std::uint32_t impedance_ohm[kMaxChannels] = {};
+};
+
 // A record is biphasic (the widths) or, when shape.n > 0, shaped (version 6): main holds the
 // base codes, and phase k delivers main[c] x shape.units[k] codes for shape.duration_us[k].
 struct PulseRecord {
@@ -36,15 +44,24 @@ struct PulseRecord {
   Shape shape;                                         // as configured; n == 0: biphasic
   std::uint32_t measured_duration_us[kMaxPhases] = {};  // each phase, when measured
   std::uint32_t dropped_before = 0;  // records lost before this one (a full monitor line)
+  // Measured at the main phase's end (a device that measures, or an emulator with a skin):
+  // each channel's voltage and the impedance derived from it; absent when null.  (Apart, so
+  // that a record without it costs a firmware nothing to make.)
+  const ElectricalRecord* electrical = nullptr;
 };
 
 // The longest line format_record writes (64 channels, 16 phases, every field at its widest).
 inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 320 + kMaxPhases * 48;
+// An electrical record's longest: each channel's voltage ("-2147483.648") and impedance
+// ("4294967.295") too.
+inline constexpr std::size_t kMaxElectricalRecordLine = kMaxRecordLine + 64 + kMaxChannels * 28;
 
 // Writes the record as one JSON line ending in '\n' into out (capacity kMaxRecordLine at
-// least); returns its length.  width_us, interphase_us and balance_width_us are the
+// least, kMaxElectricalRecordLine for an electrical record); returns its length.  width_us, interphase_us and balance_width_us are the
 // measured ones when measured, else the configured ones.  currents_mA: main codes x step;
 // net_charge_nC: main x width + balance x balance width, per channel, as delivered.
+// An electrical record adds "voltage_V" and "impedance_kohm", one per channel (null where
+// it carried no current), before start_us.
 // A shaped record has instead "phases": [{"duration_us", "units"}, ...] (measured
 // durations when measured), "unit_currents_mA": base code x step (phase k's current is
 // that x units), and net_charge_nC: base x step x sum units x duration (as configured), each

@@ -2,6 +2,10 @@
 
 #include "device/skin_scenario.hpp"
 
+#include <cmath>
+
+#include "device/pulse_record.hpp"
+
 namespace tp::device {
 
 double skin_field(const SkinInterface& s, SkinField f) {
@@ -80,6 +84,78 @@ SkinInterface SkinScenario::at(std::size_t channel, std::uint64_t t_us) const {
   for (std::size_t f = 0; f < kSkinFields; ++f)
     set_skin_field(s, static_cast<SkinField>(f), field_at(channel, static_cast<SkinField>(f), t_us));
   return s;
+}
+
+namespace {
+// A channel's phases of a pulse (mA, us), and which of them is the main phase.
+struct Phases {
+  double current_mA[kMaxPhases + 2] = {};
+  double duration_us[kMaxPhases + 2] = {};
+  std::size_t n = 0, main = 0;
+};
+
+Phases phases_of(const DeliveredPulse& p, std::size_t channel, const std::int16_t* balance) {
+  Phases ph;
+  const double step_mA = p.caps.dac_step_nA * 1e-6;
+  const double code = p.codes[channel];
+  if (p.timing.shaped()) {
+    const Shape& s = p.timing.shape;
+    int strongest = 0;
+    for (std::size_t k = 0; k < s.n && k < kMaxPhases; ++k) {
+      ph.current_mA[k] = code * s.units[k] * step_mA;
+      ph.duration_us[k] = s.duration_us[k];
+      const int u = s.units[k] < 0 ? -s.units[k] : s.units[k];
+      if (u > strongest) {
+        strongest = u;
+        ph.main = k;
+      }
+      ph.n = k + 1;
+    }
+    return ph;
+  }
+  ph.current_mA[0] = code * step_mA;
+  ph.duration_us[0] = p.timing.width_us;
+  ph.current_mA[1] = 0;
+  ph.duration_us[1] = p.timing.interphase_us;
+  ph.current_mA[2] = balance[channel] * step_mA;
+  ph.duration_us[2] = p.timing.balance_width_us;
+  ph.n = 3;
+  return ph;
+}
+}  // namespace
+
+void SimulatedSkin::measure(const DeliveredPulse& p, ElectricalRecord& m) {
+  m = ElectricalRecord{};
+  if (p.start_us != output_start_us_) {  // a new output: every channel discharged
+    output_start_us_ = p.start_us;
+    for (std::size_t c = 0; c < kMaxChannels; ++c) {
+      state_[c] = SkinState{};
+      last_us_[c] = p.start_us;
+    }
+  }
+  std::int16_t balance[kMaxChannels] = {};
+  if (!p.timing.shaped())
+    balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, balance);
+  const std::uint64_t t_us = p.t_us >= p.start_us ? p.t_us - p.start_us : 0;
+  for (std::size_t c = 0; c < p.codes.size() && c < kMaxChannels; ++c) {
+    const SkinInterface s = scenario_.at(c, t_us);
+    if (p.t_us > last_us_[c])  // discharged since its last pulse
+      phase_voltage_V(s, state_[c], 0.0, static_cast<double>(p.t_us - last_us_[c]));
+    const Phases ph = phases_of(p, c, balance);
+    double end_V[kMaxPhases + 2] = {};
+    pulse_peak_voltage_V(s, state_[c], ph.current_mA, ph.duration_us, ph.n, end_V);
+    double length_us = 0;
+    for (std::size_t k = 0; k < ph.n; ++k) length_us += ph.duration_us[k];
+    last_us_[c] = p.t_us + static_cast<std::uint64_t>(length_us);
+    const double i = ph.current_mA[ph.main];
+    if (i == 0) continue;
+    m.carried[c] = true;
+    double v = end_V[ph.main];
+    if (!(std::fabs(v) <= compliance_V_)) v = (i > 0 ? 1 : -1) * compliance_V_;  // the rail
+    m.voltage_mV[c] = static_cast<std::int32_t>(std::lround(v * 1000));
+    const double ohm = measured_impedance_kohm(v, i) * 1000;
+    m.impedance_ohm[c] = ohm < 4e9 ? static_cast<std::uint32_t>(std::lround(ohm)) : 4000000000u;
+  }
 }
 
 }  // namespace tp::device

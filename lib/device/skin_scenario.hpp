@@ -8,7 +8,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "device/device_core.hpp"
 #include "device/protocol.hpp"
+#include "device/pulse_record.hpp"
 #include "device/skin_circuit.hpp"
 
 namespace tp::device {
@@ -53,6 +55,31 @@ class SkinScenario {
   double area_mm2_ = 1.0;
   SkinEvent event_[kMaxEvents];
   std::size_t n_ = 0;
+};
+
+// What an emulator's (or a simulated board's) electrodes touch: each channel's interface
+// from a scenario, its charge carried from pulse to pulse (discharging in between), and the
+// output stage's compliance voltage.  It gives what a device measures at the end of a
+// pulse's main phase (a shaped pulse's strongest phase, the first of them): each channel's
+// voltage, held at the compliance rail where the pulse would need more (a lifted pad
+// always does), and the impedance derived from it, |V / I|.
+class SimulatedSkin {
+ public:
+  SimulatedSkin(const SkinScenario& scenario, double compliance_V)
+      : scenario_(scenario), compliance_V_(compliance_V) {}
+
+  // The pulse delivered at p.t_us (its output started at p.start_us; the scenario's time is
+  // from there, and a new output starts every channel discharged), measured into m.
+  void measure(const DeliveredPulse& p, ElectricalRecord& m);
+
+  double compliance_V() const { return compliance_V_; }
+
+ private:
+  const SkinScenario& scenario_;
+  double compliance_V_;
+  SkinState state_[kMaxChannels];
+  std::uint64_t last_us_[kMaxChannels] = {};  // each channel's state is at this time
+  std::uint64_t output_start_us_ = UINT64_MAX;
 };
 
 // The value of a field of an interface, and the interface with it set.

@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/number.hpp"
+#include "host/skin_file.hpp"
 #include "pulse/thresholds.hpp"
 
 namespace tp::host {
@@ -16,6 +17,10 @@ void check_delivery(const DeliveryRequest& r) {
     bad_input("--record: only with --port emu (stim-emu has its own)");
   if (r.port != "emu" && r.emu_channels)
     bad_input("--emu-channels: only with --port emu (a device reports its own channels)");
+  if (r.port != "emu" && !r.emu_skin_path.empty())
+    bad_input("--emu-skin: only with --port emu (a device's electrodes touch real skin)");
+  if (r.emu_compliance_V && r.emu_skin_path.empty())
+    bad_input("--emu-compliance-v: applies with --emu-skin (an ideal load needs no voltage)");
   if (!r.latency_log.empty() && !r.live)
     bad_input("--latency-log: only with --live (it logs live frames)");
 }
@@ -40,6 +45,9 @@ std::unique_ptr<Transport> open_delivery(const DeliveryRequest& r) {
   EmulatorOptions emu;
   emu.caps.channels = static_cast<std::uint8_t>(r.emu_channels.value_or(8));
   emu.record_path = r.record_path;
+  if (r.port == "emu")
+    emu.skin = emulator_skin(r.emu_skin_path, r.emu_compliance_V, emu.caps.channels,
+                             "--emu-skin", "--emu-compliance-v");
   return open_transport(r.port, r.baud, emu, r.backend);
 }
 

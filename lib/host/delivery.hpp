@@ -24,18 +24,22 @@ struct DeliveryRequest {
   std::string duration_given;       // empty: the number (told apart from the bounds) instead
   std::string record_path;           // emulator only: a JSON line per delivered pulse
   std::optional<int> emu_channels;   // emulator only [8]
+  std::string emu_skin_path;         // emulator only: the electrodes' skin (docs/skin.md)
+  std::optional<double> emu_compliance_V;  // with emu_skin_path: 1 to 1000 V [100]
   std::string latency_log;           // live only: "n t_ns" per frame sent
 };
 
 // The options' combinations, before anything is read: bad input naming the flag
-// (--live, --record, --emu-channels, --latency-log), in that order.
+// (--live, --record, --emu-channels, --emu-skin, --emu-compliance-v, --latency-log), in
+// that order.
 void check_delivery(const DeliveryRequest& r);
 
 // The session's options (live, the latency log, the duration checked against the host's
 // limits: "--duration: T s outside (0, 3600] s"); no stop, frames or progress yet.
 SessionOptions delivery_session(const DeliveryRequest& r);
 
-// The port, or the emulator with its channels [8] and record.
+// The port, or the emulator with its channels [8], record and skin (bad input naming
+// --emu-skin for a skin file that does not read).
 std::unique_ptr<Transport> open_delivery(const DeliveryRequest& r);
 
 // --list's output: CSV port,description, one row a serial port.

@@ -33,8 +33,10 @@ std::uint64_t monotonic_us() {
   return static_cast<std::uint64_t>(monotonic_ns() / 1000);
 }
 
-PulseRecorder::PulseRecorder(const std::string& path) {
+PulseRecorder::PulseRecorder(const std::string& path, const EmulatorSkin& skin)
+    : scenario_(skin.scenario) {
   if (!path.empty()) out_.emplace(path, "--record");
+  if (scenario_) skin_.emplace(*scenario_, skin.compliance_V);
 }
 
 void PulseRecorder::record(const device::DeliveredPulse& p) {
@@ -61,7 +63,12 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
     r.interphase_us = p.timing.interphase_us;
     r.balance_width_us = p.timing.balance_width_us;
   }
-  char line[device::kMaxRecordLine];
+  device::ElectricalRecord measured;
+  if (skin_) {
+    skin_->measure(p, measured);
+    r.electrical = &measured;
+  }
+  char line[device::kMaxElectricalRecordLine];
   const std::size_t n = device::format_record(r, line);
   try {
     out_->write(line, n);
@@ -86,7 +93,7 @@ namespace {
 class LoopbackTransport final : public Transport {
  public:
   explicit LoopbackTransport(const EmulatorOptions& o)
-      : core_(emulator_capabilities(o.caps)), recorder_(o.record_path) {}
+      : core_(emulator_capabilities(o.caps)), recorder_(o.record_path, o.skin) {}
   ~LoopbackTransport() override {
     try {
       advance();
@@ -233,7 +240,7 @@ class PtyEmulator {
  public:
   explicit PtyEmulator(const PtyEmulatorOptions& opt)
       : opt_(opt),
-        recorder_(opt.record_path),
+        recorder_(opt.record_path, opt.skin),
         core_(emulator_capabilities(opt.caps)),
         rng_{opt.faults.seed} {
     if (!opt.apply_log_path.empty()) apply_log_.emplace(opt.apply_log_path, "--apply-log");

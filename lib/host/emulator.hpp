@@ -6,10 +6,12 @@
 #include <cstdio>
 #include <string>
 
+#include <memory>
 #include <optional>
 
 #include "device/device_core.hpp"
 #include "core/files.hpp"
+#include "host/transport.hpp"
 
 namespace tp::host {
 
@@ -26,7 +28,9 @@ namespace tp::host {
 // caller stops the output.
 class PulseRecorder {
  public:
-  explicit PulseRecorder(const std::string& path);  // empty path: record nothing
+  // Empty path: record nothing.  With a skin, every pulse is measured on it (its voltage and
+  // impedance per channel in the record, docs/skin.md).
+  explicit PulseRecorder(const std::string& path, const EmulatorSkin& skin = EmulatorSkin{});
   void record(const device::DeliveredPulse& p);
   std::uint64_t pulses() const { return pulses_; }
   double peak_mA() const { return peak_mA_; }
@@ -34,6 +38,8 @@ class PulseRecorder {
 
  private:
   std::optional<LineFile> out_;
+  std::shared_ptr<const device::SkinScenario> scenario_;  // keeps skin_'s scenario
+  std::optional<device::SimulatedSkin> skin_;
   bool failed_ = false;
   std::uint64_t pulses_ = 0;
   double peak_mA_ = 0.0;
@@ -60,6 +66,7 @@ struct PtyEmulatorOptions {
   // (the firmware in QEMU: scripts/firmware-emu), with the same fault injection.
   std::string forward_socket;
   std::string record_path;
+  EmulatorSkin skin;  // --skin, --compliance-v
   std::string apply_log_path;  // "n t_ns" per applied weight frame (benchmarks)
   // "start t_ns wall_ns" / "stop t_ns wall_ns" (CLOCK_MONOTONIC, and CLOCK_REALTIME for
   // a shell's $EPOCHREALTIME) when a host's frame starts or stops the output (tests: a

@@ -1,5 +1,7 @@
 #include "host/emulator_request.hpp"
 
+#include "host/skin_file.hpp"
+
 #include <cmath>
 
 #include "core/error.hpp"
@@ -62,6 +64,8 @@ PtyEmulatorOptions pty_emulator_options(const EmulatorRequest& r) {
   o.caps.watchdog_ms = static_cast<std::uint16_t>(r.watchdog_ms);
   o.caps.max_pulse_rate_hz = static_cast<std::uint16_t>(r.max_pulse_rate_hz);
   o.record_path = r.record_path;
+  o.skin = emulator_skin(r.skin_path, r.compliance_V, static_cast<std::size_t>(r.channels),
+                         "--skin", "--compliance-v");
   o.apply_log_path = r.apply_log_path;
   o.event_log_path = r.event_log_path;
   o.forward_socket = r.forward_socket;

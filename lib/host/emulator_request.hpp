@@ -25,6 +25,8 @@ struct EmulatorRequest {
   double reply_delay_ms = 0.0;                          // [0, 1000]
   std::uint64_t seed = 1;
   std::string record_path, apply_log_path, event_log_path, forward_socket;
+  std::string skin_path;                 // --skin: the electrodes' skin (empty: an ideal load)
+  std::optional<double> compliance_V;    // --compliance-v, with --skin: 1 to 1000 V [100]
   // The texts the user typed, quoted by the messages that refuse them (stim-emu's flags);
   // empty: the values' numbers are written instead.
   struct Given {

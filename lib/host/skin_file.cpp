@@ -3,6 +3,7 @@
 #include "host/skin_file.hpp"
 
 #include <cmath>
+#include <memory>
 #include <utility>
 
 #include "core/error.hpp"
@@ -147,6 +148,25 @@ device::SkinScenario skin_scenario_from_json(const Json& j, std::size_t channels
   if (j.contains("overrides")) add_overrides(j["overrides"], channels, s, where + ": overrides");
   if (j.contains("events")) add_events(j["events"], channels, s, where + ": events");
   return s;
+}
+
+EmulatorSkin emulator_skin(const std::string& path, std::optional<double> compliance_V,
+                           std::size_t channels, const std::string& skin_flag,
+                           const std::string& compliance_flag) {
+  EmulatorSkin skin;
+  if (path.empty()) {
+    if (compliance_V)
+      bad_input(compliance_flag + ": applies with " + skin_flag +
+                " (an ideal load needs no voltage)");
+    return skin;
+  }
+  if (compliance_V) {
+    ranges::check(*compliance_V, {1, 1000, "V"}, compliance_flag);
+    skin.compliance_V = *compliance_V;
+  }
+  skin.scenario = std::make_shared<const device::SkinScenario>(
+      skin_scenario_from_json(read_json(path, "skin"), channels, skin_flag + " " + path));
+  return skin;
 }
 
 }  // namespace tp::host

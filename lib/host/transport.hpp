@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "device/protocol.hpp"
+#include "device/skin_scenario.hpp"
 
 namespace tp::host {
 
@@ -27,9 +28,17 @@ class Transport {
   virtual int native_handle() const { return -1; }
 };
 
+// The skin an emulator's electrodes touch (--emu-skin, stim-emu --skin; docs/skin.md):
+// none, an ideal load (records carry no measurements); else every pulse is measured.
+struct EmulatorSkin {
+  std::shared_ptr<const device::SkinScenario> scenario;
+  double compliance_V = 100;  // the output stage's, 1 to 1000 V
+};
+
 struct EmulatorOptions {
   device::Capabilities caps;
   std::string record_path;  // JSON lines, one per delivered pulse (empty: none)
+  EmulatorSkin skin;
 };
 
 // Opens "emu" or a port at `baud`.  A port is opened exclusively: an advisory lock

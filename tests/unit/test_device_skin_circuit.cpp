@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 
+#include "device/pulse_record.hpp"
 #include "device/skin_circuit.hpp"
 #include "model/conductor.hpp"
 
@@ -183,3 +184,47 @@ TEST_CASE("spreading resistance: a disc of pads against rho / (4 a)", "[model][s
   CHECK(equipotential < uniform);  // Thomson: the free distribution dissipates least
 }
 
+
+TEST_CASE("pulse records: an electrical record's voltages and impedances", "[device][skin]") {
+  device::PulseRecord r;
+  r.channels = 3;
+  r.step_nA = 1000;
+  r.main[0] = 500;
+  r.main[1] = -500;
+  r.width_us = r.balance_width_us = 200;
+  r.balance[0] = -500;
+  r.balance[1] = 500;
+  device::ElectricalRecord e;
+  e.carried[0] = e.carried[1] = true;
+  e.voltage_mV[0] = 3622;
+  e.voltage_mV[1] = -100000;
+  e.impedance_ohm[0] = 7244;
+  e.impedance_ohm[1] = 200000;
+  r.electrical = &e;
+  char line[device::kMaxElectricalRecordLine];
+  const std::string text(line, device::format_record(r, line));
+  CHECK(text.find(", \"voltage_V\": [3.622, -100, null], \"impedance_kohm\": [7.244, 200, null]}\n") !=
+        std::string::npos);
+  // The widest: 64 channels, every value at its extreme, within the bound.
+  device::PulseRecord big = r;
+  device::ElectricalRecord extreme;
+  big.electrical = &extreme;
+  big.channels = device::kMaxChannels;
+  for (std::size_t c = 0; c < device::kMaxChannels; ++c) {
+    big.main[c] = -32768;
+    big.balance[c] = -32768;
+    extreme.carried[c] = true;
+    extreme.voltage_mV[c] = INT32_MIN;
+    extreme.impedance_ohm[c] = UINT32_MAX;
+  }
+  big.step_nA = 65535;
+  big.width_us = big.balance_width_us = 65535;
+  big.t_us = UINT64_MAX;
+  big.slip_us = UINT32_MAX;
+  big.measured = true;
+  big.start_us = UINT64_MAX;
+  big.dropped_before = UINT32_MAX;
+  const std::size_t len = device::format_record(big, line);
+  CHECK(len <= device::kMaxElectricalRecordLine);
+  CHECK(std::string(line, len).find("[-2147483.648, ") != std::string::npos);
+}
