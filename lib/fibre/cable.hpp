@@ -102,8 +102,10 @@ class CableSimulator {
   void keep_state();
   // The time steps from step n on (t1: the end of step n - 1; s_old: its potential's scale),
   // pausing once settled if `settle`.
+  // keep_rest: keep the state before the first step with a nonzero level (rest_), for a
+  // run from rest.
   SimResult integrate(const double* ve, double amplitude, const Waveform& w, const SimOptions& o,
-                      bool settle, std::size_t n, double t1, double s_old);
+                      bool settle, std::size_t n, double t1, double s_old, bool keep_rest = false);
   double membrane(std::size_t k, double vm_mV, double& g_mS) const;
   void step(double dt, double ve_old_scale, double ve_new_scale, const double* ve_unit);
   // Double cable, condensed: the factors of one step length (a slot), and the step with them.
@@ -127,6 +129,7 @@ class CableSimulator {
   const Condensed* condensed_for(double dt);
   void fill(Condensed& c, double dt);
   void step_condensed(const Condensed& c, double s_old, double s_new, const double* ve);
+  void solve_runs(const Condensed& c, double s_old, double s_new, const double* ve);
 
   const NodeKinetics& kin_;
   Axon axon_;
@@ -160,6 +163,19 @@ class CableSimulator {
     std::size_t n = 0;
     bool valid = false;
   } paused_;
+  // The state before the waveform's first step with a nonzero level: every run of this
+  // simulator from rest with the same schedule up to there (step, stop time, windows,
+  // detection level, condensation, onset) takes the same steps there whatever its amplitude
+  // and potential (both enter scaled by a level of 0), so a later run starts from it.
+  struct Rest {
+    std::vector<double> vi, vp, gate, peak, cross;
+    std::vector<Window> windows;
+    double dt_ms = 0.0, tstop_ms = 0.0, detect_mV = 0.0, onset_ms = 0.0, t1 = 0.0;
+    std::size_t n = 0;
+    bool condense = true;
+    bool valid = false;
+  } rest_;
+  bool rest_matches(const SimOptions& o, double onset_ms) const;
   std::vector<double>* trace_ = nullptr;
   std::size_t trace_every_ = 1;
 };

@@ -48,6 +48,26 @@ void run_jobs(const Setup& setup, const Conductor& conductor, const std::vector<
   std::exception_ptr error;
   std::size_t error_index = jobs.size();
   std::size_t done = 0;  // searches ended, for o.progress (under m)
+  // With a memo: how far each class's thresholds moved from the memo's (log of new over old)
+  // in the searches ended so far (under m).  A search starts from its memo's threshold
+  // moved by its class's median (else every class's): a closer guess, fewer probes; the
+  // answer does not depend on the guess (search.hpp).
+  std::vector<std::vector<double>> moved(jobs.size());  // by the first job of the class
+  std::vector<double> all_moved;
+  std::vector<std::size_t> class_of(jobs.size());
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    class_of[i] = i;
+    for (std::size_t q = 0; q < i; ++q)
+      if (jobs[q].receptor.name == jobs[i].receptor.name) {
+        class_of[i] = class_of[q];
+        break;
+      }
+  }
+  auto median = [](std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
   auto worker = [&] {
     for (;;) {
       const std::size_t i = next.fetch_add(1);
@@ -56,10 +76,28 @@ void run_jobs(const Setup& setup, const Conductor& conductor, const std::vector<
         PotentialCache local;
         PotentialCache* cache = o.memo ? &o.memo->caches[i] : &local;
         ThresholdSettings settings = jobs[i].settings;
-        if (o.memo && o.memo->start_mA[i] > 0) settings.start_mA = {o.memo->start_mA[i]};
+        const double old_mA = o.memo ? o.memo->start_mA[i] : 0.0;
+        if (old_mA > 0) {
+          double shift = 0.0;
+          {
+            std::lock_guard<std::mutex> lock(m);
+            const std::vector<double>& mine = moved[class_of[i]];
+            if (!mine.empty())
+              shift = median(mine);
+            else if (!all_moved.empty())
+              shift = median(all_moved);
+          }
+          settings.start_mA = {old_mA * std::exp(shift)};
+        }
         const ReceptorThreshold t = receptor_threshold(
             model, setup, conductor, weights, jobs[i].receptor, waveform, settings, cache);
         if (o.memo) o.memo->start_mA[i] = t.threshold_mA.value_or(0.0);
+        if (old_mA > 0 && t.threshold_mA) {
+          std::lock_guard<std::mutex> lock(m);
+          const double d = std::log(*t.threshold_mA / old_mA);
+          moved[class_of[i]].push_back(d);
+          all_moved.push_back(d);
+        }
         p.afferents[i].threshold_mA = t.threshold_mA;
         p.afferents[i].at_cut_end = t.threshold_mA && t.at_cut_end;
         if (o.progress) {

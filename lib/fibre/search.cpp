@@ -144,9 +144,10 @@ Best AmplitudeSearch::minimum(const std::vector<std::vector<double>>& ve, std::s
           near = close || best.found;
         }
         long j;
+        std::size_t node = 0;
         bool found;
         try {
-          found = search_one(sim, ve[i], i, snap, g, near, j);
+          found = search_one(sim, ve[i], i, snap, g, near, j, node);
         } catch (...) {
           std::lock_guard<std::mutex> lock(m);
           if (i < error_index) {
@@ -157,7 +158,7 @@ Best AmplitudeSearch::minimum(const std::vector<std::vector<double>>& ve, std::s
         }
         if (!found) continue;
         std::lock_guard<std::mutex> lock(m);
-        if (best.beats(j, i)) best = {true, j, i};
+        if (best.beats(j, i)) best = {true, j, i, node};
       }
     } catch (...) {  // the simulator's construction: before any potential
       std::lock_guard<std::mutex> lock(m);
@@ -193,7 +194,7 @@ AmplitudeSearch::Probe AmplitudeSearch::probe(Excitation& e, long j) {
   const SimResult r = e.sim.run(e.ve.data(), lat_.amplitude(j), w_, e.settle ? settling_ : o_);
   const bool excited = r.first_time_ms >= 0.0;
   if (!excited) e.paused = r.settled ? j : kNone;
-  return {r.fired, excited};
+  return {r.fired, excited, r.first_node};
 }
 
 // Whether the runs taken as not exciting at j and below are so to their ends.
@@ -242,11 +243,13 @@ std::optional<long> AmplitudeSearch::estimate(CableSimulator& sim, const std::ve
 // depend on this potential alone, not on the bracket the search started from: the answer is
 // the same whichever thread searched it, and in whatever order.
 bool AmplitudeSearch::search_one(CableSimulator& sim, const std::vector<double>& ve, std::size_t i,
-                               const Best& best, long guess, bool near, long& out) {
+                               const Best& best, long guess, bool near, long& out,
+                               std::size_t& node) {
   Excitation settling{sim, ve, settling_.stop_when_settled};
-  if (const std::optional<bool> r = search_from(settling, i, best, guess, near, out)) return *r;
+  if (const std::optional<bool> r = search_from(settling, i, best, guess, near, out, node))
+    return *r;
   Excitation to_end{sim, ve, false};  // a paused run excited after all (rare)
-  return *search_from(to_end, i, best, guess, near, out);
+  return *search_from(to_end, i, best, guess, near, out, node);
 }
 
 // The gallop's first step, by steps that double: from 1/32 octave (2.2 %) when the guess is
@@ -266,24 +269,28 @@ long AmplitudeSearch::first_step(CableSimulator& sim, const std::vector<double>&
 // search_one with the probes of e; none when a run taken as not exciting excited the fibre
 // after all.
 std::optional<bool> AmplitudeSearch::search_from(Excitation& e, std::size_t i, const Best& best,
-                                               long guess, bool near, long& out) {
+                                               long guess, bool near, long& out,
+                                               std::size_t& node) {
   // The largest lattice point at which firing would still beat the best.
   const long limit = !best.found ? jmax_ : (i < best.index ? best.j : best.j - 1);
   if (limit < jmin_) return false;
   long lo, hi;  // lo does not excite, hi excites
   bool hi_fired;
+  std::size_t hi_node = 0;
   const long step0 = first_step(e.sim, e.ve, best, near, guess);
   const long g = best.found ? limit : std::min(std::max(guess, jmin_), limit);
   Probe pg = probe(e, g);
   if (pg.excited) {
     hi = g;
     hi_fired = pg.fired;
+    hi_node = pg.node;
     for (long step = step0;; step *= 2) {
       lo = std::max(hi - step, jmin_);
       const Probe q = probe(e, lo);
       if (!q.excited) break;
       hi = lo;
       hi_fired = q.fired;
+      hi_node = q.node;
       if (lo == jmin_) {  // excited at the floor: below the search range
         out = jmin_ - 1;
         return true;
@@ -300,6 +307,7 @@ std::optional<bool> AmplitudeSearch::search_from(Excitation& e, std::size_t i, c
       const Probe q = probe(e, hi);
       if (q.excited) {
         hi_fired = q.fired;
+        hi_node = q.node;
         break;
       }
       if (hi == limit) {
@@ -315,6 +323,7 @@ std::optional<bool> AmplitudeSearch::search_from(Excitation& e, std::size_t i, c
     if (q.excited) {
       hi = mid;
       hi_fired = q.fired;
+      hi_node = q.node;
     } else {
       lo = mid;
     }
@@ -322,10 +331,11 @@ std::optional<bool> AmplitudeSearch::search_from(Excitation& e, std::size_t i, c
   if (!confirm(e, lo)) return std::nullopt;
   if (hi_fired) {
     out = hi;
+    node = hi_node;
     return true;
   }
   Excitation to_end{e.sim, e.ve, false};
-  return first_firing(to_end, hi, limit, out);
+  return first_firing(to_end, hi, limit, out, node);
 }
 
 // Excited at e = hi without an action potential reaching the detection nodes: gallop up to
@@ -333,24 +343,37 @@ std::optional<bool> AmplitudeSearch::search_from(Excitation& e, std::size_t i, c
 // runs to the top of the search range whatever `limit` is, and the point it finds depends
 // on e alone (not on the best so far, nor on the order of the potentials); it counts only
 // if it is at most `limit`.  Its probes (`whole`) run to their ends.
-bool AmplitudeSearch::first_firing(Excitation& whole, long hi, long limit, long& out) {
+bool AmplitudeSearch::first_firing(Excitation& whole, long hi, long limit, long& out,
+                                   std::size_t& node) {
   long f_lo = hi, f_hi = hi;
+  std::size_t f_node = 0;
   for (long step = 1;; step *= 2) {
     f_hi = hi + step;
     if (f_hi > jmax_) {
       if (f_lo == jmax_) return false;
       f_hi = jmax_;
     }
-    if (probe(whole, f_hi).fired) break;
+    const Probe q = probe(whole, f_hi);
+    if (q.fired) {
+      f_node = q.node;
+      break;
+    }
     if (f_hi == jmax_) return false;
     f_lo = f_hi;
   }
   while (f_hi - f_lo > 1) {
     const long mid = f_lo + (f_hi - f_lo) / 2;
-    (probe(whole, mid).fired ? f_hi : f_lo) = mid;
+    const Probe q = probe(whole, mid);
+    if (q.fired) {
+      f_hi = mid;
+      f_node = q.node;
+    } else {
+      f_lo = mid;
+    }
   }
   if (f_hi > limit) return false;
   out = f_hi;
+  node = f_node;
   return true;
 }
 

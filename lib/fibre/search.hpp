@@ -21,6 +21,7 @@ struct Best {
   bool found = false;
   long j = 0;
   std::size_t index = 0;
+  std::size_t node = 0;  // where the run at j of potential `index` crossed detect_mV first
   bool beats(long jj, std::size_t ii) const { return !found || jj < j || (jj == j && ii < index); }
 };
 
@@ -78,18 +79,19 @@ class AmplitudeSearch {
  private:
   struct Probe {
     bool fired, excited;
+    std::size_t node;  // the first node to cross, when excited
   };
   struct Excitation;
   Probe probe(Excitation& e, long j);
   bool confirm(Excitation& e, long j);
   std::optional<long> estimate(CableSimulator& sim, const std::vector<double>& ve);
   bool search_one(CableSimulator& sim, const std::vector<double>& ve, std::size_t i,
-                  const Best& best, long guess, bool near, long& out);
+                  const Best& best, long guess, bool near, long& out, std::size_t& node);
   std::optional<bool> search_from(Excitation& e, std::size_t i, const Best& best, long guess,
-                                  bool near, long& out);
+                                  bool near, long& out, std::size_t& node);
   long first_step(CableSimulator& sim, const std::vector<double>& ve, const Best& best, bool near,
                   long& guess);
-  bool first_firing(Excitation& whole, long hi, long limit, long& out);
+  bool first_firing(Excitation& whole, long hi, long limit, long& out, std::size_t& node);
 
   const FibreModel& model_;
   const Axon& axon_;

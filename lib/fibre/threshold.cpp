@@ -113,24 +113,22 @@ struct Winner {
   std::vector<double> ve;
   long j = 0;
   bool found = false;
+  std::size_t node = 0;  // the search's run at j: the node that crossed first
 };
 
-// Where the winner fired: one run at its threshold.
-void where_it_fired(const FibreModel& model, const Axon& axon, const Winner& winner,
-                    double amplitude_mA, const Waveform& waveform, const SimOptions& o,
-                    bool vertical, ReceptorThreshold& out) {
+// Where the winner fired: the node its search's run at the threshold crossed at first (the
+// run is a function of the potential, amplitude and options alone: the same as a new one).
+void where_it_fired(const Axon& axon, const Winner& winner, double amplitude_mA, bool vertical,
+                    ReceptorThreshold& out) {
   const Spot& p = winner.spot;
-  CableSimulator sim(model, axon);
-  const SimResult res = sim.run(winner.ve.data(), amplitude_mA, waveform, o);
-  ++out.simulations;
   out.threshold_mA = amplitude_mA;
   out.offset_mm = p.offset_mm;
   out.direction = p.direction;
   out.spot = p;
-  out.node = res.first_node;
+  out.node = winner.node;
   const std::size_t last = axon.nodes.size() - 1;
-  out.at_cut_end = res.first_node + 5 > last || (!vertical && res.first_node < 5);
-  const std::size_t k = axon.nodes[res.first_node];
+  out.at_cut_end = winner.node + 5 > last || (!vertical && winner.node < 5);
+  const std::size_t k = axon.nodes[winner.node];
   const double s_mm = axon.centre_um[k] * 1e-3;
   if (!axon.path.empty()) {
     out.x_mm = p.x0_mm + axon.path_x_mm[k];
@@ -178,7 +176,7 @@ ReceptorThreshold search_receptor(const FibreModel& model, const Setup& setup,
     }
     out.simulations += b.simulations;
     if (b.best.found && (!winner.found || b.best.j < winner.j)) {
-      winner = {fi, b.spots[b.best.index], std::move(b.ve), b.best.j, true};
+      winner = {fi, b.spots[b.best.index], std::move(b.ve), b.best.j, true, b.best.node};
       winner.spot.direction = f.directions[fi];
     }
   }
@@ -193,8 +191,7 @@ ReceptorThreshold search_receptor(const FibreModel& model, const Setup& setup,
     return out;
   }
   const Axon& axon = f.axons[winner.fibre];
-  where_it_fired(model, axon, winner, lattice.amplitude(winner.j), waveform,
-                 detection_options(axon, f, s, vertical), vertical, out);
+  where_it_fired(axon, winner, lattice.amplitude(winner.j), vertical, out);
   return out;
 }
 
