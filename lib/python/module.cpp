@@ -641,7 +641,8 @@ py::dict report_dict(const tp::host::SessionReport& r) {
 class Stimulator {
  public:
   Stimulator(const py::object& port, int baud, int emu_channels, std::optional<py::object> record,
-             std::string backend)
+             std::string backend, std::optional<py::object> emu_skin,
+             std::optional<double> emu_compliance_V)
   {
     // stimctl's request (host/delivery), checked as stimctl checks it; CLI11's range checks
     // of stimctl's flags, with CLI11's messages.
@@ -655,6 +656,8 @@ class Stimulator {
     req_.baud = baud;
     req_.backend = std::move(backend);
     if (record) req_.record_path = path_arg(*record);
+    if (emu_skin) req_.emu_skin_path = path_arg(*emu_skin);
+    req_.emu_compliance_V = emu_compliance_V;
     // emu_channels always has a value here: a port's own channels win.
     if (req_.port == "emu") req_.emu_channels = emu_channels;
     tp::host::check_delivery(req_);
@@ -1099,9 +1102,11 @@ void bind_programs(py::module_& m) {
 // _Stimulator: the session a Python Stimulator drives.
 void bind_stimulator(py::module_& m) {
   py::class_<Stimulator>(m, "_Stimulator")
-      .def(py::init<const py::object&, int, int, std::optional<py::object>, std::string>(),
+      .def(py::init<const py::object&, int, int, std::optional<py::object>, std::string,
+                    std::optional<py::object>, std::optional<double>>(),
            py::arg("port") = "emu", py::arg("baud") = 115200, py::arg("emu_channels") = 8,
-           py::arg("record") = py::none(), py::arg("backend") = "auto")
+           py::arg("record") = py::none(), py::arg("backend") = "auto",
+           py::arg("emu_skin") = py::none(), py::arg("emu_compliance_V") = py::none())
       .def("open", &Stimulator::open)
       .def("deliver", &Stimulator::deliver, py::arg("stimulus"), py::arg("duration_s") = py::none())
       .def("start_live", &Stimulator::start_live, py::arg("stimulus"),

@@ -311,3 +311,39 @@ def test_start_live_loads_what_frames_need_before_the_output_starts():
                          timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "True", out.stdout
+
+
+def test_an_emulator_with_a_skin_records_what_it_measured(tmp_path, sai_doc):
+    # Issue 41, item 2: the same skin as stimctl --emu-skin; every recorded pulse carries
+    # each channel's voltage at the main phase's end (the closed form I (Rs + Rp (1 -
+    # e^(-w/tau)))) and |V / I|, null where no current flowed; a lifted pad at the rail.
+    import math
+    skin = tmp_path / "skin.json"
+    skin.write_text(json.dumps({
+        "format": "tactile-primaries/skin/1",
+        "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0},
+        "events": [{"t_s": 0.25, "channels": [2], "contact": 0.0}]}))
+    rec = tmp_path / "rec.jsonl"
+    stim = tp.make_pulse(sai_doc, 1.0, 10, duration_s=0.5)
+    with tp.Stimulator("emu", record=str(rec), emu_skin=str(skin), emu_compliance_V=40) as s:
+        s.deliver(stim)
+    pulses = records(rec)
+    assert len(pulses) == 5
+    for p in pulses:
+        for i, v, z in zip(p["currents_mA"], p["voltage_V"], p["impedance_kohm"]):
+            if i == 0:
+                assert v is None and z is None
+                continue
+            if p["t_s"] >= 0.25 and v is not None and abs(v) == 40:
+                continue  # channel 2, lifted: the rail
+            assert v == pytest.approx(i * (1 + 50 * (1 - math.exp(-200 / 1500))), abs=0.002)
+            # V in mV resolution: |V / I| within half a mV over I, and the ohm's rounding.
+            assert z == pytest.approx(abs(v / i), abs=0.0005 / abs(i) + 0.001)
+    assert [p["voltage_V"][2] for p in pulses][3:] == [-40, -40] or \
+        [p["voltage_V"][2] for p in pulses][3:] == [40, 40]
+    for bad, words in ((dict(emu_compliance_V=50), "--emu-compliance-v: applies with --emu-skin"),
+                       (dict(emu_skin=str(skin), emu_compliance_V=0.5),
+                        "--emu-compliance-v: 0.5 V outside \\[1, 1000\\] V")):
+        with pytest.raises(tp.BadInput, match=words):
+            with tp.Stimulator("emu", **bad) as s:
+                s.deliver(stim)

@@ -91,8 +91,12 @@ class Stimulator:
     """
 
     def __init__(self, port="emu", *, baud=115200, emu_channels=8, record=None,
-                 backend="auto"):
-        self._s = _core._Stimulator(port, baud, emu_channels, record, backend)
+                 backend="auto", emu_skin=None, emu_compliance_V=None):
+        """emu_skin: the emulator's skin file (stimctl --emu-skin; docs/skin.md): every
+        recorded pulse then carries voltage_V and impedance_kohm; emu_compliance_V its
+        output stage's compliance (1 to 1000 V [100])."""
+        self._s = _core._Stimulator(port, baud, emu_channels, record, backend, emu_skin,
+                                    emu_compliance_V)
         self.port = port
 
     def __enter__(self):
