@@ -32,6 +32,10 @@ struct SkinInterface {
   double contact = 1.0;     // the fraction of the pad touching the skin
 };
 
+// A contact below this is none: the pad is lifted (a touching area of a millionth of the
+// pad would put the interface's values beyond a double's range).
+inline constexpr double kLeastContact = 1e-6;
+
 // The interface's resistance at a current (either sign) through the touching area:
 // Rp / c / (1 + |I| / (c A j_half)).  Infinite without contact.
 double interface_rp_kohm(const SkinInterface& s, double current_mA);
@@ -44,8 +48,9 @@ struct SkinState {
 };
 
 // One phase of constant current: the state moved on by duration_us, and the pad's voltage
-// at the phase's end (I Rs + Vc).  Without contact any current needs an infinite voltage
-// (returned as such); zero current leaves Vc to discharge through Rp at low density.
+// at the phase's end (I Rs + Vc).  Without contact (below kLeastContact) any current needs
+// an infinite voltage of its sign (returned as such); zero current leaves Vc to discharge
+// through Rp at low density.
 double phase_voltage_V(const SkinInterface& s, SkinState& state, double current_mA,
                        double duration_us);
 
@@ -56,6 +61,11 @@ double phase_voltage_V(const SkinInterface& s, SkinState& state, double current_
 // phase |V| is monotone, so it is at a phase's start or end).
 double pulse_peak_voltage_V(const SkinInterface& s, SkinState& state, const double* current_mA,
                             const double* duration_us, std::size_t phases, double* end_V);
+
+// What a current source with a compliance of compliance_V makes of a needed voltage v at a
+// current i: v itself when within the compliance, else the rail of v's sign (of i's when v
+// is not finite: a lifted pad).
+double rail_voltage_V(double v, double current_mA, double compliance_V);
 
 // The pad's impedance as a device derives it at a phase's end: |V / I| (kOhm); 0 for no
 // current.

@@ -150,8 +150,7 @@ void SimulatedSkin::measure(const DeliveredPulse& p, ElectricalRecord& m) {
     const double i = ph.current_mA[ph.main];
     if (i == 0) continue;
     m.carried[c] = true;
-    double v = end_V[ph.main];
-    if (!(std::fabs(v) <= compliance_V_)) v = (i > 0 ? 1 : -1) * compliance_V_;  // the rail
+    const double v = rail_voltage_V(end_V[ph.main], i, compliance_V_);
     m.voltage_mV[c] = static_cast<std::int32_t>(std::lround(v * 1000));
     const double ohm = measured_impedance_kohm(v, i) * 1000;
     m.impedance_ohm[c] = ohm < 4e9 ? static_cast<std::uint32_t>(std::lround(ohm)) : 4000000000u;

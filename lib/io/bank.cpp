@@ -152,10 +152,11 @@ BankRecruitment recruitment_from_json(const Json& j, std::size_t pads, const std
     if (!j["fibre_model"].is_string()) bad_input(w + ".fibre_model: not a string");
     r.fibre_model = j["fibre_model"].get<std::string>();
   }
-  if (j.contains("pulse")) {
-    if (!j["pulse"].is_object()) bad_input(w + ".pulse: not an object");
-    r.pulse = j["pulse"];
-  }
+  // The pulse is read by the renderer (pulse_spec_from_json, a layer above this one).
+  if (!j.contains("pulse") || !j["pulse"].is_object())
+    bad_input(w + ".pulse: not a pulse object (the recruitment's: width_us, ... or phases)");
+  r.pulse = j["pulse"];
+  if (j.contains("region") && !j["region"].is_string()) bad_input(w + ".region: not a string");
   // Absent: the cap optimize-weights --bank --population searches to.
   r.max_mA = j.contains("max_mA") ? json_finite(j["max_mA"], w + ".max_mA") : 10.0;
   if (!(r.max_mA > 0 && r.max_mA <= 1000)) bad_input(w + ".max_mA: outside (0, 1000]");

@@ -14,8 +14,8 @@
 // of the cube of their intensities (each at 0, at 1 or free), an unconstrained least-squares
 // problem on the free modes; within one set of modes the problem is convex, so the feasible
 // face solution of least residual is that set's optimum, and the least over the sets is the
-// answer.  64 small problems in all.  Deterministic: ties go to the first set (fewer modes
-// on first), then the first face, in a fixed order.
+// answer.  64 small problems in all (all off, and 63 faces).  Deterministic: ties go to the
+// first set in bitmask order (every subset before its supersets), then the first face.
 
 #include <array>
 #include <cstddef>

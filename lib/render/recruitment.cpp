@@ -185,16 +185,12 @@ std::string unlit_by_gamut(const PixelBank& bank, const Profile& profile, const 
 }
 
 std::string recruitment_pulse_note(const BankRecruitment& r, const PulseSpec& render_pulse) {
-  const Json mine = pulse_spec_to_json(render_pulse);
-  if (r.pulse == mine) return "";
-  std::string theirs;
-  try {
-    theirs = pulse_spec_from_json(r.pulse, "bank: recruitment.pulse").describe();
-  } catch (const Error&) {  // not a pulse this version reads
-    theirs = "another";
-  }
-  return "the bank's recruitment was sampled with a " + theirs + " pulse, not this render's " +
-         render_pulse.describe() + " pulse: the gamut's colours are that pulse's";
+  // Read as any pulse is (bad input naming the field), compared by value.
+  const PulseSpec theirs = pulse_spec_from_json(r.pulse, "bank: recruitment.pulse");
+  if (theirs == render_pulse) return "";
+  return "the bank's recruitment was sampled with a " + theirs.describe() +
+         " pulse, not this render's " + render_pulse.describe() +
+         " pulse: the gamut's colours are that pulse's";
 }
 
 void map_frame(const PixelBank& bank, const Profile& profile, PadIntensities& frame,

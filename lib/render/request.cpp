@@ -76,8 +76,8 @@ std::string gamut_note(const PixelBank& bank, const RenderOptions& o) {
 void map_image(RenderRequest& r, const PixelBank& bank, const Profile& profile, RenderResult& out) {
   out.gamut_note = gamut_note(bank, r.options);
   if (!bank.recruitment) return;
-  if (r.sequence) {
-    out.gamut = r.frames_gamut;
+  if (r.sequence) {  // mapped as read (render_images); without frames, nothing to map
+    if (r.frames_gamut && r.frames_gamut->frames > 0) out.gamut = r.frames_gamut;
     out.gamut_ms = r.frames_gamut_ms;
     return;
   }

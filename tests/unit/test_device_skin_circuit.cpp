@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -108,6 +109,25 @@ TEST_CASE("skin circuit: contact scales the interface, density lowers its resist
   CHECK(std::isinf(phase_voltage_V(s, st, 0.1, 100)));
   CHECK(phase_voltage_V(s, st, 0.0, 100) == 0.0);
   CHECK(st.vc_V == 0.0);
+  CHECK(phase_voltage_V(s, st, -0.1, 100) == -std::numeric_limits<double>::infinity());
+  // A contact too small for a double's range is none (no NaN carried on): 5e-324.
+  s.contact = 5e-324;
+  SkinState tiny{1.0};
+  CHECK(std::isinf(phase_voltage_V(s, tiny, 0.1, 100)));
+  s.contact = 1.0;
+  CHECK(std::isfinite(phase_voltage_V(s, tiny, 0.1, 100)));
+}
+
+TEST_CASE("skin circuit: the compliance rail takes the voltage's sign", "[device][skin]") {
+  // The interface's charge can make the main phase's end voltage oppose its current (a
+  // shaped pulse whose strongest phase follows a long one of the other polarity).
+  CHECK(rail_voltage_V(-1309.7, 2.0, 100) == -100);
+  CHECK(rail_voltage_V(536.0, -2.0, 100) == 100);
+  CHECK(rail_voltage_V(42.5, -2.0, 100) == 42.5);
+  CHECK(rail_voltage_V(-100, 2.0, 100) == -100);
+  // Not finite (a lifted pad): the current's sign.
+  CHECK(rail_voltage_V(std::numeric_limits<double>::infinity(), -1.0, 20) == -20);
+  CHECK(rail_voltage_V(std::nan(""), 1.0, 20) == 20);
 }
 
 TEST_CASE("spreading resistance: rect3d's closed form against its own potential and limits",

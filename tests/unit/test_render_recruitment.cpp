@@ -114,7 +114,13 @@ TEST_CASE("recruitment: fractions at a current, JSON both ways, refusals",
       {[](Json& b) { b["seed"] = "1"; }, "bank: recruitment.seed: not a whole number from 0"},
       {[](Json& b) { b["population"] = 1001; },
        "bank: recruitment.population: not a count from 1 to 1000"},
-      {[](Json& b) { b["pulse"] = 200; }, "bank: recruitment.pulse: not an object"},
+      {[](Json& b) { b["pulse"] = 200; },
+       "bank: recruitment.pulse: not a pulse object (the recruitment's: width_us, ... or "
+       "phases)"},
+      {[](Json& b) { b.erase("pulse"); },
+       "bank: recruitment.pulse: not a pulse object (the recruitment's: width_us, ... or "
+       "phases)"},
+      {[](Json& b) { b["region"] = 5; }, "bank: recruitment.region: not a string"},
       {[](Json& b) { b["fibre_model"] = 1; }, "bank: recruitment.fibre_model: not a string"},
   };
   for (const auto& [spoil, message] : bad) {
@@ -272,6 +278,14 @@ TEST_CASE("recruitment of a bank: the references are the model profile's thresho
   CHECK(run_render(narrow, with).gamut_note ==
         "the bank's recruitment was sampled with a 200 us biphasic pulse, not this render's "
         "100 us biphasic pulse: the gamut's colours are that pulse's");
+  // The recruitment's pulse compared by value (the same biphasic pulse given as its phases
+  // is the same pulse), and read as strictly as any pulse.
+  PixelBank same = with;
+  same.recruitment->pulse = pulse_spec_to_json(PulseSpec{200, 0, 200, false, {{200, 1}, {200, -1}}});
+  REQUIRE(same.recruitment->pulse.contains("phases"));
+  CHECK(run_render(q, same).gamut_note.empty());
+  same.recruitment->pulse = Json{{"width_us", "x"}};
+  CHECK_THROWS_WITH(run_render(q, same), Catch::Matchers::StartsWith("bank: recruitment.pulse"));
   PixelBank none = with;
   none.recruitment->mode = {};
   q.image_name = "dot.png";

@@ -79,7 +79,7 @@ echo "ok: the log's answers again: the same $n trials and profile"
 # With a bank that carries recruitment (here made by hand: 4 SAI-mode afferents a class at
 # pad 27, reference 0.1 mA), the same answers give the same thresholds and each mode's
 # colour at the person's comfort limit: the fractions at 0.1 x comfort / threshold mA.
-jq '.recruitment = {population: 4, modes: {SAI: {pad: 27, reference_mA: 0.1,
+jq '.recruitment = {population: 4, pulse: {width_us: 200, interphase_us: 0, balance_width_us: 200}, modes: {SAI: {pad: 27, reference_mA: 0.1,
       thresholds_mA: {RA: [0.05, 0.2, 0.3, null], SAI: [0.02, 0.1, 0.15, 0.4], PC: [0.3, 0.5, 0.9, null]}}}}' \
   "$BANK" > rbank.json
 cal_r=("${cal[@]}"); cal_r[2]=rbank.json
