@@ -38,14 +38,8 @@ int main(int argc, char** argv) {
                        "time (its throughput), 1 to 10000 [10000]",
                        1, int{tp::device::hard::max_pulse_rate_hz});
   std::string compliance;
-  app.add_option("--skin", r.skin_path,
-                 "The skin the electrodes touch (docs/skin.md): each pulse's voltage and "
-                 "impedance per channel in the record; events script contact and sweat "
-                 "[none: an ideal load]")
-      ->type_name("FILE");
-  app.add_option("--compliance-v", compliance,
-                 "With --skin: the output stage's compliance voltage, 1 to 1000 V [100]")
-      ->type_name("V");
+  tp::cli::add_skin_flags(app, "--skin", "--compliance-v", r.skin_path, compliance,
+                          "the record", "");
   app.add_option("--record", r.record_path, "Write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--apply-log", r.apply_log_path, "Write 'n t_ns' per applied weight frame")

@@ -59,14 +59,8 @@ int main(int argc, char** argv) {
   app.add_option("--emu-channels", emu_channels, "Emulator only: channel count, 1 to 64 [8]")
       ->check(CLI::Range(1, 64));
   std::string emu_compliance;
-  app.add_option("--emu-skin", r.emu_skin_path,
-                 "Emulator only: the skin the electrodes touch (docs/skin.md): each pulse's "
-                 "voltage and impedance per channel in --record; events script contact and "
-                 "sweat [none: an ideal load]")
-      ->type_name("FILE");
-  app.add_option("--emu-compliance-v", emu_compliance,
-                 "With --emu-skin: the output stage's compliance voltage, 1 to 1000 V [100]")
-      ->type_name("V");
+  tp::cli::add_skin_flags(app, "--emu-skin", "--emu-compliance-v", r.emu_skin_path,
+                          emu_compliance, "--record", "Emulator only: ");
   app.add_option("--latency-log", r.latency_log,
                  "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
       ->type_name("FILE");

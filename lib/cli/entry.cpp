@@ -225,6 +225,22 @@ CLI::Option* add_seed(CLI::App& app, const std::string& name, std::uint64_t& tar
       ->type_name("S");
 }
 
+void add_skin_flags(CLI::App& app, const std::string& skin_flag,
+                    const std::string& compliance_flag, std::string& path,
+                    std::string& compliance, const std::string& record,
+                    const std::string& only) {
+  app.add_option(skin_flag, path,
+                 (only.empty() ? "The" : only + "the") +
+                     " skin the electrodes touch (docs/skin.md): each pulse's voltage and "
+                     "impedance per channel in " + record +
+                     "; events script contact and sweat [none: an ideal load]")
+      ->type_name("FILE");
+  app.add_option(compliance_flag, compliance,
+                 "With " + skin_flag +
+                     ": the output stage's compliance voltage, 1 to 1000 V [100]")
+      ->type_name("V");
+}
+
 void write_stdout(std::string_view text) {
   if (g_output) {
     g_output->write(text);

@@ -38,6 +38,14 @@ CLI::Option* add_integer(CLI::App& app, const std::string& name, long& target,
 CLI::Option* add_seed(CLI::App& app, const std::string& name, std::uint64_t& target,
                       const std::string& help);
 
+// An emulator's skin (docs/skin.md): `skin_flag` FILE into path and `compliance_flag` V (as
+// typed, parsed by the caller) into compliance; `record` names where the measurements go
+// ("the record", "--record"), `only` prefixes the skin's help ("Emulator only: ", or "").
+void add_skin_flags(CLI::App& app, const std::string& skin_flag,
+                    const std::string& compliance_flag, std::string& path,
+                    std::string& compliance, const std::string& record,
+                    const std::string& only);
+
 // Writes a string to stdout and flushes; an I/O failure is a runtime failure.  With
 // --output FILE (add_output_option), the text goes to FILE instead, which is written whole
 // when the program succeeds and left as it was when it fails (core/files.hpp).

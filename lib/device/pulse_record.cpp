@@ -132,23 +132,20 @@ void write_head(Writer& w, const PulseRecord& r) {
 void write_electrical(Writer& w, const PulseRecord& r) {
   const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
   const ElectricalRecord& e = *r.electrical;
-  w.text(", \"voltage_V\": [");
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i) w.text(", ");
-    if (e.carried[i])
-      w.micro(std::int64_t{e.voltage_mV[i]} * 1000);
-    else
-      w.text("null");
-  }
-  w.text("], \"impedance_kohm\": [");
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i) w.text(", ");
-    if (e.carried[i])
-      w.micro(std::int64_t{e.impedance_ohm[i]} * 1000);
-    else
-      w.text("null");
-  }
-  w.text("]");
+  // One list: each channel's value x 1e-3 (mV to V, ohm to kOhm), or null.
+  auto list = [&](const char* head, auto value) {
+    w.text(head);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i) w.text(", ");
+      if (e.carried[i])
+        w.micro(std::int64_t{value(i)} * 1000);
+      else
+        w.text("null");
+    }
+    w.text("]");
+  };
+  list(", \"voltage_V\": [", [&](std::size_t i) { return e.voltage_mV[i]; });
+  list(", \"impedance_kohm\": [", [&](std::size_t i) { return e.impedance_ohm[i]; });
 }
 
 void write_tail(Writer& w, const PulseRecord& r) {

@@ -3,7 +3,9 @@
 #include "host/skin_file.hpp"
 
 #include <cmath>
+#include <initializer_list>
 #include <memory>
+#include <set>
 #include <utility>
 
 #include "core/error.hpp"
@@ -32,6 +34,26 @@ constexpr FieldSpec kFields[] = {
     {"contact", SkinField::contact, {0, 1, ""}},
 };
 
+// The interface's keys, and those given.
+std::set<std::string> field_keys(std::initializer_list<const char*> more) {
+  std::set<std::string> keys(more.begin(), more.end());
+  for (const FieldSpec& f : kFields) keys.insert(f.key);
+  return keys;
+}
+
+// A list of objects, each checked for its keys and given to `each` with its name.
+template <class Each>
+void for_each_object(const Json& list, const std::set<std::string>& keys,
+                     const std::string& where, Each&& each) {
+  if (!list.is_array()) bad_input(where + ": expected a list");
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string at = where + "[" + std::to_string(k) + "]";
+    if (!list[k].is_object()) bad_input(at + ": expected an object");
+    reject_unknown(list[k], keys, at);
+    each(list[k], at);
+  }
+}
+
 double field_value(const Json& j, const FieldSpec& f, const std::string& where) {
   const double v = json_finite(j[f.key], where + "." + f.key);
   if (f.field == SkinField::j_half_mA_mm2 && v == 0) return v;
@@ -59,8 +81,7 @@ std::uint64_t channel_set(const Json& j, std::size_t channels, const std::string
 device::SkinInterface electrode_of(const Json& j, const std::string& where) {
   device::SkinInterface s;
   if (!j.is_object()) bad_input(where + ": expected an object");
-  reject_unknown(j, {"rs_kohm", "rp_kohm", "cp_nf", "j_half_mA_mm2", "area_mm2", "contact", "note"},
-                 where);
+  reject_unknown(j, field_keys({"area_mm2", "note"}), where);
   for (const FieldSpec& f : kFields)
     if (j.contains(f.key)) device::set_skin_field(s, f.field, field_value(j, f, where));
   if (j.contains("area_mm2")) {
@@ -78,13 +99,8 @@ double seconds(const Json& j, const char* key, const std::string& where) {
 
 void add_overrides(const Json& list, std::size_t channels, device::SkinScenario& s,
                    const std::string& where) {
-  if (!list.is_array()) bad_input(where + ": expected a list");
-  for (std::size_t k = 0; k < list.size(); ++k) {
-    const std::string at = where + "[" + std::to_string(k) + "]";
-    const Json& o = list[k];
-    if (!o.is_object()) bad_input(at + ": expected an object");
-    reject_unknown(o, {"channels", "rs_kohm", "rp_kohm", "cp_nf", "j_half_mA_mm2", "contact", "note"},
-                   at);
+  for_each_object(list, field_keys({"channels", "note"}), where, [&](const Json& o,
+                                                                     const std::string& at) {
     if (!o.contains("channels")) bad_input(at + ": no channels");
     const std::uint64_t set = channel_set(o["channels"], channels, at + ".channels");
     for (const FieldSpec& f : kFields) {
@@ -93,19 +109,13 @@ void add_overrides(const Json& list, std::size_t channels, device::SkinScenario&
       for (std::size_t c = 0; c < channels; ++c)
         if (set >> c & 1u) s.set_override(c, f.field, v);
     }
-  }
+  });
 }
 
 void add_events(const Json& list, std::size_t channels, device::SkinScenario& s,
                 const std::string& where) {
-  if (!list.is_array()) bad_input(where + ": expected a list");
-  for (std::size_t k = 0; k < list.size(); ++k) {
-    const std::string at = where + "[" + std::to_string(k) + "]";
-    const Json& e = list[k];
-    if (!e.is_object()) bad_input(at + ": expected an object");
-    reject_unknown(e, {"t_s", "ramp_s", "channels", "rs_kohm", "rp_kohm", "cp_nf",
-                       "j_half_mA_mm2", "contact", "note"},
-                   at);
+  for_each_object(list, field_keys({"t_s", "ramp_s", "channels", "note"}), where,
+                  [&](const Json& e, const std::string& at) {
     if (!e.contains("t_s")) bad_input(at + ": no t_s");
     if (!e.contains("channels")) bad_input(at + ": no channels");
     device::SkinEvent ev;
@@ -126,7 +136,7 @@ void add_events(const Json& list, std::size_t channels, device::SkinScenario& s,
     }
     if (!any)
       bad_input(at + ": changes nothing (give contact, rp_kohm, rs_kohm, cp_nf or j_half_mA_mm2)");
-  }
+  });
 }
 
 }  // namespace

@@ -243,10 +243,12 @@ FrameSink sequence_sink(const PixelBank& bank, RenderRequest& r) {
   };
   if (!r.profile) r.model_profile = render_profile(r, bank);
   r.frames_gamut.emplace();
-  return [&r, &bank](const PadIntensities& im, const std::string& where) {
+  // The profile run_render plans with, taken once (not copied for every frame).
+  const Profile& profile = r.profile ? *r.profile : r.model_profile->profile;
+  return [&r, &bank, &profile](const PadIntensities& im, const std::string& where) {
     PadIntensities mapped = im;
     const auto t0 = std::chrono::steady_clock::now();
-    map_frame(bank, render_profile(r, bank).profile, mapped, *r.frames_gamut);
+    map_frame(bank, profile, mapped, *r.frames_gamut);
     r.frames_gamut_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     r.frames->add(mapped, where);
