@@ -18,6 +18,7 @@
 #include "host/session.hpp"
 #include "host/signals.hpp"
 #include "core/number.hpp"
+#include "host/impedance_check.hpp"
 #include "pulse/mix.hpp"
 
 int main(int argc, char** argv) {
@@ -61,6 +62,17 @@ int main(int argc, char** argv) {
   std::string emu_compliance;
   tp::cli::add_skin_flags(app, "--emu-skin", "--emu-compliance-v", r.emu_skin_path,
                           emu_compliance, "--record", "Emulator only: ");
+  app.add_flag("--check-impedance", r.check_impedance,
+               "Before starting, probe every electrode the stimulus uses below sensation "
+               "(--probe-current) on a device that measures; refuse to start (exit 2, naming "
+               "the pad) when a used pad has no contact or the stimulus's peak would need more "
+               "than the device's compliance, else print each pad's impedance and contact "
+               "(stderr) and start");
+  std::string probe;
+  app.add_option("--probe-current", probe,
+                 "With --check-impedance: the probe's current per electrode, mA, 0.01 to 0.5 "
+                 "[0.05]")
+      ->type_name("MA");
   app.add_option("--latency-log", r.latency_log,
                  "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")
       ->type_name("FILE");
@@ -73,6 +85,7 @@ int main(int argc, char** argv) {
     if (app.count("--emu-channels") > 0) r.emu_channels = emu_channels;
     if (!emu_compliance.empty())
       r.emu_compliance_V = tp::parse_finite(emu_compliance, "--emu-compliance-v");
+    if (!probe.empty()) r.probe_mA = tp::parse_finite(probe, "--probe-current");
     tp::host::check_delivery(r);
     // A stimulus (make-pulse's) or a mix of patterns (mix-stimuli's).
     const tp::Mix mix = tp::mix_from_json(tp::read_json(r.stimulus_path, "stimulus"));
@@ -105,6 +118,12 @@ int main(int argc, char** argv) {
         if (shown) std::fprintf(stderr, "\r\033[K");
       }
     } clear_progress{progress_shown};
+    if (r.check_impedance) {
+      const tp::host::ImpedanceCheck check = tp::host::check_impedance(
+          *transport, mix, opt, r.probe_mA.value_or(tp::host::kDefaultProbe_mA));
+      if (!check.refusal.empty()) tp::bad_input(check.refusal);  // one line, as bad input
+      std::fprintf(stderr, "%s", tp::host::impedance_table(check).c_str());
+    }
     const tp::host::SessionReport report = tp::host::run_session(*transport, mix, opt);
     if (progress_shown) std::fprintf(stderr, "\r\033[K");
     progress_shown = false;

@@ -41,6 +41,9 @@ inline constexpr Range lateral_margin_mm{0.0, 50.0, "mm"};
 // The design document's current limit per electrode (the paper's 2 mA; the stimulus
 // limits of lib/pulse cap what is ever delivered).
 inline constexpr Range max_current_mA{0.001, 2.0, "mA"};
+// stimctl --check-impedance's probe current on each electrode: below the fibre model's
+// lowest thresholds at 200 us (0.26 mA; docs/skin.md, "Before and during a session").
+inline constexpr Range probe_mA{0.01, 0.5, "mA"};
 // af-field's --amplitude: the current of a unit weight, for field maps (not delivered).
 inline constexpr Range amplitude_mA{1e-6, 100.0, "mA"};
 // A weight, before it is multiplied by the amplitude.

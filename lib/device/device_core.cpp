@@ -10,7 +10,7 @@ namespace {
 bool carries_session(Msg m) {
   return m == Msg::configure || m == Msg::set_weights || m == Msg::start || m == Msg::keepalive ||
          m == Msg::configure_table || m == Msg::set_pattern || m == Msg::set_codes ||
-         m == Msg::set_amplitudes || m == Msg::set_shape;
+         m == Msg::set_amplitudes || m == Msg::set_shape || m == Msg::set_guards;
 }
 bool opens_session(Msg m) {
   return m == Msg::configure || m == Msg::configure_table;
@@ -110,6 +110,13 @@ void DeviceCore::handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxP
       return result(set_amplitudes(f.payload));
     case Msg::set_shape:
       return result(set_shape(f.payload));
+    case Msg::set_guards:
+      return result(set_guards(f.payload));
+    case Msg::measurements: {
+      const Result r = measurements(f.payload, body);
+      if (r != Result::ok) result(r);
+      return;
+    }
     case Msg::start: {
       if (f.payload.size() != 4) return result(Result::bad_length);
       const bool was_running = status_.state == State::running;
@@ -143,6 +150,8 @@ void DeviceCore::open_table(std::uint32_t session, std::uint16_t n, std::uint8_t
   load_ = ChannelLoad{};
   for (std::uint16_t i = 0; i < n; ++i) pattern_[i] = Pattern{};
   sched_.set_table(n, gap_us);
+  guards_ = Guards{};  // a new session sets its own
+  density_limit_uC2_ = 0;
 }
 
 Result DeviceCore::check_widths(const PatternTiming& t) const {
@@ -367,6 +376,9 @@ Result DeviceCore::start(std::uint64_t now_us) {
   status_.deferred = 0;
   start_us_ = last_fed_us_ = now_us;
   sched_.reset(now_us);
+  for (ChannelMeasurement& m : reading_) m = ChannelMeasurement{};  // new readings, baselines
+  readings_ = MeasurementsHead{};
+  pending_trip_ = Fault::none;
   return Result::ok;
 }
 

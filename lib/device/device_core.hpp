@@ -48,6 +48,9 @@
 
 namespace tp::device {
 
+struct PulseRecord;       // pulse_record.hpp
+struct ElectricalRecord;  // pulse_record.hpp
+
 // A view of channel codes (the firmware has no allocator to copy them into).
 struct CodeSpan {
   const std::int16_t* first = nullptr;
@@ -99,17 +102,30 @@ class DeviceCore {
 
   // Emits every pulse due by now_us to sink(const DeliveredPulse&), then applies the
   // watchdog.
+  // A sink may report the pulse's measurements (measured()) before it returns: a guard that
+  // trips then ends the output before the next pulse.
   template <class Sink>
   void advance(std::uint64_t now_us, Sink&& sink) {
     if (!begin_advance(now_us)) return;
+    InAdvance in(*this);
     while (pulse_due(now_us)) {
       const ScheduledPulse p = sched_.next();
       sink(DeliveredPulse{p.start_us, start_us_, pulse_codes(p.pattern), timing_[p.pattern], caps_,
                           p.pattern, static_cast<std::uint32_t>(p.start_us - p.slot_us)});
       pulse_delivered();
+      apply_trip();
     }
     expire(now_us);  // the watchdog
   }
+
+  // A pulse's readings (a board that measures, or an emulator's skin: m's carried, at_rail,
+  // voltage_mV and current_nA) for the pulse r of the output started at start_us
+  // (device_guards.cpp): the core derives each channel's impedance into m.impedance_ohm,
+  // keeps it as the channel's last reading, lowers the channel's baseline to it, and
+  // applies the guards (docs/safety.md, "Measured guards").  A trip ends the output with
+  // Fault::contact, compliance or density: at once, or, from advance()'s sink, before the
+  // next pulse.  Readings of an earlier output are ignored.
+  void measured(std::uint64_t start_us, const PulseRecord& r, ElectricalRecord& m);
 
   // Pulses the core emitted for the output started at start_us (DeliveredPulse::start_us)
   // that never reached the electrodes (a firmware's engine dropped them when the output
@@ -147,6 +163,17 @@ class DeviceCore {
   Result set_codes(const FixedBytes<kMaxPayload>& payload);
   Result set_amplitudes(const FixedBytes<kMaxPayload>& payload);
   Result set_shape(const FixedBytes<kMaxPayload>& payload);
+  Result set_guards(const FixedBytes<kMaxPayload>& payload);
+  Result measurements(const FixedBytes<kMaxPayload>& payload, FixedBytes<kMaxPayload>& body) const;
+  // The guards (device_guards.cpp): the first channel of the pulse that trips, and why.
+  Fault check_channel(const PulseRecord& r, ElectricalRecord& m, std::size_t c);
+  void trip(Fault cause, std::size_t channel, std::uint64_t t_us);
+  void apply_trip();  // a trip found during advance(), after the pulse in hand
+  struct InAdvance {
+    DeviceCore& core;
+    explicit InAdvance(DeviceCore& c) : core(c) { core.in_advance_ = true; }
+    ~InAdvance() { core.in_advance_ = false; }
+  };
   Result start(std::uint64_t now_us);
   void open_table(std::uint32_t session, std::uint16_t n, std::uint8_t channels,
                   std::uint16_t gap_us);
@@ -194,6 +221,14 @@ class DeviceCore {
   std::uint64_t last_fed_us_ = 0;  // the running session's last frame that fed the watchdog
   std::uint8_t fed_seq_ = 0;       // and its sequence number
   std::uint64_t start_us_ = 0;
+  // Measurements (version 7): the session's guards, each channel's last reading, and what
+  // tripped; reset at each start.
+  Guards guards_;
+  double density_limit_uC2_ = 0;  // 10^k x the area in cm^2 (0: no density guard)
+  ChannelMeasurement reading_[kMaxChannels];
+  MeasurementsHead readings_;
+  Fault pending_trip_ = Fault::none;
+  bool in_advance_ = false;
   bool have_last_ = false;
   RxFrame last_request_;
   FixedBytes<kMaxEncodedFrame> last_reply_;

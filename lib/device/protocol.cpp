@@ -53,8 +53,29 @@ const char* to_string(Fault f) {
       return "stopped by the host";
     case Fault::output_fault:
       return "output stage fault (the device refuses further output until it is reset)";
+    case Fault::contact:
+      return "an electrode lost contact";
+    case Fault::compliance:
+      return "an electrode needed more than the compliance voltage";
+    case Fault::density:
+      return "the charge density on an electrode's contact area was above the limit";
   }
   return "unknown fault";
+}
+
+bool decode_guards(const std::uint8_t* p, std::size_t n, Guards& out) {
+  if (n != kGuardsSize) return false;
+  out.area_um2 = get_u32(p);
+  out.shannon_k_milli = get_u16(p + 4);
+  out.lost_contact_milli = get_u16(p + 6);
+  return true;
+}
+
+bool guards_in_range(const Guards& g) {
+  if (g.area_um2 != 0 && (g.area_um2 < kMinGuardAreaUm2 || g.area_um2 > kMaxGuardAreaUm2))
+    return false;
+  if (g.shannon_k_milli < 500 || g.shannon_k_milli > 2500) return false;
+  return g.lost_contact_milli >= 10 && g.lost_contact_milli <= 900;
 }
 
 std::uint16_t get_u16(const std::uint8_t* p) {
@@ -325,7 +346,7 @@ Capabilities within_hard_limits(Capabilities c) {
   c.max_mean_uA = std::min(c.max_mean_uA, hard::max_mean_uA);
   c.max_pulse_rate_hz = std::clamp<std::uint16_t>(c.max_pulse_rate_hz, 1, hard::max_pulse_rate_hz);
   c.max_phases = static_cast<std::uint8_t>(std::min<std::size_t>(c.max_phases, kMaxPhases));
-  c.features &= kFeatureShapedPulses;  // only the features this code knows
+  c.features &= kFeatureShapedPulses | kFeatureMeasures;  // only the features this code knows
   c.max_edge_rate_hz = std::clamp<std::uint32_t>(c.max_edge_rate_hz, 1, hard::max_edge_rate_hz);
   return c;
 }

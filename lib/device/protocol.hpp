@@ -1,5 +1,5 @@
 #pragma once
-// Messages of the stimulator protocol (docs/protocol.md), version 6.  Portable: no OS
+// Messages of the stimulator protocol (docs/protocol.md), version 7.  Portable: no OS
 // calls and, in what the device core uses, no allocation (the std::vector forms at the end
 // are the host's, in protocol_buffers.cpp, which the firmware does not build).  All multi-byte
 // fields are little-endian.  Currents travel as signed DAC codes; a positive code is cathodic.
@@ -24,6 +24,13 @@
 // instant, and the net charge of every channel is b_c x sum_k units_k x duration_k, zero
 // for all channels exactly when that one sum is (the device refuses it otherwise,
 // charge_not_zero).  Version 5's messages keep their bytes and their meaning.
+//
+// Measurements (version 7, issue 41): a device that measures every pulse (features bit 1)
+// reports its compliance voltage, takes the electrodes' area and the density limit
+// (set_guards), guards each electrode from its own measurements (lost contact, compliance,
+// charge density on the contact area it estimates: Fault::contact, compliance, density)
+// and answers `measurements` with each channel's last reading, its baseline and what
+// stopped the output.  Version 6's messages keep their bytes and their meaning.
 
 #include <array>
 #include <cstddef>
@@ -37,7 +44,7 @@
 
 namespace tp::device {
 
-inline constexpr std::uint8_t kProtocolVersion = 6;
+inline constexpr std::uint8_t kProtocolVersion = 7;
 // The oldest version a host still speaks to (it gives such a device biphasic pulses only).
 inline constexpr std::uint8_t kOldestProtocolVersion = 5;
 // The most phases a shaped pulse has (set_shape).
@@ -45,6 +52,9 @@ inline constexpr std::size_t kMaxPhases = 16;
 // Capabilities::features: the device delivers shaped pulses (set_shape); without it,
 // set_shape is refused (not_supported).
 inline constexpr std::uint8_t kFeatureShapedPulses = 0x01;
+// Capabilities::features: the device measures each channel's voltage and current at every
+// pulse's main phase's end and guards the electrodes from them (version 7).
+inline constexpr std::uint8_t kFeatureMeasures = 0x02;
 
 // The most channels a set_weights frame carries: token (4) + count (1) + 2 bytes a code
 // must fit kMaxPayload; 64 is the supported maximum (the host's arrays have at most 64
@@ -97,6 +107,8 @@ enum class Msg : std::uint8_t {
   stop = 0x05,             // (anything) -> ack; always honoured, ends the session
   status = 0x06,           // -> ack + Status (a query: never feeds the watchdog)
   keepalive = 0x07,        // session u32 -> ack + Status
+  // first u8, n u8 -> ack + MeasurementsHead + n x ChannelMeasurement (a query, version 7)
+  measurements = 0x08,
   configure_table = 0x10,  // session u32, patterns u16, channels u8, gap_us u16 -> ack
   set_pattern = 0x11,      // session u32, index u16, PatternTiming -> ack
   set_codes = 0x12,        // session u32, index u16, n u8, n x (channel u8, code i16) -> ack
@@ -104,6 +116,7 @@ enum class Msg : std::uint8_t {
   // session u32, index u16, period_us u32, phase_us u32, max_pulses u32, n u8,
   // n x (duration_us u16, units i16) -> ack (version 6: a pattern's timing, shaped)
   set_shape = 0x14,
+  set_guards = 0x15,       // session u32, Guards -> ack (version 7)
   ack = 0x80,              // device -> host: acked type u8, Result u8, body
 };
 
@@ -132,7 +145,11 @@ enum class Fault : std::uint8_t {
   completed = 3,
   stopped = 4,
   output_fault = 5,  // the device's output stage failed (a firmware's DAC): it delivers no more
-  overrun = 6        // the device could not deliver a pulse on time: the output stopped
+  overrun = 6,       // the device could not deliver a pulse on time: the output stopped
+  // Version 7's guards (a device that measures): the output stopped at a pulse that showed
+  contact = 7,     // an electrode without contact (or with less than Guards::lost_contact)
+  compliance = 8,  // an electrode needing more than the compliance voltage: not delivered
+  density = 9      // a charge density on the estimated contact area above Shannon's k
 };
 const char* to_string(Fault f);
 
@@ -165,7 +182,11 @@ struct Capabilities {
   std::uint8_t max_phases = static_cast<std::uint8_t>(kMaxPhases);
   std::uint8_t features = 0;
   std::uint32_t max_edge_rate_hz = 160000;
+  // Version 7: the output stage's compliance voltage (0: not known; a version 6 device
+  // reads as 0).
+  std::uint16_t compliance_V = 0;
   bool shaped_pulses() const { return (features & kFeatureShapedPulses) != 0; }
+  bool measures() const { return (features & kFeatureMeasures) != 0; }
   // The largest code: max_current_uA / dac_step_nA, never above a 16-bit DAC's.
   std::int32_t max_code() const;
 };
@@ -193,6 +214,44 @@ struct Status {
   std::uint32_t max_slip_us = 0;  // the largest deferral of any pulse since the last start
   std::uint32_t deferred = 0;     // pulses deferred behind another pattern's
 };
+
+// The electrodes' guards (set_guards, version 7): what a device that measures needs beyond
+// its own readings.  Ranges (docs/safety.md, "Measured guards"): area 0.0001 to 4000 mm^2
+// (100 to 4 x 10^9 um^2), k 0.5 to 2.5, lost contact 0.01 to 0.9.
+struct Guards {
+  std::uint32_t area_um2 = 0;          // each electrode's area; 0: no density guard
+  std::uint16_t shannon_k_milli = 1850;  // Shannon's k x 1000 (R. V. Shannon 1992: 1.85)
+  // A pad whose estimated contact (its baseline impedance over its impedance, or its
+  // delivered current over the asked one at the compliance rail) is below this, x 1000, has
+  // lost contact.
+  std::uint16_t lost_contact_milli = 100;
+};
+inline constexpr std::size_t kGuardsSize = 8;
+inline constexpr std::uint32_t kMinGuardAreaUm2 = 100;  // 0.0001 mm^2
+inline constexpr std::uint32_t kMaxGuardAreaUm2 = 4000000000u;  // 4000 mm^2
+
+// One channel's last reading (measurements, version 7).
+struct ChannelMeasurement {
+  bool carried = false;   // it carried current in the pulse measured
+  bool at_rail = false;   // its voltage was at the compliance rail: not delivered as asked
+  std::int32_t voltage_mV = 0;       // at the main phase's end
+  std::uint32_t impedance_ohm = 0;   // |V / I delivered|; kOpenOhm: no current flowed
+  std::uint32_t baseline_ohm = 0;    // the lowest impedance this output (0: none yet)
+};
+inline constexpr std::size_t kChannelMeasurementSize = 13;
+inline constexpr std::uint32_t kOpenOhm = 0xFFFFFFFFu;
+// What stopped the output, and the count of pulses measured since the start.
+struct MeasurementsHead {
+  std::uint32_t measured = 0;  // pulses measured since the last start
+  Fault trip = Fault::none;    // contact, compliance or density; none
+  std::uint8_t trip_channel = 0;
+  std::uint32_t trip_t_us = 0;  // the tripping pulse's start, from the output's start
+  std::uint32_t trip_ohm = 0;   // the channel's impedance then (kOpenOhm: no current)
+  std::uint8_t first = 0, n = 0;  // the channels that follow
+};
+inline constexpr std::size_t kMeasurementsHeadSize = 16;
+// The most channels one measurements reply carries (within kMaxPayload with its ack).
+inline constexpr std::size_t kMeasurementsPerReply = 14;
 
 // A shaped pulse (set_shape): n phases, phase k lasting duration_us[k] at units[k] x each
 // channel's base code.  n == 0: not shaped (the pattern's biphasic widths).
@@ -237,7 +296,8 @@ void put_u32(B& b, std::uint32_t v) {
 std::uint16_t get_u16(const std::uint8_t* p);
 std::uint32_t get_u32(const std::uint8_t* p);
 
-inline constexpr std::size_t kCapabilitiesSize = 39;
+inline constexpr std::size_t kCapabilitiesSize = 41;
+inline constexpr std::size_t kCapabilitiesSizeV6 = 39;
 inline constexpr std::size_t kCapabilitiesSizeV5 = 33;
 inline constexpr std::size_t kConfigSize = 15;
 inline constexpr std::size_t kTimingSize = 18;
@@ -267,6 +327,7 @@ void put_capabilities(B& b, const Capabilities& c) {
   b.push_back(c.max_phases);
   b.push_back(c.features);
   put_u32(b, c.max_edge_rate_hz);
+  put_u16(b, c.compliance_V);
 }
 template <class B>
 void put_timing(B& b, const PatternTiming& t) {
@@ -298,6 +359,34 @@ void put_status(B& b, const Status& s) {
   put_u32(b, s.max_slip_us);
   put_u32(b, s.deferred);
 }
+
+template <class B>
+void put_guards(B& b, const Guards& g) {
+  put_u32(b, g.area_um2);
+  put_u16(b, g.shannon_k_milli);
+  put_u16(b, g.lost_contact_milli);
+}
+template <class B>
+void put_measurements_head(B& b, const MeasurementsHead& h) {
+  put_u32(b, h.measured);
+  b.push_back(static_cast<std::uint8_t>(h.trip));
+  b.push_back(h.trip_channel);
+  put_u32(b, h.trip_t_us);
+  put_u32(b, h.trip_ohm);
+  b.push_back(h.first);
+  b.push_back(h.n);
+}
+template <class B>
+void put_channel_measurement(B& b, const ChannelMeasurement& m) {
+  b.push_back(static_cast<std::uint8_t>((m.carried ? 1 : 0) | (m.at_rail ? 2 : 0)));
+  put_u32(b, static_cast<std::uint32_t>(m.voltage_mV));
+  put_u32(b, m.impedance_ohm);
+  put_u32(b, m.baseline_ohm);
+}
+// set_guards' body after the token; false when the length is wrong.
+bool decode_guards(const std::uint8_t* p, std::size_t n, Guards& out);
+// Within the documented ranges (0 area: no density guard).
+bool guards_in_range(const Guards& g);
 
 std::optional<PulseConfig> decode_config(const std::uint8_t* p, std::size_t n);
 std::optional<PatternTiming> decode_timing(const std::uint8_t* p, std::size_t n);
@@ -431,6 +520,15 @@ std::vector<std::uint8_t> encode(const Status& s);
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at);
 std::vector<std::uint8_t> encode_weights(const std::vector<std::int16_t>& codes);
 std::vector<std::uint8_t> encode(const PatternTiming& t);
+std::vector<std::uint8_t> encode(const Guards& g);
+// A measurements reply's body (after the ack's type and result): its head and channels;
+// nothing when malformed.
+struct Measurements {
+  MeasurementsHead head;
+  std::vector<ChannelMeasurement> channels;  // head.first, head.first + 1, ...
+};
+std::optional<Measurements> decode_measurements(const std::vector<std::uint8_t>& b,
+                                                std::size_t at);
 // Adds (sign +1) or takes out (-1) a pattern's dense codes, as the device adds its sparse
 // ones (only the non-zero channels).
 void add_dense(ChannelLoad& load, const std::vector<std::int16_t>& codes, const PatternTiming& t,

@@ -13,14 +13,15 @@ std::vector<std::uint8_t> encode(const Capabilities& c) {
   return b;
 }
 
-// Version 5's 33 bytes or version 6's 39 (and later versions' 39, their own protocol byte):
-// told by the length, which must agree with the protocol byte.
+// Version 5's 33 bytes, version 6's 39 or version 7's 41 (and later versions' 41, their own
+// protocol byte): told by the length, which must agree with the protocol byte.
 std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>& b,
                                                 std::size_t at) {
   if (b.size() < at + kCapabilitiesSizeV5) return std::nullopt;
   const std::size_t size = b.size() - at;
-  const bool v5 = b[at] <= 5;
-  if (size != (v5 ? kCapabilitiesSizeV5 : kCapabilitiesSize)) return std::nullopt;
+  const bool v5 = b[at] <= 5, v6 = b[at] == 6;
+  if (size != (v5 ? kCapabilitiesSizeV5 : v6 ? kCapabilitiesSizeV6 : kCapabilitiesSize))
+    return std::nullopt;
   const std::uint8_t* p = b.data() + at;
   Capabilities c;
   c.protocol = p[0];
@@ -51,6 +52,9 @@ std::optional<Capabilities> decode_capabilities(const std::vector<std::uint8_t>&
     c.features = p[34];
     c.max_edge_rate_hz = get_u32(p + 35);
   }
+  // Version 7: the compliance voltage; the measuring feature only from a device that says it.
+  c.compliance_V = v5 || v6 ? 0 : get_u16(p + 39);
+  if (v5 || v6) c.features &= static_cast<std::uint8_t>(~kFeatureMeasures);
   if (c.max_edge_rate_hz == 0) return std::nullopt;
   if (c.channels == 0 || c.dac_step_nA == 0 || c.max_rate_hz == 0 || c.max_pulse_rate_hz == 0)
     return std::nullopt;
@@ -72,7 +76,7 @@ std::vector<std::uint8_t> encode(const Status& s) {
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at) {
   if (b.size() != at + kStatusSize) return std::nullopt;
   const std::uint8_t* p = b.data() + at;
-  if (p[0] > 1 || p[1] > static_cast<std::uint8_t>(Fault::overrun)) return std::nullopt;
+  if (p[0] > 1 || p[1] > static_cast<std::uint8_t>(Fault::density)) return std::nullopt;
   Status s;
   s.state = static_cast<State>(p[0]);
   s.fault = static_cast<Fault>(p[1]);
@@ -133,6 +137,42 @@ std::optional<std::vector<std::int16_t>> decode_weights(const std::uint8_t* p, s
   Codes c;
   if (!decode_codes(p, n, c)) return std::nullopt;
   return std::vector<std::int16_t>(c.begin(), c.end());
+}
+
+std::vector<std::uint8_t> encode(const Guards& g) {
+  std::vector<std::uint8_t> b;
+  put_guards(b, g);
+  return b;
+}
+
+std::optional<Measurements> decode_measurements(const std::vector<std::uint8_t>& b,
+                                                std::size_t at) {
+  if (b.size() < at + kMeasurementsHeadSize) return std::nullopt;
+  const std::uint8_t* p = b.data() + at;
+  Measurements m;
+  m.head.measured = get_u32(p);
+  if (p[4] > static_cast<std::uint8_t>(Fault::density)) return std::nullopt;
+  m.head.trip = static_cast<Fault>(p[4]);
+  m.head.trip_channel = p[5];
+  m.head.trip_t_us = get_u32(p + 6);
+  m.head.trip_ohm = get_u32(p + 10);
+  m.head.first = p[14];
+  m.head.n = p[15];
+  if (m.head.n > kMeasurementsPerReply ||
+      b.size() != at + kMeasurementsHeadSize + m.head.n * kChannelMeasurementSize)
+    return std::nullopt;
+  for (std::size_t k = 0; k < m.head.n; ++k) {
+    const std::uint8_t* q = p + kMeasurementsHeadSize + k * kChannelMeasurementSize;
+    if (q[0] > 3) return std::nullopt;
+    ChannelMeasurement c;
+    c.carried = (q[0] & 1) != 0;
+    c.at_rail = (q[0] & 2) != 0;
+    c.voltage_mV = static_cast<std::int32_t>(get_u32(q + 1));
+    c.impedance_ohm = get_u32(q + 5);
+    c.baseline_ohm = get_u32(q + 9);
+    m.channels.push_back(c);
+  }
+  return m;
 }
 
 std::vector<std::uint8_t> with_session(std::uint32_t session,

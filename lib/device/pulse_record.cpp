@@ -128,24 +128,25 @@ void write_head(Writer& w, const PulseRecord& r) {
   w.uint(r.slip_us);
 }
 
-// "voltage_V": [..], "impedance_kohm": [..], null where a channel carried no current.
+// "voltage_V": [..], "impedance_kohm": [..], null where a channel carried no current (its
+// impedance null too where no current flowed: a lifted pad, its voltage at the rail).
 void write_electrical(Writer& w, const PulseRecord& r) {
   const std::size_t n = std::min<std::size_t>(r.channels, kMaxChannels);
   const ElectricalRecord& e = *r.electrical;
   // One list: each channel's value x 1e-3 (mV to V, ohm to kOhm), or null.
-  auto list = [&](const char* head, auto value) {
+  auto list = [&](const char* head, auto value, bool open_is_null) {
     w.text(head);
     for (std::size_t i = 0; i < n; ++i) {
       if (i) w.text(", ");
-      if (e.carried[i])
+      if (e.carried[i] && !(open_is_null && e.impedance_ohm[i] == kOpenOhm))
         w.micro(std::int64_t{value(i)} * 1000);
       else
         w.text("null");
     }
     w.text("]");
   };
-  list(", \"voltage_V\": [", [&](std::size_t i) { return e.voltage_mV[i]; });
-  list(", \"impedance_kohm\": [", [&](std::size_t i) { return e.impedance_ohm[i]; });
+  list(", \"voltage_V\": [", [&](std::size_t i) { return e.voltage_mV[i]; }, false);
+  list(", \"impedance_kohm\": [", [&](std::size_t i) { return e.impedance_ohm[i]; }, true);
 }
 
 void write_tail(Writer& w, const PulseRecord& r) {

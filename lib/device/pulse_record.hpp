@@ -18,12 +18,16 @@ namespace tp::device {
 void balance_codes(CodeSpan main, std::uint16_t width_us, std::uint16_t balance_width_us,
                    std::int16_t* out);
 
-// Each channel's voltage and impedance at a pulse's main phase's end; none where it carried
-// no current.
+// What a device measured of each channel at a pulse's main phase's end (a shaped pulse's
+// strongest phase, the first of them), none where it carried no current: the board's
+// readings (voltage, the current delivered, whether the output stage was at its compliance
+// rail) and the impedance the core derives from them (DeviceCore::measured).
 struct ElectricalRecord {
   bool carried[kMaxChannels] = {};
+  bool at_rail[kMaxChannels] = {};
   std::int32_t voltage_mV[kMaxChannels] = {};
-  std::uint32_t impedance_ohm[kMaxChannels] = {};
+  std::int32_t current_nA[kMaxChannels] = {};  // delivered, + = cathodic
+  std::uint32_t impedance_ohm[kMaxChannels] = {};  // kOpenOhm: no current flowed
 };
 
 // A record is biphasic (the widths) or, when shape.n > 0, shaped (version 6): main holds the

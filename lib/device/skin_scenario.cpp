@@ -143,7 +143,8 @@ void SimulatedSkin::measure(const DeliveredPulse& p, ElectricalRecord& m) {
       phase_voltage_V(s, state_[c], 0.0, static_cast<double>(p.t_us - last_us_[c]));
     const Phases ph = phases_of(p, c, balance);
     double end_V[kMaxPhases + 2] = {};
-    pulse_peak_voltage_V(s, state_[c], ph.current_mA, ph.duration_us, ph.n, end_V);
+    const double peak_V =
+        pulse_peak_voltage_V(s, state_[c], ph.current_mA, ph.duration_us, ph.n, end_V);
     double length_us = 0;
     for (std::size_t k = 0; k < ph.n; ++k) length_us += ph.duration_us[k];
     last_us_[c] = p.t_us + static_cast<std::uint64_t>(length_us);
@@ -152,8 +153,16 @@ void SimulatedSkin::measure(const DeliveredPulse& p, ElectricalRecord& m) {
     m.carried[c] = true;
     const double v = rail_voltage_V(end_V[ph.main], i, compliance_V_);
     m.voltage_mV[c] = static_cast<std::int32_t>(std::lround(v * 1000));
-    const double ohm = measured_impedance_kohm(v, i) * 1000;
-    m.impedance_ohm[c] = ohm < 4e9 ? static_cast<std::uint32_t>(std::lround(ohm)) : 4000000000u;
+    // Past the compliance anywhere in the pulse the source is at its rail: it delivers what
+    // the rail pushes through the load, i x compliance / needed (a linear load's; nothing
+    // into a lifted pad).
+    m.at_rail[c] = !(std::fabs(peak_V) <= compliance_V_);
+    const double delivered_mA =
+        m.at_rail[c] ? (std::isfinite(peak_V) ? i * compliance_V_ / std::fabs(peak_V) : 0.0) : i;
+    m.current_nA[c] = static_cast<std::int32_t>(std::lround(delivered_mA * 1e6));
+    const double ohm = measured_impedance_kohm(v, delivered_mA) * 1000;
+    m.impedance_ohm[c] = delivered_mA == 0 || !(ohm < 4e9) ? kOpenOhm
+                                                           : static_cast<std::uint32_t>(std::lround(ohm));
   }
 }
 

@@ -61,8 +61,11 @@ class SkinScenario {
 // from a scenario, its charge carried from pulse to pulse (discharging in between), and the
 // output stage's compliance voltage.  It gives what a device measures at the end of a
 // pulse's main phase (a shaped pulse's strongest phase, the first of them): each channel's
-// voltage, held at the compliance rail where the pulse would need more (a lifted pad
-// always does), and the impedance derived from it, |V / I|.
+// voltage, held at the compliance rail where the pulse would need more anywhere (a lifted
+// pad always does: at_rail), the current delivered (as asked, or at the rail i x
+// compliance / the voltage needed, a linear load's; none into a lifted pad), and the
+// impedance |V / I delivered| (kOpenOhm when none flowed).  The interface's charge follows
+// the asked current even at the rail (the emulation's simplification: docs/skin.md).
 class SimulatedSkin {
  public:
   SimulatedSkin(const SkinScenario& scenario, double compliance_V)

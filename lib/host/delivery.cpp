@@ -1,5 +1,7 @@
 #include "host/delivery.hpp"
 
+#include "core/ranges.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -23,6 +25,9 @@ void check_delivery(const DeliveryRequest& r) {
     bad_input("--emu-compliance-v: applies with --emu-skin (an ideal load needs no voltage)");
   if (!r.latency_log.empty() && !r.live)
     bad_input("--latency-log: only with --live (it logs live frames)");
+  if (r.probe_mA && !r.check_impedance)
+    bad_input("--probe-current: applies with --check-impedance");
+  if (r.probe_mA) ranges::check(*r.probe_mA, ranges::probe_mA, "--probe-current");
 }
 
 SessionOptions delivery_session(const DeliveryRequest& r) {
@@ -81,6 +86,17 @@ std::string progress_text(const SessionProgress& p, const DeliveryRequest& req) 
                      " s, " + std::to_string(p.pulses) +
                      (open_ended ? std::string() : " of " + number_text(p.scheduled)) + " pulses";
   if (req.live) text += ", " + std::to_string(p.frames) + " live frames";
+  // A device that measures: the pad of the highest impedance (open: no current flowed).
+  std::size_t worst = p.measured.size();
+  for (std::size_t c = 0; c < p.measured.size(); ++c)
+    if (p.measured[c].carried &&
+        (worst == p.measured.size() || p.measured[c].impedance_ohm > p.measured[worst].impedance_ohm))
+      worst = c;
+  if (worst < p.measured.size()) {
+    const std::uint32_t z = p.measured[worst].impedance_ohm;
+    text += ", worst pad " + std::to_string(worst) + ": " +
+            (z == device::kOpenOhm ? std::string("open") : number_text(z * 1e-3) + " kOhm");
+  }
   return text;
 }
 

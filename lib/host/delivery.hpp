@@ -27,11 +27,13 @@ struct DeliveryRequest {
   std::string emu_skin_path;         // emulator only: the electrodes' skin (docs/skin.md)
   std::optional<double> emu_compliance_V;  // with emu_skin_path: 1 to 1000 V [100]
   std::string latency_log;           // live only: "n t_ns" per frame sent
+  bool check_impedance = false;      // probe every used pad first (host/impedance_check.hpp)
+  std::optional<double> probe_mA;    // with check_impedance: 0.01 to 0.5 mA [0.05]
 };
 
 // The options' combinations, before anything is read: bad input naming the flag
-// (--live, --record, --emu-channels, --emu-skin, --emu-compliance-v, --latency-log), in
-// that order.
+// (--live, --record, --emu-channels, --emu-skin, --emu-compliance-v, --latency-log,
+// --probe-current), in that order.
 void check_delivery(const DeliveryRequest& r);
 
 // The session's options (live, the latency log, the duration checked against the host's
@@ -52,7 +54,8 @@ std::optional<std::string> thresholds_note(const Mix& mix);
 
 // The progress line's text while the output runs: "T of E s, N of M pulses" (live: and
 // ", F live frames"); a live session without a duration runs until its input ends, so
-// "T s, N pulses, F live frames".
+// "T s, N pulses, F live frames"; a device that measures adds the pad of the highest
+// impedance, ", worst pad C: Z kOhm" (or "open").
 std::string progress_text(const SessionProgress& p, const DeliveryRequest& req);
 
 // What a session's end says, after the program's name: the device was running another

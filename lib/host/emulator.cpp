@@ -39,12 +39,12 @@ PulseRecorder::PulseRecorder(const std::string& path, const EmulatorSkin& skin)
   if (scenario_) skin_.emplace(*scenario_, skin.compliance_V);
 }
 
-void PulseRecorder::record(const device::DeliveredPulse& p) {
+void PulseRecorder::record(const device::DeliveredPulse& p, device::DeviceCore& core) {
   ++pulses_;
   // The peak: the main phase's codes, or a shape's base codes at its strongest phase.
   const double step_mA = p.caps.dac_step_nA * 1e-6 * p.timing.max_units();
   for (std::int16_t c : p.codes) peak_mA_ = std::max(peak_mA_, std::fabs(c * step_mA));
-  if (!out_ || failed_) return;
+  if ((!out_ || failed_) && !skin_) return;
   // The device's own record (lib/device/pulse_record.hpp), as the firmware's monitor
   // writes it: the balancing phase in whole DAC codes; a shape's phases as configured (the
   // emulator delivers each phase exactly: base codes x units for its duration).
@@ -66,8 +66,10 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
   device::ElectricalRecord measured;
   if (skin_) {
     skin_->measure(p, measured);
+    core.measured(p.start_us, r, measured);
     r.electrical = &measured;
   }
+  if (!out_ || failed_) return;
   char line[device::kMaxElectricalRecordLine];
   const std::size_t n = device::format_record(r, line);
   try {
@@ -78,8 +80,12 @@ void PulseRecorder::record(const device::DeliveredPulse& p) {
   }
 }
 
-device::Capabilities emulator_capabilities(device::Capabilities caps) {
+device::Capabilities emulator_capabilities(device::Capabilities caps, const EmulatorSkin& skin) {
   caps.features |= device::kFeatureShapedPulses;
+  if (skin.scenario) {  // it measures every pulse on its skin, and reports its compliance
+    caps.features |= device::kFeatureMeasures;
+    caps.compliance_V = static_cast<std::uint16_t>(std::lround(skin.compliance_V));
+  }
   return caps;
 }
 
@@ -93,7 +99,7 @@ namespace {
 class LoopbackTransport final : public Transport {
  public:
   explicit LoopbackTransport(const EmulatorOptions& o)
-      : core_(emulator_capabilities(o.caps)), recorder_(o.record_path, o.skin) {}
+      : core_(emulator_capabilities(o.caps, o.skin)), recorder_(o.record_path, o.skin) {}
   ~LoopbackTransport() override {
     try {
       advance();
@@ -131,7 +137,7 @@ class LoopbackTransport final : public Transport {
   void advance() {
     try {
       core_.advance(monotonic_us(),
-                    [this](const device::DeliveredPulse& p) { recorder_.record(p); });
+                    [this](const device::DeliveredPulse& p) { recorder_.record(p, core_); });
     } catch (const Error& e) {
       // The record cannot be written (a full disk): the device's output stops at once, as
       // stim-emu's does, and the message says so.
@@ -241,7 +247,7 @@ class PtyEmulator {
   explicit PtyEmulator(const PtyEmulatorOptions& opt)
       : opt_(opt),
         recorder_(opt.record_path, opt.skin),
-        core_(emulator_capabilities(opt.caps)),
+        core_(emulator_capabilities(opt.caps, opt.skin)),
         rng_{opt.faults.seed} {
     if (!opt.apply_log_path.empty()) apply_log_.emplace(opt.apply_log_path, "--apply-log");
     if (!opt.event_log_path.empty()) event_log_.emplace(opt.event_log_path, "--event-log");
@@ -289,7 +295,7 @@ class PtyEmulator {
 
   bool forward() const { return !opt_.forward_socket.empty(); }
   std::function<void(const device::DeliveredPulse&)> sink() {
-    return [this](const device::DeliveredPulse& p) { recorder_.record(p); };
+    return [this](const device::DeliveredPulse& p) { recorder_.record(p, core_); };
   }
 
   // The pseudo-terminal; its slave kept open here in raw mode, so that the line behaves

@@ -31,7 +31,9 @@ class PulseRecorder {
   // Empty path: record nothing.  With a skin, every pulse is measured on it (its voltage and
   // impedance per channel in the record, docs/skin.md).
   explicit PulseRecorder(const std::string& path, const EmulatorSkin& skin = EmulatorSkin{});
-  void record(const device::DeliveredPulse& p);
+  // Records the pulse; with a skin, measures it first and reports the readings to the
+  // core (DeviceCore::measured: its guards may end the output before the next pulse).
+  void record(const device::DeliveredPulse& p, device::DeviceCore& core);
   std::uint64_t pulses() const { return pulses_; }
   double peak_mA() const { return peak_mA_; }
   bool failed() const { return failed_; }
@@ -47,8 +49,10 @@ class PulseRecorder {
 
 // The emulators' capabilities: caps, claiming shaped pulses (their PulseRecorder records
 // each shaped pulse's phases as delivered), with caps' own max_phases and max_edge_rate_hz
-// (by default 16 phases and 160000 edges a second).
-device::Capabilities emulator_capabilities(device::Capabilities caps);
+// (by default 16 phases and 160000 edges a second); with a skin, measuring every pulse
+// (kFeatureMeasures) at its compliance voltage (to the volt).
+device::Capabilities emulator_capabilities(device::Capabilities caps,
+                                           const EmulatorSkin& skin = EmulatorSkin{});
 
 struct FaultInjection {
   double drop = 0.0;                 // fraction of bytes dropped, each direction

@@ -251,6 +251,38 @@ double peak_of(const std::vector<std::int16_t>& codes, const device::Capabilitie
 
 }  // namespace
 
+device::Guards guards_of(const Mix& m, const StimulusLimits& limits) {
+  device::Guards g;
+  double area_mm2 = 4000.0;  // the protocol's largest; a larger pad is guarded as this
+  for (const Stimulus& s : m.patterns) area_mm2 = std::min(area_mm2, s.electrode_area_mm2);
+  g.area_um2 = static_cast<std::uint32_t>(
+      std::clamp(std::floor(area_mm2 * 1e6), double{device::kMinGuardAreaUm2},
+                 double{device::kMaxGuardAreaUm2}));
+  g.shannon_k_milli = static_cast<std::uint16_t>(std::clamp(
+      std::floor(limits.shannon_k * 1000 + 1e-9), 500.0, 2500.0));
+  return g;
+}
+
+std::string guard_trip_text(const device::MeasurementsHead& h, const device::Capabilities& caps) {
+  const std::string channel = "channel " + std::to_string(h.trip_channel);
+  const std::string when = " at t = " + number_text(h.trip_t_us * 1e-6) + " s (";
+  const std::string z = h.trip_ohm == device::kOpenOhm
+                            ? "no current flowed"
+                            : "impedance " + number_text(h.trip_ohm * 1e-3) + " kOhm";
+  switch (h.trip) {
+    case device::Fault::contact:
+      return channel + " lost contact" + when + z + ")";
+    case device::Fault::compliance:
+      return channel + " needed more than the " + std::to_string(caps.compliance_V) +
+             " V compliance" + when + z + "): its current was not delivered as asked";
+    case device::Fault::density:
+      return channel + ": charge density above the limit on the contact area left" + when + z +
+             ")";
+    default:
+      return "a guard stopped it, but the device does not say which";
+  }
+}
+
 void check_device(const device::Capabilities& caps) {
   if (caps.watchdog_ms > kMaxDeviceWatchdogMs)
     bad_input("device watchdog of " + std::to_string(caps.watchdog_ms) +
@@ -371,6 +403,9 @@ class SessionRun {
   bool take_frames(int wait_ms);
   bool send_update(const LiveState::Update& u);
   bool device_ended(const device::Status& st);
+  // Protocol 7: each channel's last reading into rep_.measured (and opt_.measurements), the
+  // head (what tripped); nothing from a device that does not measure.
+  device::MeasurementsHead read_measurements();
   void finish();
 
   const Mix& m_;
@@ -453,6 +488,7 @@ void SessionRun::upload(int step) {
     else
       dev_.configure(plan_.single);
     configured_ = true;
+    if (rep_.caps.measures()) dev_.set_guards(guards_of(m_, plan_.limits));
   } else if (!plan_.table) {
     dev_.set_weights(plan_.codes);
     rep_.peak_mA = peak_of(plan_.codes, rep_.caps);
@@ -511,10 +547,12 @@ void SessionRun::keep_alive() {
       rep_.pulses = st.pulses;
       if (device_ended(st)) return;
     }
-    if (opt_.progress && after - last_progress >= 250000000) {
+    if ((opt_.progress || opt_.measurements) && after - last_progress >= 250000000) {
       last_progress = after;
-      opt_.progress(SessionProgress{elapsed_s(), plan_.expected_s, rep_.pulses, plan_.pulses,
-                                    rep_.weight_frames});
+      read_measurements();
+      if (opt_.progress)
+        opt_.progress(SessionProgress{elapsed_s(), plan_.expected_s, rep_.pulses, plan_.pulses,
+                                      rep_.weight_frames, rep_.measured});
     }
   }
 }
@@ -559,8 +597,27 @@ bool SessionRun::device_ended(const device::Status& st) {
     rep_.end = "stimulus complete";
     return true;
   }
+  const std::string counts =
+      std::to_string(st.pulses) + " of " + number_text(plan_.pulses) + " pulses delivered";
+  if (st.fault == device::Fault::contact || st.fault == device::Fault::compliance ||
+      st.fault == device::Fault::density) {
+    const std::string trip = guard_trip_text(read_measurements(), rep_.caps);
+    if (opt_.probe) {
+      rep_.end = "a guard stopped the probe: " + trip;
+      return true;
+    }
+    failure("device stopped the output: " + trip + "; " + counts);
+  }
   failure(std::string("device stopped the output: ") + device::to_string(st.fault) + " (" +
-          std::to_string(st.pulses) + " of " + number_text(plan_.pulses) + " pulses delivered)");
+          counts + ")");
+}
+
+device::MeasurementsHead SessionRun::read_measurements() {
+  if (!rep_.caps.measures()) return {};
+  const device::Measurements m = dev_.measurements(m_.patterns[0].currents_mA.size());
+  rep_.measured = m.channels;
+  if (opt_.measurements) opt_.measurements(rep_.measured);
+  return m.head;
 }
 
 // 4. The device's counts; a completed stimulus must have delivered what was scheduled.
@@ -572,6 +629,7 @@ void SessionRun::finish() {
   rep_.rx_errors = st.rx_errors;
   rep_.line_errors = st.line_errors;
   rep_.overruns = st.overruns;
+  read_measurements();
   if (latency_) latency_->close();
   if (rep_.end == "stimulus complete" && static_cast<double>(st.pulses) != plan_.pulses)
     failure("the device delivered " + std::to_string(st.pulses) + " of the " +

@@ -9,6 +9,7 @@
 #include <csignal>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "host/stimulator.hpp"
 #include "pulse/mix.hpp"
@@ -26,6 +27,8 @@ struct SessionProgress {
   std::uint32_t pulses = 0;   // delivered so far, per the device
   double scheduled = 0;       // pulses scheduled
   std::uint32_t frames = 0;   // live frames taken
+  // Protocol 7, a device that measures: each channel's last reading (empty otherwise).
+  std::vector<device::ChannelMeasurement> measured;
 };
 
 struct SessionOptions {
@@ -41,6 +44,12 @@ struct SessionOptions {
   // for the caller's stop (the caller decides).
   StopToken stop;
   std::function<void(const SessionProgress&)> progress;
+  // Protocol 7: called with each channel's last reading whenever the session reads them
+  // (with each progress, when a guard stops the output, at the end).
+  std::function<void(const std::vector<device::ChannelMeasurement>&)> measurements;
+  // A probe (stimctl --check-impedance): a guard of the device stopping the output ends the
+  // run (its end says which), not a failure; the readings are in the report.
+  bool probe = false;
 };
 
 struct SessionReport {
@@ -60,6 +69,8 @@ struct SessionReport {
   // bytes lost to overruns.
   std::uint32_t rx_errors = 0, line_errors = 0, overruns = 0;
   device::Capabilities caps;
+  // Protocol 7, a device that measures: each channel's last reading at the end.
+  std::vector<device::ChannelMeasurement> measured;
 };
 
 // What a session sends to a device of these capabilities, once every check is made: the
@@ -102,6 +113,14 @@ double current_limit_mA(const Stimulus& s, const StimulusLimits& lim);
 std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t line_number,
                                            const Stimulus& s, const StimulusLimits& lim,
                                            const device::Capabilities& caps);
+
+// The guards a session gives a device that measures (protocol 7): its patterns' smallest
+// electrode area (at most the protocol's 4000 mm^2) and the limits' Shannon k, each
+// rounded down (the stricter way).
+device::Guards guards_of(const Mix& m, const StimulusLimits& limits);
+// What a guard's trip says (stimctl's one line): the channel, the time from the start and
+// the cause, in the words "contact", "compliance" or "density".
+std::string guard_trip_text(const device::MeasurementsHead& h, const device::Capabilities& caps);
 
 // Checked before every step that could start output, and at every turn of the keep-alive
 // loop: opt.stop.  A mix of several patterns goes to the device as a table (protocol 4),

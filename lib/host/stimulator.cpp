@@ -46,6 +46,10 @@ const char* msg_name(device::Msg m) {
       return "set-amplitudes";
     case device::Msg::set_shape:
       return "set-shape";
+    case device::Msg::set_guards:
+      return "set-guards";
+    case device::Msg::measurements:
+      return "measurements";
     default:
       return "message";
   }
@@ -137,6 +141,28 @@ void StimulatorClient::set_shape(std::uint16_t index, const device::PatternTimin
   device::put_u16(b, index);
   device::put_shape_pattern(b, t);
   request(device::Msg::set_shape, device::with_session(session_, b));
+}
+void StimulatorClient::set_guards(const device::Guards& g) {
+  request(device::Msg::set_guards, device::with_session(session_, device::encode(g)));
+}
+device::Measurements StimulatorClient::measurements(std::size_t channels) {
+  device::Measurements all;
+  for (std::size_t first = 0; first < channels || first == 0;) {
+    const auto n = static_cast<std::uint8_t>(
+        std::min(channels - first, device::kMeasurementsPerReply));
+    const auto body = request(device::Msg::measurements,
+                              {static_cast<std::uint8_t>(first), n});
+    const auto page = device::decode_measurements(body, 0);
+    if (!page || page->head.first != first || page->head.n != n)
+      failure("device sent malformed measurements");
+    all.head = page->head;
+    all.channels.insert(all.channels.end(), page->channels.begin(), page->channels.end());
+    first += n;
+    if (n == 0) break;
+  }
+  all.head.first = 0;
+  all.head.n = static_cast<std::uint8_t>(all.channels.size());
+  return all;
 }
 void StimulatorClient::set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense) {
   std::vector<std::uint8_t> b;

@@ -44,6 +44,12 @@ class StimulatorClient {
   void set_shape(std::uint16_t index, const device::PatternTiming& t);
   void set_codes(std::uint16_t index, const std::vector<std::int16_t>& dense);
   void set_amplitudes(const std::vector<std::uint16_t>& scales);
+  // Protocol 7, a device that measures: the session's guards (the electrodes' area, the
+  // density limit, the contact fraction below which a pad is lost).
+  void set_guards(const device::Guards& g);
+  // Protocol 7: each of the first `channels` channels' last reading and baseline, and what
+  // stopped the output (a query, paged by kMeasurementsPerReply).
+  device::Measurements measurements(std::size_t channels);
   // The same while the output runs: false (nothing changed) when the device has already
   // ended this session (its stimulus completed, its watchdog, a stop); any other refusal
   // is a failure naming it.

@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -35,6 +36,7 @@
 #include "core/error.hpp"
 #include "fibre/report.hpp"
 #include "host/delivery.hpp"
+#include "host/impedance_check.hpp"
 #include "host/live.hpp"
 #include "host/session.hpp"
 #include "host/transport.hpp"
@@ -616,9 +618,24 @@ struct SessionRun {
   std::condition_variable cv;
   bool done = false;
   tp::host::SessionReport report;
+  tp::host::ImpedanceCheck check;  // an impedance check's
   std::exception_ptr error;
   std::thread thread;
 };
+
+// Each channel's impedance, kOhm: None where it carried no current, inf where none flowed.
+py::list impedance_list(const std::vector<tp::device::ChannelMeasurement>& m) {
+  py::list out;
+  for (const auto& c : m) {
+    if (!c.carried)
+      out.append(py::none());
+    else if (c.impedance_ohm == tp::device::kOpenOhm)
+      out.append(std::numeric_limits<double>::infinity());
+    else
+      out.append(c.impedance_ohm * 1e-3);
+  }
+  return out;
+}
 
 py::dict report_dict(const tp::host::SessionReport& r) {
   py::dict d;
@@ -632,6 +649,7 @@ py::dict report_dict(const tp::host::SessionReport& r) {
   d["peak_mA"] = r.peak_mA;
   d["seconds"] = r.seconds;
   d["retransmissions"] = r.retransmissions;
+  if (r.caps.measures()) d["impedances_kohm"] = impedance_list(r.measured);
   return d;
 }
 
@@ -697,6 +715,44 @@ class Stimulator {
     return finish(*run);
   }
 
+  // stimctl --check-impedance: the probe on every pad the stimulus uses; each pad's row, or
+  // BadInput naming the pad without contact or the peak above the compliance.
+  py::list check_impedance(const PyStimulus& s, double probe_mA) {
+    tp::host::SessionOptions opt = session_options(false, std::nullopt);
+    tp::check_mix(s.mix, tp::StimulusLimits{});
+    tp::host::probe_stimulus(s.mix, probe_mA);  // the probe's own checks, before the port
+    claim("check_impedance");
+    std::unique_ptr<SessionRun> run;
+    try {
+      {
+        std::lock_guard<std::mutex> lock(m_);
+        open_locked();
+        run = start(s.mix, opt, nullptr, probe_mA);
+        current_ = run.get();
+      }
+      wait(*run);
+    } catch (...) {
+      release();
+      throw;
+    }
+    release();
+    if (run->error) std::rethrow_exception(run->error);
+    if (!run->check.refusal.empty()) tp::bad_input(run->check.refusal);
+    py::list rows;
+    for (const tp::host::ImpedanceRow& x : run->check.rows) {
+      py::dict d;
+      d["channel"] = x.channel;
+      d["probe_mA"] = x.probe_mA;
+      d["contact"] = x.contact;
+      d["impedance_kohm"] = x.impedance_kohm;
+      d["voltage_V"] = x.voltage_V;
+      d["peak_mA"] = x.peak_mA;
+      d["needed_V"] = x.needed_V;
+      rows.append(d);
+    }
+    return rows;
+  }
+
   // Starts a live session: frames come from set_currents / set_amplitudes until stop().
   void start_live(const PyStimulus& s, std::optional<double> duration_s) {
     tp::host::SessionOptions opt = session_options(true, duration_s);
@@ -758,13 +814,32 @@ class Stimulator {
     }
   }
 
+  // A device that measures (protocol 7): each channel's last impedance, kOhm, as the
+  // session last read it (every 0.25 s while it runs, and at its end or a guard's stop):
+  // None where the channel carried no current, inf where none flowed (no contact).  Empty
+  // before any reading, and from a device that does not measure.
+  py::list impedances() {
+    std::vector<tp::device::ChannelMeasurement> m;
+    {
+      std::lock_guard<std::mutex> lock(measured_m_);
+      m = measured_;
+    }
+    return impedance_list(m);
+  }
+
  private:
   // The session's options as stimctl makes them (its --duration's check and message).
-  tp::host::SessionOptions session_options(bool live, std::optional<double> duration_s) const {
+  tp::host::SessionOptions session_options(bool live, std::optional<double> duration_s) {
     tp::host::DeliveryRequest r = req_;
     r.live = live;
     r.duration_s = duration_s;
-    return tp::host::delivery_session(r);
+    tp::host::SessionOptions opt = tp::host::delivery_session(r);
+    // A device that measures: its readings as the session reads them, for impedances().
+    opt.measurements = [this](const std::vector<tp::device::ChannelMeasurement>& m) {
+      std::lock_guard<std::mutex> lock(measured_m_);
+      measured_ = m;
+    };
+    return opt;
   }
 
   void open_locked() {
@@ -792,17 +867,23 @@ class Stimulator {
     idle_.notify_all();
   }
 
+  // A session on its own thread: run_session, or with probe_mA the impedance check's probe
+  // (its result in the run's `check`).
   std::unique_ptr<SessionRun> start(const tp::Mix& m, tp::host::SessionOptions opt,
-                                    std::shared_ptr<tp::host::FrameQueue> frames = nullptr) {
+                                    std::shared_ptr<tp::host::FrameQueue> frames = nullptr,
+                                    std::optional<double> probe_mA = std::nullopt) {
     auto run = std::make_unique<SessionRun>();
     SessionRun* r = run.get();
     r->frames = std::move(frames);
     opt.frames = r->frames.get();
     opt.stop = r->closed.token().with_signals(&r->flag);
     tp::host::Transport* t = transport_.get();
-    run->thread = std::thread([r, t, m, opt] {
+    run->thread = std::thread([r, t, m, opt, probe_mA] {
       try {
-        r->report = tp::host::run_session(*t, m, opt);
+        if (probe_mA)
+          r->check = tp::host::check_impedance(*t, m, opt, *probe_mA);
+        else
+          r->report = tp::host::run_session(*t, m, opt);
       } catch (...) {
         r->error = std::current_exception();
       }
@@ -908,6 +989,8 @@ class Stimulator {
   }
 
   tp::host::DeliveryRequest req_;
+  std::mutex measured_m_;  // measured_, written by a session's thread
+  std::vector<tp::device::ChannelMeasurement> measured_;
   std::mutex m_;  // busy_, current_, transport_
   std::condition_variable idle_;
   bool busy_ = false;
@@ -1114,6 +1197,9 @@ void bind_stimulator(py::module_& m) {
       .def("set_currents", &Stimulator::set_currents, py::arg("currents_mA"))
       .def("set_amplitudes", &Stimulator::set_amplitudes, py::arg("amplitudes_mA"))
       .def("stop", &Stimulator::stop)
+      .def("impedances", &Stimulator::impedances)
+      .def("check_impedance", &Stimulator::check_impedance, py::arg("stimulus"),
+           py::arg("probe_mA") = tp::host::kDefaultProbe_mA)
       .def("close", &Stimulator::close)
       .def_property_readonly("running", &Stimulator::running);
 }

@@ -314,9 +314,10 @@ def test_start_live_loads_what_frames_need_before_the_output_starts():
 
 
 def test_an_emulator_with_a_skin_records_what_it_measured(tmp_path, sai_doc):
-    # Issue 41, item 2: the same skin as stimctl --emu-skin; every recorded pulse carries
-    # each channel's voltage at the main phase's end (the closed form I (Rs + Rp (1 -
-    # e^(-w/tau)))) and |V / I|, null where no current flowed; a lifted pad at the rail.
+    # Issue 41, items 2 and 4: the same skin as stimctl --emu-skin; every recorded pulse
+    # carries each channel's voltage at the main phase's end (the closed form I (Rs + Rp (1
+    # - e^(-w/tau)))) and |V / I|, null where no current flowed; a pad lifted at 0.25 s is
+    # found by the pulse at 0.3 s, which is the last: the run fails naming it.
     import math
     skin = tmp_path / "skin.json"
     skin.write_text(json.dumps({
@@ -326,21 +327,51 @@ def test_an_emulator_with_a_skin_records_what_it_measured(tmp_path, sai_doc):
     rec = tmp_path / "rec.jsonl"
     stim = tp.make_pulse(sai_doc, 1.0, 10, duration_s=0.5)
     with tp.Stimulator("emu", record=str(rec), emu_skin=str(skin), emu_compliance_V=40) as s:
-        s.deliver(stim)
+        with pytest.raises(tp.Failure,
+                           match=r"channel 2 lost contact at t = 0.3 s \(no current flowed\)"):
+            s.deliver(stim)
+    # The readings the session took when the guard stopped it: channel 2 open.
+    z = s.impedances()
+    assert len(z) == 8 and z[2] == math.inf
+    closed = 1 + 50 * (1 - math.exp(-200 / 1500))
+    assert all(z[c] is None or z[c] == pytest.approx(closed, abs=0.01) for c in range(8) if c != 2)
+    assert sum(v is not None for v in z) >= 3
     pulses = records(rec)
-    assert len(pulses) == 5
+    assert len(pulses) == 4
     for p in pulses:
-        for i, v, z in zip(p["currents_mA"], p["voltage_V"], p["impedance_kohm"]):
+        for c, (i, v, z) in enumerate(zip(p["currents_mA"], p["voltage_V"], p["impedance_kohm"])):
             if i == 0:
                 assert v is None and z is None
                 continue
-            if p["t_s"] >= 0.25 and v is not None and abs(v) == 40:
-                continue  # channel 2, lifted: the rail
+            if p["t_s"] >= 0.25 and c == 2:
+                assert abs(v) == 40 and z is None  # lifted: the rail, no current
+                continue
             assert v == pytest.approx(i * (1 + 50 * (1 - math.exp(-200 / 1500))), abs=0.002)
             # V in mV resolution: |V / I| within half a mV over I, and the ohm's rounding.
             assert z == pytest.approx(abs(v / i), abs=0.0005 / abs(i) + 0.001)
-    assert [p["voltage_V"][2] for p in pulses][3:] == [-40, -40] or \
-        [p["voltage_V"][2] for p in pulses][3:] == [40, 40]
+    # Without the lift, the report carries the last readings; without a skin, none.
+    skin.write_text(json.dumps({"format": "tactile-primaries/skin/1",
+                                "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0}}))
+    with tp.Stimulator("emu", emu_skin=str(skin)) as s:
+        report = s.deliver(stim)
+        assert report["impedances_kohm"] == s.impedances()
+        assert report["impedances_kohm"][2] == pytest.approx(7.2413, abs=0.01)
+    with tp.Stimulator("emu") as s:
+        assert "impedances_kohm" not in s.deliver(stim) and s.impedances() == []
+    # The impedance check: a row per used pad; a lifted one refused as stimctl refuses it.
+    with tp.Stimulator("emu", emu_skin=str(skin), record=str(tmp_path / "probe.jsonl")) as s:
+        rows = s.check_impedance(stim)
+        currents = stim.to_dict()["currents_mA"]
+        assert [r["channel"] for r in rows] == [c for c in range(8) if currents[c] != 0]
+        assert all(r["contact"] and r["impedance_kohm"] == pytest.approx(closed, abs=0.01)
+                   for r in rows)
+        assert all(abs(r["probe_mA"]) <= 0.05 for r in rows)
+    skin.write_text(json.dumps({"format": "tactile-primaries/skin/1",
+                                "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0},
+                                "overrides": [{"channels": [2], "contact": 0.0}]}))
+    with tp.Stimulator("emu", emu_skin=str(skin)) as s:
+        with pytest.raises(tp.BadInput, match="channel 2 has no contact"):
+            s.check_impedance(stim)
     for bad, words in ((dict(emu_compliance_V=50), "--emu-compliance-v: applies with --emu-skin"),
                        (dict(emu_skin=str(skin), emu_compliance_V=0.5),
                         "--emu-compliance-v: 0.5 V outside \\[1, 1000\\] V")):

@@ -184,12 +184,12 @@ TEST_CASE("set_shape round-trips, and 17 phases or a short length are bad_length
   CHECK(biphasic == 5);
   CHECK(send(core, 15, Msg::set_shape, shape(0, t), 20000) == Result::bad_state);
 
-  // The capabilities: 39 bytes, the three new fields last.
+  // The capabilities: 41 bytes (version 7), version 6's three fields before the compliance.
   std::vector<std::uint8_t> ident;
   DeviceCore fresh(shaped_caps());
   REQUIRE(send(fresh, 1, Msg::identify, {}, 0, &ident) == Result::ok);
   REQUIRE(ident.size() == kCapabilitiesSize);
-  CHECK(ident[0] == 6);
+  CHECK(ident[0] == 7);
   const auto c = decode_capabilities(ident, 0);
   REQUIRE(c);
   CHECK(c->max_phases == 16);

@@ -500,29 +500,35 @@ device::Capabilities identify(const std::vector<std::uint8_t>& caps) {
 
 }  // namespace
 
-TEST_CASE("the host speaks protocols 5 and 6, a version 5 device without shaped pulses",
+TEST_CASE("the host speaks protocols 5 to 7, a version 5 device without shaped pulses",
           "[host][session]") {
-  const device::Capabilities v6 = identify(caps_bytes(6, device::kCapabilitiesSize));
+  const device::Capabilities v7 = identify(caps_bytes(7, device::kCapabilitiesSize));
+  CHECK(v7.protocol == 7);
+  CHECK(v7.shaped_pulses());
+  const device::Capabilities v6 = identify(caps_bytes(6, device::kCapabilitiesSizeV6));
   CHECK(v6.protocol == 6);
   CHECK(v6.shaped_pulses());
   CHECK(v6.max_phases == 16);
   CHECK(v6.max_edge_rate_hz == 160000);
+  CHECK(v6.compliance_V == 0);
   const device::Capabilities v5 = identify(caps_bytes(5, device::kCapabilitiesSizeV5));
   CHECK(v5.protocol == 5);
   CHECK(!v5.shaped_pulses());
   CHECK(v5.max_phases == 0);
   CHECK(v5.max_edge_rate_hz == 4 * 1209);
   CHECK(v5.max_pulse_rate_hz == 1209);
-  for (int other : {4, 7})
+  for (int other : {4, 8})
     CHECK(message_of([&] {
             identify(caps_bytes(static_cast<std::uint8_t>(other), device::kCapabilitiesSize));
           }) ==
           "device speaks protocol version " + std::to_string(other) +
-              "; stimctl speaks versions 5 to 6");
+              "; stimctl speaks versions 5 to 7");
   // The length must be the one of its version.
   CHECK(message_of([] { identify(caps_bytes(5, device::kCapabilitiesSize)); }) ==
         "device sent malformed capabilities");
-  CHECK(message_of([] { identify(caps_bytes(6, device::kCapabilitiesSizeV5)); }) ==
+  CHECK(message_of([] { identify(caps_bytes(6, device::kCapabilitiesSize)); }) ==
+        "device sent malformed capabilities");
+  CHECK(message_of([] { identify(caps_bytes(7, device::kCapabilitiesSizeV6)); }) ==
         "device sent malformed capabilities");
 }
 

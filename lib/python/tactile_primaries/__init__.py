@@ -117,7 +117,9 @@ class Stimulator:
 
     def deliver(self, stimulus, duration_s=None):
         """Delivers a stimulus (a Stimulus, its JSON or a file) and returns stimctl's report:
-        pulses, peak_mA, seconds, end, retransmissions.  duration_s stops it sooner."""
+        pulses, peak_mA, seconds, end, retransmissions (and impedances_kohm from a device
+        that measures).  duration_s stops it sooner; a guard of a device that measures
+        stopping it raises Failure naming the channel, the time and the cause."""
         return self._s.deliver(_as_stimulus(stimulus), duration_s)
 
     def start_live(self, stimulus, duration_s=None):
@@ -154,6 +156,23 @@ class Stimulator:
     def running(self):
         """True while a live session runs."""
         return self._s.running
+
+    def check_impedance(self, stimulus, probe_mA=0.05):
+        """stimctl --check-impedance without the stimulus: a probe of probe_mA (0.01 to 0.5)
+        on every pad the stimulus uses, on a device that measures.  Returns one dict per
+        pad (channel, probe_mA, contact, impedance_kohm, voltage_V, peak_mA, needed_V: the
+        voltage at the stimulus's peak); raises BadInput naming a pad without contact, or
+        one whose peak needs more than the device's compliance, as stimctl refuses."""
+        return self._s.check_impedance(_as_stimulus(stimulus), probe_mA)
+
+    def impedances(self):
+        """A device that measures (protocol 7: stimctl --emu-skin, stim-emu --skin): each
+        channel's last impedance in kOhm, as the session last read it (every 0.25 s while
+        it runs, when a guard stops it, and at its end): None where the channel carried no
+        current, inf where none flowed (no contact).  Empty before any reading, and from a
+        device that does not measure.  A delivery's report has the final ones as
+        impedances_kohm; each record line has voltage_V and impedance_kohm per pulse."""
+        return self._s.impedances()
 
     def close(self):
         """Stops any output at once and closes the port."""
