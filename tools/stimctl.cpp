@@ -68,10 +68,16 @@ int main(int argc, char** argv) {
                "the pad) when a used pad has no contact or the stimulus's peak would need more "
                "than the device's compliance, else print each pad's impedance and contact "
                "(stderr) and start");
+  app.add_option("--contact-loss", r.contact_loss,
+                 "On a device that measures, what a pad's lost contact does: stop the whole "
+                 "output, or suspend only the patterns that drive it (their pulses at the probe's "
+                 "current, --probe-current) until a probe finds the contact again, for a finger "
+                 "moving over a display [stop]")
+      ->type_name("stop|suspend");
   std::string probe;
   app.add_option("--probe-current", probe,
-                 "With --check-impedance: the probe's current per electrode, mA, 0.01 to 0.5 "
-                 "[0.05]")
+                 "With --check-impedance or --contact-loss suspend: the probe's current per "
+                 "electrode, mA, 0.01 to 0.5 [0.05]")
       ->type_name("MA");
   app.add_option("--latency-log", r.latency_log,
                  "Live mode: write 'n t_ns' per weight frame sent (benchmarks)")

@@ -379,6 +379,7 @@ Result DeviceCore::start(std::uint64_t now_us) {
   for (ChannelMeasurement& m : reading_) m = ChannelMeasurement{};  // new readings, baselines
   readings_ = MeasurementsHead{};
   pending_trip_ = Fault::none;
+  suspended_ = 0;
   return Result::ok;
 }
 
@@ -412,9 +413,37 @@ CodeSpan DeviceCore::pulse_codes(std::uint16_t i) {
   for (std::size_t c = 0; c < channels_; ++c) dense_[c] = 0;
   for (std::size_t k = 0; k < p.count; ++k)
     dense_[pool_channel_[p.first + k]] = pool_code_[p.first + k];
-  if (p.scale == kFullScale) return CodeSpan{dense_, channels_};
-  scale_codes(dense_, channels_, p.scale, scaled_);
+  std::uint16_t scale = p.scale;
+  if (suspended_ != 0 && touches_suspended(i)) {  // a pad without contact: only its probe
+    ++readings_.suspended;
+    const std::uint16_t probe = probe_scale(i);
+    if (probe < scale) scale = probe;
+  }
+  if (scale == kFullScale) return CodeSpan{dense_, channels_};
+  scale_codes(dense_, channels_, scale, scaled_);
   return CodeSpan{scaled_, channels_};
+}
+
+bool DeviceCore::touches_suspended(std::uint16_t i) const {
+  const Pattern& p = pattern_[i];
+  for (std::size_t k = 0; k < p.count; ++k)
+    if (((suspended_ >> pool_channel_[p.first + k]) & 1u) != 0) return true;
+  return false;
+}
+
+std::uint16_t DeviceCore::probe_scale(std::uint16_t i) const {
+  const Pattern& p = pattern_[i];
+  std::uint32_t largest = 0;
+  for (std::size_t k = 0; k < p.count; ++k) {
+    const std::int32_t c = pool_code_[p.first + k];
+    largest = std::max<std::uint32_t>(largest, static_cast<std::uint32_t>(c < 0 ? -c : c));
+  }
+  // Its peak phase: the largest code x the shape's largest units, x the step (nA).
+  const std::uint64_t peak_nA =
+      std::uint64_t{largest} * static_cast<std::uint64_t>(timing_[i].max_units()) * caps_.dac_step_nA;
+  const std::uint64_t probe_nA = std::uint64_t{guards_.probe_uA} * 1000u;
+  if (peak_nA <= probe_nA) return kFullScale;  // already at most the probe: as it is
+  return static_cast<std::uint16_t>(probe_nA * kFullScale / peak_nA);  // rounded down
 }
 
 void DeviceCore::pulse_delivered() {

@@ -185,7 +185,11 @@ class DeviceCore {
   // Pattern i's codes become these (checked first: |code|, Sum = 0, the load).
   Result put_codes(std::uint16_t i, const SparseCodes& c, std::uint8_t reserve);
   void load(std::uint16_t i, int sign);     // pattern i's share of load_, in or out
-  CodeSpan pulse_codes(std::uint16_t i);    // dense, scaled by its amplitude
+  CodeSpan pulse_codes(std::uint16_t i);    // dense, scaled by its amplitude (or the probe's)
+  bool touches_suspended(std::uint16_t i) const;  // pattern i drives a suspended channel
+  // The scale that brings pattern i's largest current to at most the probe's (kFullScale
+  // when it is already within it).
+  std::uint16_t probe_scale(std::uint16_t i) const;
   bool of_session(const RxFrame& f) const;  // carries the current session's token
   void expire(std::uint64_t now_us);        // the watchdog, at any call
   void end_session();
@@ -228,6 +232,7 @@ class DeviceCore {
   ChannelMeasurement reading_[kMaxChannels];
   MeasurementsHead readings_;
   Fault pending_trip_ = Fault::none;
+  std::uint64_t suspended_ = 0;  // bit c: channel c lost contact (kGuardSuspend)
   bool in_advance_ = false;
   bool have_last_ = false;
   RxFrame last_request_;

@@ -98,9 +98,20 @@ Fault DeviceCore::check_channel(const PulseRecord& r, ElectricalRecord& m, std::
 void DeviceCore::measured(std::uint64_t start_us, const PulseRecord& r, ElectricalRecord& m) {
   if (start_us != start_us_) return;  // an earlier output's
   ++readings_.measured;
+  const bool suspend = (guards_.flags & kGuardSuspend) != 0;
   for (std::size_t c = 0; c < r.channels && c < kMaxChannels; ++c) {
     const Fault f = check_channel(r, m, c);
-    if (f != Fault::none && readings_.trip == Fault::none) trip(f, c, r.t_us);
+    const std::uint64_t bit = std::uint64_t{1} << c;
+    // Suspending: a pad without contact pauses the patterns that drive it (pulse_codes
+    // delivers only their probe); a probe that finds it again resumes them.
+    if (suspend && f == Fault::contact) {
+      suspended_ |= bit;
+    } else if (f != Fault::none) {
+      if (readings_.trip == Fault::none) trip(f, c, r.t_us);
+    } else if (m.carried[c]) {
+      suspended_ &= ~bit;
+    }
+    reading_[c].suspended = (suspended_ & bit) != 0;
   }
 }
 

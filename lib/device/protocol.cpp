@@ -68,6 +68,8 @@ bool decode_guards(const std::uint8_t* p, std::size_t n, Guards& out) {
   out.area_um2 = get_u32(p);
   out.shannon_k_milli = get_u16(p + 4);
   out.lost_contact_milli = get_u16(p + 6);
+  out.probe_uA = get_u16(p + 8);
+  out.flags = p[10];
   return true;
 }
 
@@ -75,6 +77,7 @@ bool guards_in_range(const Guards& g) {
   if (g.area_um2 != 0 && (g.area_um2 < kMinGuardAreaUm2 || g.area_um2 > kMaxGuardAreaUm2))
     return false;
   if (g.shannon_k_milli < 500 || g.shannon_k_milli > 2500) return false;
+  if (g.probe_uA < 10 || g.probe_uA > 500 || (g.flags & ~kGuardSuspend) != 0) return false;
   return g.lost_contact_milli >= 10 && g.lost_contact_milli <= 900;
 }
 

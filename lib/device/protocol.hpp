@@ -225,8 +225,14 @@ struct Guards {
   // delivered current over the asked one at the compliance rail) is below this, x 1000, has
   // lost contact.
   std::uint16_t lost_contact_milli = 100;
+  // What a pad's lost contact does: stop the whole output (0), or (kGuardSuspend) pause
+  // only the patterns that drive it, delivering their pulses scaled down to at most
+  // probe_uA (10 to 500) on every pad until such a probe finds the contact again.
+  std::uint16_t probe_uA = 50;
+  std::uint8_t flags = 0;
 };
-inline constexpr std::size_t kGuardsSize = 8;
+inline constexpr std::uint8_t kGuardSuspend = 0x01;
+inline constexpr std::size_t kGuardsSize = 11;
 inline constexpr std::uint32_t kMinGuardAreaUm2 = 100;  // 0.0001 mm^2
 inline constexpr std::uint32_t kMaxGuardAreaUm2 = 4000000000u;  // 4000 mm^2
 
@@ -234,6 +240,7 @@ inline constexpr std::uint32_t kMaxGuardAreaUm2 = 4000000000u;  // 4000 mm^2
 struct ChannelMeasurement {
   bool carried = false;   // it carried current in the pulse measured
   bool at_rail = false;   // its voltage was at the compliance rail: not delivered as asked
+  bool suspended = false; // lost contact: its patterns are paused (kGuardSuspend)
   std::int32_t voltage_mV = 0;       // at the main phase's end
   std::uint32_t impedance_ohm = 0;   // |V / I delivered|; kOpenOhm: no current flowed
   std::uint32_t baseline_ohm = 0;    // the lowest impedance this output (0: none yet)
@@ -243,15 +250,16 @@ inline constexpr std::uint32_t kOpenOhm = 0xFFFFFFFFu;
 // What stopped the output, and the count of pulses measured since the start.
 struct MeasurementsHead {
   std::uint32_t measured = 0;  // pulses measured since the last start
+  std::uint32_t suspended = 0;  // pulses delivered at the probe (kGuardSuspend) since then
   Fault trip = Fault::none;    // contact, compliance or density; none
   std::uint8_t trip_channel = 0;
   std::uint32_t trip_t_us = 0;  // the tripping pulse's start, from the output's start
   std::uint32_t trip_ohm = 0;   // the channel's impedance then (kOpenOhm: no current)
   std::uint8_t first = 0, n = 0;  // the channels that follow
 };
-inline constexpr std::size_t kMeasurementsHeadSize = 16;
+inline constexpr std::size_t kMeasurementsHeadSize = 20;
 // The most channels one measurements reply carries (within kMaxPayload with its ack).
-inline constexpr std::size_t kMeasurementsPerReply = 14;
+inline constexpr std::size_t kMeasurementsPerReply = 13;
 
 // A shaped pulse (set_shape): n phases, phase k lasting duration_us[k] at units[k] x each
 // channel's base code.  n == 0: not shaped (the pattern's biphasic widths).
@@ -365,10 +373,13 @@ void put_guards(B& b, const Guards& g) {
   put_u32(b, g.area_um2);
   put_u16(b, g.shannon_k_milli);
   put_u16(b, g.lost_contact_milli);
+  put_u16(b, g.probe_uA);
+  b.push_back(g.flags);
 }
 template <class B>
 void put_measurements_head(B& b, const MeasurementsHead& h) {
   put_u32(b, h.measured);
+  put_u32(b, h.suspended);
   b.push_back(static_cast<std::uint8_t>(h.trip));
   b.push_back(h.trip_channel);
   put_u32(b, h.trip_t_us);
@@ -378,7 +389,8 @@ void put_measurements_head(B& b, const MeasurementsHead& h) {
 }
 template <class B>
 void put_channel_measurement(B& b, const ChannelMeasurement& m) {
-  b.push_back(static_cast<std::uint8_t>((m.carried ? 1 : 0) | (m.at_rail ? 2 : 0)));
+  b.push_back(static_cast<std::uint8_t>((m.carried ? 1 : 0) | (m.at_rail ? 2 : 0) |
+                                        (m.suspended ? 4 : 0)));
   put_u32(b, static_cast<std::uint32_t>(m.voltage_mV));
   put_u32(b, m.impedance_ohm);
   put_u32(b, m.baseline_ohm);

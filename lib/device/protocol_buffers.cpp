@@ -151,22 +151,24 @@ std::optional<Measurements> decode_measurements(const std::vector<std::uint8_t>&
   const std::uint8_t* p = b.data() + at;
   Measurements m;
   m.head.measured = get_u32(p);
-  if (p[4] > static_cast<std::uint8_t>(Fault::density)) return std::nullopt;
-  m.head.trip = static_cast<Fault>(p[4]);
-  m.head.trip_channel = p[5];
-  m.head.trip_t_us = get_u32(p + 6);
-  m.head.trip_ohm = get_u32(p + 10);
-  m.head.first = p[14];
-  m.head.n = p[15];
+  m.head.suspended = get_u32(p + 4);
+  if (p[8] > static_cast<std::uint8_t>(Fault::density)) return std::nullopt;
+  m.head.trip = static_cast<Fault>(p[8]);
+  m.head.trip_channel = p[9];
+  m.head.trip_t_us = get_u32(p + 10);
+  m.head.trip_ohm = get_u32(p + 14);
+  m.head.first = p[18];
+  m.head.n = p[19];
   if (m.head.n > kMeasurementsPerReply ||
       b.size() != at + kMeasurementsHeadSize + m.head.n * kChannelMeasurementSize)
     return std::nullopt;
   for (std::size_t k = 0; k < m.head.n; ++k) {
     const std::uint8_t* q = p + kMeasurementsHeadSize + k * kChannelMeasurementSize;
-    if (q[0] > 3) return std::nullopt;
+    if (q[0] > 7) return std::nullopt;
     ChannelMeasurement c;
     c.carried = (q[0] & 1) != 0;
     c.at_rail = (q[0] & 2) != 0;
+    c.suspended = (q[0] & 4) != 0;
     c.voltage_mV = static_cast<std::int32_t>(get_u32(q + 1));
     c.impedance_ohm = get_u32(q + 5);
     c.baseline_ohm = get_u32(q + 9);

@@ -25,14 +25,18 @@ void check_delivery(const DeliveryRequest& r) {
     bad_input("--emu-compliance-v: applies with --emu-skin (an ideal load needs no voltage)");
   if (!r.latency_log.empty() && !r.live)
     bad_input("--latency-log: only with --live (it logs live frames)");
-  if (r.probe_mA && !r.check_impedance)
-    bad_input("--probe-current: applies with --check-impedance");
+  if (r.contact_loss != "stop" && r.contact_loss != "suspend")
+    bad_input("--contact-loss: " + r.contact_loss + " is not stop or suspend");
+  if (r.probe_mA && !r.check_impedance && r.contact_loss != "suspend")
+    bad_input("--probe-current: applies with --check-impedance or --contact-loss suspend");
   if (r.probe_mA) ranges::check(*r.probe_mA, ranges::probe_mA, "--probe-current");
 }
 
 SessionOptions delivery_session(const DeliveryRequest& r) {
   SessionOptions opt;
   opt.live = r.live;
+  opt.suspend_on_contact_loss = r.contact_loss == "suspend";
+  if (r.probe_mA) opt.probe_mA = *r.probe_mA;
   opt.latency_log = r.latency_log;
   if (r.duration_s) {
     opt.duration_s = *r.duration_s;
@@ -110,6 +114,15 @@ std::optional<std::string> not_started_note(const SessionReport& r) {
   return r.port + ": " + r.end + " before the output started; nothing delivered";
 }
 
+namespace {
+// --contact-loss suspend: the pulses that went out at the probe, not as asked.
+std::string suspended_text(const SessionReport& r) {
+  if (r.suspended_pulses == 0) return "";
+  return ", " + std::to_string(r.suspended_pulses) +
+         " of them at the probe while a pad had no contact (--contact-loss suspend)";
+}
+}  // namespace
+
 std::string session_summary(const SessionReport& r, const Mix& mix, const DeliveryRequest& req) {
   const bool live = req.live;
   const Stimulus& s = mix.patterns[0];
@@ -127,8 +140,8 @@ std::string session_summary(const SessionReport& r, const Mix& mix, const Delive
   return r.port + ": " + std::to_string(r.pulses) + of + " pulses on " + std::to_string(s.currents_mA.size()) + " channels " + rate + ", peak " +
          number_text(r.peak_mA) + " mA, " + number_text(std::round(r.seconds * 100) / 100) +
          " s" + (live ? ", " + std::to_string(r.weight_frames) + " live frames" : "") + ", " +
-         std::to_string(r.retransmissions) + " retransmissions" + lost + "; " + r.end +
-         "; output stopped";
+         std::to_string(r.retransmissions) + " retransmissions" + lost + suspended_text(r) +
+         "; " + r.end + "; output stopped";
 }
 
 }  // namespace tp::host

@@ -28,7 +28,8 @@ struct DeliveryRequest {
   std::optional<double> emu_compliance_V;  // with emu_skin_path: 1 to 1000 V [100]
   std::string latency_log;           // live only: "n t_ns" per frame sent
   bool check_impedance = false;      // probe every used pad first (host/impedance_check.hpp)
-  std::optional<double> probe_mA;    // with check_impedance: 0.01 to 0.5 mA [0.05]
+  std::optional<double> probe_mA;    // with check_impedance or suspension: 0.01 to 0.5 mA [0.05]
+  std::string contact_loss = "stop";  // stop, or suspend (SessionOptions::suspend_on_contact_loss)
 };
 
 // The options' combinations, before anything is read: bad input naming the flag

@@ -251,8 +251,11 @@ double peak_of(const std::vector<std::int16_t>& codes, const device::Capabilitie
 
 }  // namespace
 
-device::Guards guards_of(const Mix& m, const StimulusLimits& limits) {
+device::Guards guards_of(const Mix& m, const SessionOptions& opt) {
+  const StimulusLimits& limits = opt.limits;
   device::Guards g;
+  if (opt.suspend_on_contact_loss) g.flags = device::kGuardSuspend;
+  g.probe_uA = static_cast<std::uint16_t>(std::clamp(std::floor(opt.probe_mA * 1000 + 1e-9), 10.0, 500.0));
   double area_mm2 = 4000.0;  // the protocol's largest; a larger pad is guarded as this
   for (const Stimulus& s : m.patterns) area_mm2 = std::min(area_mm2, s.electrode_area_mm2);
   g.area_um2 = static_cast<std::uint32_t>(
@@ -430,6 +433,9 @@ bool SessionRun::prepare() {
     return false;
   }
   rep_.caps = dev_.identify();
+  if (opt_.suspend_on_contact_loss && !rep_.caps.measures())
+    bad_input("--contact-loss suspend: " + rep_.port +
+              " does not measure its pulses, so it cannot tell a lost contact (protocol 7)");
   plan_ = plan_session(rep_.caps, m_, opt_);
   rep_.scheduled = plan_.pulses;
   if (opt_.live) {
@@ -488,7 +494,7 @@ void SessionRun::upload(int step) {
     else
       dev_.configure(plan_.single);
     configured_ = true;
-    if (rep_.caps.measures()) dev_.set_guards(guards_of(m_, plan_.limits));
+    if (rep_.caps.measures()) dev_.set_guards(guards_of(m_, opt_));
   } else if (!plan_.table) {
     dev_.set_weights(plan_.codes);
     rep_.peak_mA = peak_of(plan_.codes, rep_.caps);
@@ -629,7 +635,7 @@ void SessionRun::finish() {
   rep_.rx_errors = st.rx_errors;
   rep_.line_errors = st.line_errors;
   rep_.overruns = st.overruns;
-  read_measurements();
+  rep_.suspended_pulses = read_measurements().suspended;
   if (latency_) latency_->close();
   if (rep_.end == "stimulus complete" && static_cast<double>(st.pulses) != plan_.pulses)
     failure("the device delivered " + std::to_string(st.pulses) + " of the " +

@@ -50,6 +50,11 @@ struct SessionOptions {
   // A probe (stimctl --check-impedance): a guard of the device stopping the output ends the
   // run (its end says which), not a failure; the readings are in the report.
   bool probe = false;
+  // Protocol 7, a device that measures: a pad's lost contact pauses only the patterns that
+  // drive it, delivered at probe_mA until a probe finds the contact again (stimctl
+  // --contact-loss suspend); false: the whole output stops (the device's default).
+  bool suspend_on_contact_loss = false;
+  double probe_mA = 0.05;
 };
 
 struct SessionReport {
@@ -71,6 +76,7 @@ struct SessionReport {
   device::Capabilities caps;
   // Protocol 7, a device that measures: each channel's last reading at the end.
   std::vector<device::ChannelMeasurement> measured;
+  std::uint32_t suspended_pulses = 0;  // delivered at the probe while a pad had no contact
 };
 
 // What a session sends to a device of these capabilities, once every check is made: the
@@ -116,8 +122,8 @@ std::vector<std::int16_t> parse_live_frame(const std::string& line, std::size_t 
 
 // The guards a session gives a device that measures (protocol 7): its patterns' smallest
 // electrode area (at most the protocol's 4000 mm^2) and the limits' Shannon k, each
-// rounded down (the stricter way).
-device::Guards guards_of(const Mix& m, const StimulusLimits& limits);
+// rounded down (the stricter way), and what a lost contact does (opt's suspension, probe).
+device::Guards guards_of(const Mix& m, const SessionOptions& opt);
 // What a guard's trip says (stimctl's one line): the channel, the time from the start and
 // the cause, in the words "contact", "compliance" or "density".
 std::string guard_trip_text(const device::MeasurementsHead& h, const device::Capabilities& caps);

@@ -372,6 +372,16 @@ def test_an_emulator_with_a_skin_records_what_it_measured(tmp_path, sai_doc):
     with tp.Stimulator("emu", emu_skin=str(skin)) as s:
         with pytest.raises(tp.BadInput, match="channel 2 has no contact"):
             s.check_impedance(stim)
+    # contact_loss="suspend": the lifted pad's pattern goes on at the probe, nothing fails.
+    with tp.Stimulator("emu", emu_skin=str(skin), contact_loss="suspend", probe_mA=0.04,
+                       record=str(tmp_path / "suspend.jsonl")) as s:
+        report = s.deliver(stim)
+        assert report["pulses"] == 5 and report["impedances_kohm"][2] == math.inf
+    # The first pulse finds the pad lifted (as asked); the rest are probes of 0.04 mA.
+    peaks = [max(abs(c) for c in p["currents_mA"]) for p in records(tmp_path / "suspend.jsonl")]
+    assert peaks[0] > 0.5 and all(0.035 < x <= 0.04 for x in peaks[1:]) and len(peaks) == 5
+    with pytest.raises(tp.BadInput, match="--contact-loss: pause is not stop or suspend"):
+        tp.Stimulator("emu", contact_loss="pause")
     for bad, words in ((dict(emu_compliance_V=50), "--emu-compliance-v: applies with --emu-skin"),
                        (dict(emu_skin=str(skin), emu_compliance_V=0.5),
                         "--emu-compliance-v: 0.5 V outside \\[1, 1000\\] V")):

@@ -124,9 +124,9 @@ TEST_CASE("guards: impedance derived from each reading, the lowest kept as the b
   CHECK(m.channels[1].impedance_ohm == Approx(18000).margin(2));
   CHECK(!m.channels[2].carried);
   CHECK(m.channels[2].impedance_ohm == 0);
-  // Paging: a page of channels 6 and 7; more than 14 a page, or past the last channel, refused.
+  // Paging: a page of channels 6 and 7; more than 13 a page, or past the last channel, refused.
   CHECK(query(core, 6, 2).channels.size() == 2);
-  CHECK(send(core, 201, Msg::measurements, {0, 15}, 0) == Result::out_of_range);
+  CHECK(send(core, 201, Msg::measurements, {0, 14}, 0) == Result::out_of_range);
   CHECK(send(core, 202, Msg::measurements, {7, 2}, 0) == Result::out_of_range);
   CHECK(send(core, 203, Msg::measurements, {0}, 0) == Result::bad_length);
 }
@@ -215,6 +215,47 @@ TEST_CASE("guards: the charge density on the estimated contact area (Shannon's k
         }, 200000) == 10);
 }
 
+TEST_CASE("guards: suspending, a lost pad's pattern goes on at the probe until contact returns",
+          "[device][guards]") {
+  Guards g;
+  g.flags = kGuardSuspend;
+  g.probe_uA = 50;
+  DeviceCore core(measuring_caps());
+  REQUIRE(start_output(core, 1024, 200, &g) == Result::ok);  // 1.000448 mA
+  std::vector<std::int32_t> asked;  // channel 0's current as delivered, per pulse
+  // Channel 1 lifted from pulse 3 to pulse 6 (no current flows), then back.
+  const std::size_t n = run(core, [&](std::size_t k, std::size_t c, std::int32_t i) {
+    if (c == 0) asked.push_back(i);
+    if (c == 1 && k >= 3 && k <= 6) return Reading{-100000, 0, true};
+    return ohmic(i, 20000);
+  }, 60000);
+  CHECK(n == 12);
+  CHECK(core.status().state == State::running);
+  REQUIRE(asked.size() == 12);
+  // Pulses 0 to 3 as asked (3 finds the loss), 4 to 7 at the probe (7 finds the contact
+  // again), 8 on as asked.
+  for (std::size_t k = 0; k < 12; ++k) {
+    INFO("pulse " << k);
+    if (k >= 4 && k <= 7) {
+      CHECK(asked[k] <= 50000);
+      CHECK(asked[k] > 45000);
+    } else {
+      CHECK(asked[k] == 1024 * 977);
+    }
+  }
+  const Measurements m = query(core, 0, 2);
+  CHECK(m.head.suspended == 4);
+  CHECK(m.head.trip == Fault::none);
+  CHECK(!m.channels[1].suspended);
+  // Compliance still stops everything.
+  DeviceCore other(measuring_caps());
+  REQUIRE(start_output(other, 1024, 200, &g) == Result::ok);
+  CHECK(run(other, [](std::size_t k, std::size_t, std::int32_t i) {
+          return k >= 2 ? Reading{100000, i / 2, true} : ohmic(i, 20000);
+        }, 60000) == 3);
+  CHECK(other.status().fault == Fault::compliance);
+}
+
 TEST_CASE("guards: set_guards' refusals, and readings of an earlier output", "[device][guards]") {
   Guards g;
   g.area_um2 = 1000000;
@@ -236,13 +277,17 @@ TEST_CASE("guards: set_guards' refusals, and readings of an earlier output", "[d
   auto refused = [&](Guards bad, Result want, std::uint8_t seq) {
     CHECK(send(core, seq, Msg::set_guards, with_session(kToken, encode(bad)), 0) == want);
   };
-  Guards small = g, k_high = g, lost_low = g;
+  Guards small = g, k_high = g, lost_low = g, probe_high = g, flags = g;
   small.area_um2 = 99;
   k_high.shannon_k_milli = 2501;
   lost_low.lost_contact_milli = 9;
+  probe_high.probe_uA = 501;
+  flags.flags = 2;
   refused(small, Result::out_of_range, 34);
   refused(k_high, Result::out_of_range, 35);
   refused(lost_low, Result::out_of_range, 36);
+  refused(probe_high, Result::out_of_range, 40);
+  refused(flags, Result::out_of_range, 41);
   auto short_frame = with_session(kToken, encode(g));
   short_frame.pop_back();
   CHECK(send(core, 37, Msg::set_guards, short_frame, 0) == Result::bad_length);

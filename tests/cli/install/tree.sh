@@ -5,7 +5,7 @@
 P=$PWD/P
 cmake --install "$TP_BUILD" --prefix "$P" > install.log 2>&1 || fail "install: $(tail -3 install.log)"
 for f in bin/af-field bin/optimize-weights bin/make-pulse bin/stimctl bin/stim-emu bin/fiber-threshold bin/mix-stimuli bin/render-tactile bin/calibrate \
-         bin/tp-sweep-spacing bin/tp-compare-models bin/tp-plot-field bin/tp-plot-pulse bin/tp-plot-sweep bin/tp-plot-sd bin/tp-plot-render bin/tp-plot-recruitment share/tactile-primaries/images/face-8x8.png \
+         bin/tp-sweep-spacing bin/tp-compare-models bin/tp-plot-field bin/tp-plot-pulse bin/tp-plot-sweep bin/tp-plot-sd bin/tp-plot-render bin/tp-plot-recruitment bin/tp-plot-impedance share/tactile-primaries/images/face-8x8.png \
          share/tactile-primaries/receptors.json share/tactile-primaries/skin/fingertip.json \
          share/doc/tactile-primaries/README.md share/doc/tactile-primaries/docs/document-format.md \
          share/doc/tactile-primaries/docs/img/sai-layered.png share/doc/tactile-primaries/firmware/README.md \
@@ -44,7 +44,7 @@ done
 "${bare[@]}" "$P/bin/tp-compare-models" --models line2d --electrodes 4 > models.md 2> err.txt || fail "tp-compare-models: $(cat err.txt)"
 grep -F '| line2d | ' models.md > /dev/null || fail "tp-compare-models: $(cat models.md)"
 mkdir alone
-for s in sweep-spacing compare-models plot-field plot-pulse plot-sweep plot-sd plot-render plot-recruitment; do
+for s in sweep-spacing compare-models plot-field plot-pulse plot-sweep plot-sd plot-render plot-recruitment plot-impedance; do
   cp "$P/bin/tp-$s" alone/  # without the programs: --help still works
   "${bare[@]}" TP_BIN=/nonexistent "alone/tp-$s" --help > help.txt 2> err.txt || fail "tp-$s --help alone: $(cat err.txt)"
   [[ ! -s err.txt ]] && head -1 help.txt | grep "^tp-$s: " > /dev/null || fail "tp-$s --help: $(head -1 help.txt) $(cat err.txt)"

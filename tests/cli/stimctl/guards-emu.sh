@@ -57,4 +57,14 @@ for s in stim strong; do
   [[ $RC == 0 ]] || fail "no event, $s: exit $RC: $(cat none.err)"
   [[ $(jq -s length none.jsonl) == 10 ]] || fail "no event, $s: $(jq -s length none.jsonl) pulses"
 done
+# The record's impedance plot (scripts/plot-impedance), where gnuplot is: the lifted pad
+# open at 0.5 s; a record without measurements refused.
+if command -v gnuplot > /dev/null; then
+  "$TP_SOURCE/scripts/plot-impedance" lift.jsonl -o lift.png 2> plot.err || fail "plot-impedance: $(cat plot.err)"
+  [[ $(head -c 4 lift.png | od -An -c | tr -d ' ') == 211PNG ]] || fail "plot-impedance wrote no PNG"
+  grep -q "wrote lift.png (8 pads, 6 pulses)" plot.err || fail "plot-impedance: $(cat plot.err)"
+  stimctl --port emu --record plain.jsonl < stim.json 2> /dev/null || fail "stimctl without a skin"
+  refuses 2 --says "plain.jsonl has no measurements" -- "$TP_SOURCE/scripts/plot-impedance" plain.jsonl
+  refuses 2 --says "--columns 3 does not divide the record's 8 channels" -- "$TP_SOURCE/scripts/plot-impedance" --columns 3 lift.jsonl
+fi
 echo "ok: $(cat lift.err) | $(cat rs.err) | $(cat quarter.err)"
