@@ -9,6 +9,7 @@
 
 #include "cli/entry.hpp"
 #include "core/json.hpp"
+#include "core/number.hpp"
 #include "host/answers.hpp"
 #include "host/signals.hpp"
 #include "psych/profile.hpp"
@@ -44,6 +45,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 64));
   app.add_option("--record", r.record_path, "Emulator only: write each delivered pulse as a JSON line")
       ->type_name("FILE");
+  std::string emu_compliance;
+  tp::cli::add_skin_flags(app, "--emu-skin", "--emu-compliance-v", r.emu_skin_path,
+                          emu_compliance, "--record (and the profile's impedance_kohm)",
+                          "Emulator only: ");
   app.add_option("--pixel", r.pixel, "The pixel measured, COLUMN,ROW [the array's centre]")
       ->type_name("C,R");
   app.add_flag("--per-pixel", r.per_pixel, "Measure every pixel (a long session)");
@@ -70,6 +75,8 @@ int main(int argc, char** argv) {
 
   return tp::cli::run(app, argc, argv, [&] {
     // Everything checked before the port is opened.
+    if (!emu_compliance.empty())
+      r.emu_compliance_V = tp::parse_finite(emu_compliance, "--emu-compliance-v");
     const tp::PixelBank bank = tp::calibration_bank(r);
     tp::Calibration cal = tp::make_calibration(bank, r);
     const volatile std::sig_atomic_t* flag = tp::host::install_stop_handlers();

@@ -74,6 +74,12 @@ int main(int argc, char** argv) {
                  "current, --probe-current) until a probe finds the contact again, for a finger "
                  "moving over a display [stop]")
       ->type_name("stop|suspend");
+  app.add_flag("--hold-sensation", r.hold_sensation,
+               "On a device that measures, hold each pattern's pulse energy (sum of Z I^2 T over "
+               "its pads) at what it was when the person's threshold was measured, as the skin's "
+               "impedance changes: the device scales each pulse's current, up to twice the "
+               "amplitude within every limit (docs/skin.md); needs the stimulus's "
+               "reference_impedance_kohm (make-pulse --profile); not with --live");
   std::string probe;
   app.add_option("--probe-current", probe,
                  "With --check-impedance or --contact-loss suspend: the probe's current per "

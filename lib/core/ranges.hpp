@@ -44,6 +44,9 @@ inline constexpr Range max_current_mA{0.001, 2.0, "mA"};
 // stimctl --check-impedance's probe current on each electrode: below the fibre model's
 // lowest thresholds at 200 us (0.26 mA; docs/skin.md, "Before and during a session").
 inline constexpr Range probe_mA{0.01, 0.5, "mA"};
+// An electrode-skin impedance (a stimulus's reference, a profile's): from a wet pad's tens of
+// ohms to a dry fingertip's megohms (docs/skin.md).
+inline constexpr Range impedance_kohm{0.01, 100000.0, "kOhm"};
 // af-field's --amplitude: the current of a unit weight, for field maps (not delivered).
 inline constexpr Range amplitude_mA{1e-6, 100.0, "mA"};
 // A weight, before it is multiplied by the amplitude.

@@ -10,7 +10,8 @@ namespace {
 bool carries_session(Msg m) {
   return m == Msg::configure || m == Msg::set_weights || m == Msg::start || m == Msg::keepalive ||
          m == Msg::configure_table || m == Msg::set_pattern || m == Msg::set_codes ||
-         m == Msg::set_amplitudes || m == Msg::set_shape || m == Msg::set_guards;
+         m == Msg::set_amplitudes || m == Msg::set_shape || m == Msg::set_guards ||
+         m == Msg::set_hold;
 }
 bool opens_session(Msg m) {
   return m == Msg::configure || m == Msg::configure_table;
@@ -112,6 +113,8 @@ void DeviceCore::handle(const RxFrame& f, std::uint64_t now_us, FixedBytes<kMaxP
       return result(set_shape(f.payload));
     case Msg::set_guards:
       return result(set_guards(f.payload));
+    case Msg::set_hold:
+      return result(set_hold(f.payload));
     case Msg::measurements: {
       const Result r = measurements(f.payload, body);
       if (r != Result::ok) result(r);
@@ -148,7 +151,10 @@ void DeviceCore::open_table(std::uint32_t session, std::uint16_t n, std::uint8_t
   channels_ = channels;
   pool_used_ = 0;
   load_ = ChannelLoad{};
-  for (std::uint16_t i = 0; i < n; ++i) pattern_[i] = Pattern{};
+  for (std::uint16_t i = 0; i < n; ++i) {
+    pattern_[i] = Pattern{};
+    hold_ref_[i] = 0;
+  }
   sched_.set_table(n, gap_us);
   guards_ = Guards{};  // a new session sets its own
   density_limit_uC2_ = 0;
@@ -256,6 +262,7 @@ Result DeviceCore::put_codes(std::uint16_t i, const SparseCodes& c, std::uint8_t
     pool_code_[next.first + k] = c.code[k];
   }
   pattern_[i] = next;
+  hold_ref_[i] = 0;  // the held energy was of the old codes
   load_ = trial;
   ++status_.weight_updates;
   return Result::ok;
@@ -413,7 +420,7 @@ CodeSpan DeviceCore::pulse_codes(std::uint16_t i) {
   for (std::size_t c = 0; c < channels_; ++c) dense_[c] = 0;
   for (std::size_t k = 0; k < p.count; ++k)
     dense_[pool_channel_[p.first + k]] = pool_code_[p.first + k];
-  std::uint16_t scale = p.scale;
+  std::uint16_t scale = hold_ref_[i] != 0 ? hold_scale(i) : p.scale;
   if (suspended_ != 0 && touches_suspended(i)) {  // a pad without contact: only its probe
     ++readings_.suspended;
     const std::uint16_t probe = probe_scale(i);
@@ -438,12 +445,14 @@ std::uint16_t DeviceCore::probe_scale(std::uint16_t i) const {
     const std::int32_t c = pool_code_[p.first + k];
     largest = std::max<std::uint32_t>(largest, static_cast<std::uint32_t>(c < 0 ? -c : c));
   }
-  // Its peak phase: the largest code x the shape's largest units, x the step (nA).
-  const std::uint64_t peak_nA =
-      std::uint64_t{largest} * static_cast<std::uint64_t>(timing_[i].max_units()) * caps_.dac_step_nA;
-  const std::uint64_t probe_nA = std::uint64_t{guards_.probe_uA} * 1000u;
-  if (peak_nA <= probe_nA) return kFullScale;  // already at most the probe: as it is
-  return static_cast<std::uint16_t>(probe_nA * kFullScale / peak_nA);  // rounded down
+  // The probe in whole codes of the strongest phase (its units x the step), rounded down:
+  // the largest code scaled to at most that, and scale_codes, which moves single codes by
+  // one away from zero to keep the sum, never takes a code past a whole number it is under.
+  const std::uint64_t unit_nA =
+      static_cast<std::uint64_t>(timing_[i].max_units()) * caps_.dac_step_nA;
+  const std::uint64_t probe_codes = std::uint64_t{guards_.probe_uA} * 1000u / unit_nA;
+  if (largest <= probe_codes) return kFullScale;  // already at most the probe: as it is
+  return static_cast<std::uint16_t>(probe_codes * kFullScale / largest);  // rounded down
 }
 
 void DeviceCore::pulse_delivered() {

@@ -164,9 +164,17 @@ class DeviceCore {
   Result set_amplitudes(const FixedBytes<kMaxPayload>& payload);
   Result set_shape(const FixedBytes<kMaxPayload>& payload);
   Result set_guards(const FixedBytes<kMaxPayload>& payload);
+  Result set_hold(const FixedBytes<kMaxPayload>& payload);
+  // Pattern i's scale under its held energy (device_guards.cpp): its amplitude's scale x
+  // sqrt(energy_ref / energy now), at most kFullScale; its amplitude's scale when it is not
+  // held or a channel has no reading yet.
+  std::uint16_t hold_scale(std::uint16_t i) const;
   Result measurements(const FixedBytes<kMaxPayload>& payload, FixedBytes<kMaxPayload>& body) const;
   // The guards (device_guards.cpp): the first channel of the pulse that trips, and why.
   Fault check_channel(const PulseRecord& r, ElectricalRecord& m, std::size_t c);
+  // Lost contact or density for a charge per phase (fC) at impedance z against base.
+  Fault density_fault(double charge_fC, std::uint32_t z, std::uint32_t base) const;
+  double full_charge_fC(std::size_t c) const;  // the table's largest on channel c
   void trip(Fault cause, std::size_t channel, std::uint64_t t_us);
   void apply_trip();  // a trip found during advance(), after the pulse in hand
   struct InAdvance {
@@ -233,6 +241,7 @@ class DeviceCore {
   MeasurementsHead readings_;
   Fault pending_trip_ = Fault::none;
   std::uint64_t suspended_ = 0;  // bit c: channel c lost contact (kGuardSuspend)
+  std::uint64_t hold_ref_[kMaxPatterns] = {};  // set_hold's energy_ref (0: not held)
   bool in_advance_ = false;
   bool have_last_ = false;
   RxFrame last_request_;

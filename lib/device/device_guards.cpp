@@ -59,20 +59,21 @@ std::uint32_t impedance_ohm(std::int32_t voltage_mV, std::int32_t current_nA) {
   const std::uint64_t i = magnitude(current_nA);
   if (i == 0) return kOpenOhm;
   const std::uint64_t ohm = std::uint64_t{magnitude(voltage_mV)} * 1000000u / i;
-  return ohm >= kOpenOhm ? kOpenOhm - 1 : static_cast<std::uint32_t>(ohm);
+  // At least 1 ohm: 0 marks a channel without a baseline (a shorted pad reads 1).
+  return ohm >= kOpenOhm ? kOpenOhm - 1 : ohm == 0 ? 1u : static_cast<std::uint32_t>(ohm);
 }
 
 }  // namespace
 
 Fault DeviceCore::check_channel(const PulseRecord& r, ElectricalRecord& m, std::size_t c) {
-  ChannelMeasurement& reading = reading_[c];
-  reading.carried = m.carried[c];
-  reading.at_rail = m.at_rail[c];
-  reading.voltage_mV = m.voltage_mV[c];
-  if (!m.carried[c]) {
-    reading.impedance_ohm = m.impedance_ohm[c] = 0;
+  if (!m.carried[c]) {  // its last reading stands (another pattern's pulse, say)
+    m.impedance_ohm[c] = 0;
     return Fault::none;
   }
+  ChannelMeasurement& reading = reading_[c];
+  reading.carried = true;
+  reading.at_rail = m.at_rail[c];
+  reading.voltage_mV = m.voltage_mV[c];
   const std::uint32_t z = impedance_ohm(m.voltage_mV[c], m.current_nA[c]);
   reading.impedance_ohm = m.impedance_ohm[c] = z;
   const std::uint64_t lost = guards_.lost_contact_milli;
@@ -82,17 +83,45 @@ Fault DeviceCore::check_channel(const PulseRecord& r, ElectricalRecord& m, std::
     const std::uint64_t delivered = magnitude(m.current_nA[c]);
     return delivered * 1000u < asked_nA(r, c) * lost ? Fault::contact : Fault::compliance;
   }
+  if (z == kOpenOhm) return Fault::contact;  // no current flowed, whatever the rail said
   if (reading.baseline_ohm == 0 || z < reading.baseline_ohm) reading.baseline_ohm = z;
+  return density_fault(phase_charge_fC(r, c), z, reading.baseline_ohm);
+}
+
+Fault DeviceCore::density_fault(double charge_fC, std::uint32_t z, std::uint32_t base) const {
   // The contact estimated from the impedance against the baseline (the interface's
-  // resistance scales as 1 / contact): baseline / z.
-  const std::uint64_t base = reading.baseline_ohm;
-  if (std::uint64_t{z} * lost > base * 1000u) return Fault::contact;
+  // resistance scales as 1 / contact): base / z.
+  if (std::uint64_t{z} * guards_.lost_contact_milli > std::uint64_t{base} * 1000u)
+    return Fault::contact;
   if (density_limit_uC2_ <= 0) return Fault::none;
   // Shannon's k on the estimated contact area A c: log10(Q / (A c)) + log10(Q) <= k, Q in
   // uC and A in cm^2, that is Q^2 <= 10^k A c.  With c = base / z: Q^2 z <= 10^k A base.
-  const double q_uC = phase_charge_fC(r, c) * 1e-9;
+  const double q_uC = charge_fC * 1e-9;
   return q_uC * q_uC * z > density_limit_uC2_ * static_cast<double>(base) ? Fault::density
                                                                           : Fault::none;
+}
+
+double DeviceCore::full_charge_fC(std::size_t c) const {
+  // The largest charge per phase any pattern of the table puts on channel c at its own
+  // amplitude (not its probe): what a resumed pad is about to carry.
+  double most = 0;
+  for (std::uint16_t i = 0; i < patterns_; ++i) {
+    const Pattern& p = pattern_[i];
+    for (std::size_t k = 0; k < p.count; ++k) {
+      if (pool_channel_[p.first + k] != c) continue;
+      PulseRecord one;
+      one.channels = 1;
+      one.main[0] = pool_code_[p.first + k];
+      one.balance[0] = static_cast<std::int16_t>(-one.main[0]);
+      one.step_nA = caps_.dac_step_nA;
+      one.width_us = timing_[i].width_us;
+      one.balance_width_us = timing_[i].width_us;
+      one.shape = timing_[i].shape;
+      const double q = phase_charge_fC(one, 0) * p.scale / kFullScale;
+      if (q > most) most = q;
+    }
+  }
+  return most;
 }
 
 void DeviceCore::measured(std::uint64_t start_us, const PulseRecord& r, ElectricalRecord& m) {
@@ -108,8 +137,12 @@ void DeviceCore::measured(std::uint64_t start_us, const PulseRecord& r, Electric
       suspended_ |= bit;
     } else if (f != Fault::none) {
       if (readings_.trip == Fault::none) trip(f, c, r.t_us);
-    } else if (m.carried[c]) {
-      suspended_ &= ~bit;
+    } else if (m.carried[c] && (suspended_ & bit) != 0) {
+      // A probe found contact: resumed only if the pad's full charge fits the contact seen
+      // (else it stays suspended: its next full pulse would break the density limit).
+      const ChannelMeasurement& x = reading_[c];
+      if (density_fault(full_charge_fC(c), x.impedance_ohm, x.baseline_ohm) == Fault::none)
+        suspended_ &= ~bit;
     }
     reading_[c].suspended = (suspended_ & bit) != 0;
   }
@@ -150,6 +183,49 @@ Result DeviceCore::set_guards(const FixedBytes<kMaxPayload>& payload) {
   for (std::uint16_t i = 0; i < g.shannon_k_milli; ++i) ten_k *= 1.0023052380778996;
   density_limit_uC2_ = g.area_um2 * 1e-8 * ten_k;
   return Result::ok;
+}
+
+Result DeviceCore::set_hold(const FixedBytes<kMaxPayload>& payload) {
+  if (!configured_) return Result::not_configured;
+  if (!caps_.measures()) return Result::not_supported;
+  if (payload.size() != 4 + kHoldSize) return Result::bad_length;
+  if (status_.state == State::running) return Result::bad_state;
+  const std::uint16_t i = get_u16(payload.data() + 4);
+  if (i >= patterns_) return Result::no_pattern;
+  if (!pattern_[i].codes_set) return Result::not_configured;
+  const std::uint64_t e =
+      std::uint64_t{get_u32(payload.data() + 6)} | (std::uint64_t{get_u32(payload.data() + 10)} << 32);
+  hold_ref_[i] = e;
+  return Result::ok;
+}
+
+namespace {
+// sqrt(x) for x >= 0 by Newton's iteration from above (no libm on the firmware): to a
+// relative 1e-12 within 8 steps from a start within a factor 2^32 either way.
+double root(double x) {
+  if (!(x > 0)) return 0;
+  double r = x > 1 ? x : 1;
+  for (int k = 0; k < 64; ++k) {
+    const double next = 0.5 * (r + x / r);
+    if (!(next < r)) break;
+    r = next;
+  }
+  return r;
+}
+}  // namespace
+
+std::uint16_t DeviceCore::hold_scale(std::uint16_t i) const {
+  const Pattern& p = pattern_[i];
+  std::uint64_t now = 0;
+  for (std::size_t k = 0; k < p.count; ++k) {
+    const std::uint32_t z = reading_[pool_channel_[p.first + k]].impedance_ohm;
+    if (z == 0 || z == kOpenOhm) return p.scale;  // no reading yet, or open: as asked
+    const std::uint64_t code = magnitude(pool_code_[p.first + k]);
+    now += std::uint64_t{(z < kHoldMaxOhm ? z : kHoldMaxOhm) / kHoldOhmUnit} * code * code;
+  }
+  if (now == 0) return p.scale;
+  const double s = p.scale * root(static_cast<double>(hold_ref_[i]) / static_cast<double>(now));
+  return s >= kFullScale ? kFullScale : static_cast<std::uint16_t>(s);
 }
 
 Result DeviceCore::measurements(const FixedBytes<kMaxPayload>& payload,

@@ -117,6 +117,7 @@ enum class Msg : std::uint8_t {
   // n x (duration_us u16, units i16) -> ack (version 6: a pattern's timing, shaped)
   set_shape = 0x14,
   set_guards = 0x15,       // session u32, Guards -> ack (version 7)
+  set_hold = 0x16,         // session u32, index u16, energy_ref u64 -> ack (version 7)
   ack = 0x80,              // device -> host: acked type u8, Result u8, body
 };
 
@@ -235,6 +236,17 @@ inline constexpr std::uint8_t kGuardSuspend = 0x01;
 inline constexpr std::size_t kGuardsSize = 11;
 inline constexpr std::uint32_t kMinGuardAreaUm2 = 100;  // 0.0001 mm^2
 inline constexpr std::uint32_t kMaxGuardAreaUm2 = 4000000000u;  // 4000 mm^2
+
+// set_hold (version 7): a pattern's pulse energy held as the skin changes (stimctl
+// --hold-sensation; docs/skin.md, "Sensation held").  energy_ref is the pattern's
+// sum over its channels of Z_ref,c x code_c^2 at its codes as uploaded (Z in units of
+// kHoldOhmUnit ohm, each at most kHoldMaxOhm): at each pulse the device scales the pattern
+// by its amplitude x sqrt(energy_ref / the same sum with each channel's last impedance),
+// never above its codes as uploaded (Tachi et al. 1977: equal sensation at equal pulse
+// energy, the integral of Z I^2).  0: not held.
+inline constexpr std::uint32_t kHoldOhmUnit = 4;
+inline constexpr std::uint32_t kHoldMaxOhm = 1u << 24;
+inline constexpr std::size_t kHoldSize = 10;  // index u16, energy_ref u64
 
 // One channel's last reading (measurements, version 7).
 struct ChannelMeasurement {

@@ -36,6 +36,7 @@ SessionOptions delivery_session(const DeliveryRequest& r) {
   SessionOptions opt;
   opt.live = r.live;
   opt.suspend_on_contact_loss = r.contact_loss == "suspend";
+  opt.hold_sensation = r.hold_sensation;
   if (r.probe_mA) opt.probe_mA = *r.probe_mA;
   opt.latency_log = r.latency_log;
   if (r.duration_s) {
@@ -141,6 +142,9 @@ std::string session_summary(const SessionReport& r, const Mix& mix, const Delive
          number_text(r.peak_mA) + " mA, " + number_text(std::round(r.seconds * 100) / 100) +
          " s" + (live ? ", " + std::to_string(r.weight_frames) + " live frames" : "") + ", " +
          std::to_string(r.retransmissions) + " retransmissions" + lost + suspended_text(r) +
+         (r.hold_headroom > 0 ? ", sensation held (up to " + number_text(std::round(r.hold_headroom * 1000) / 1000) +
+                                    " x each amplitude)"
+                              : std::string()) +
          "; " + r.end + "; output stopped";
 }
 

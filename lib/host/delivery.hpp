@@ -30,6 +30,7 @@ struct DeliveryRequest {
   bool check_impedance = false;      // probe every used pad first (host/impedance_check.hpp)
   std::optional<double> probe_mA;    // with check_impedance or suspension: 0.01 to 0.5 mA [0.05]
   std::string contact_loss = "stop";  // stop, or suspend (SessionOptions::suspend_on_contact_loss)
+  bool hold_sensation = false;       // SessionOptions::hold_sensation
 };
 
 // The options' combinations, before anything is read: bad input naming the flag

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/number.hpp"
 #include "core/ranges.hpp"
+#include "device/protocol.hpp"
 #include "host/stimulator.hpp"
 
 namespace tp::host {
@@ -23,6 +24,28 @@ std::vector<double> peak_currents_mA(const Mix& m) {
       peak[c] = std::max(peak[c], std::fabs(s.currents_mA[c]) * level);
   }
   return peak;
+}
+
+// The longest main phase of any pattern: a shaped pulse's longest run of one sign (at most
+// the protocol's widest phase), so that the probe's voltage is not below any phase's.
+double longest_phase_us(const Mix& m) {
+  double longest = 0;
+  for (const Stimulus& s : m.patterns) {
+    if (!s.shape.shaped()) {
+      longest = std::max(longest, s.shape.width_us);
+      continue;
+    }
+    double run = 0;
+    int sign = 0;
+    for (const Phase& p : s.shape.phases) {
+      if (p.level == 0) continue;
+      const int sg = p.level > 0 ? 1 : -1;
+      run = sg == sign ? run + p.duration_us : p.duration_us;
+      sign = sg;
+      longest = std::max(longest, run);
+    }
+  }
+  return std::min(longest, double{device::hard::max_width_us});
 }
 
 double smallest_area_mm2(const Mix& m) {
@@ -51,7 +74,7 @@ Stimulus probe_stimulus(const Mix& m, double probe_mA) {
   for (std::size_t k = 0; k < used.size(); ++k)
     s.currents_mA[used[k]] = k % 2 == 0 ? probe_mA * anodes / cathodes : -probe_mA;
   const Stimulus& first = m.patterns[0];
-  s.shape.width_us = s.shape.balance_width_us = first.shape.shaped() ? 200.0 : first.shape.width_us;
+  s.shape.width_us = s.shape.balance_width_us = std::round(longest_phase_us(m));
   s.shape.frequency_hz = 50.0;
   s.count = 5;
   s.electrode_area_mm2 = smallest_area_mm2(m);
@@ -91,7 +114,7 @@ ImpedanceCheck check_impedance(Transport& transport, const Mix& m, const Session
     row.channel = c;
     row.probe_mA = probe_I[c];
     row.voltage_V = x.voltage_mV * 1e-3;
-    row.contact = x.carried && x.impedance_ohm != device::kOpenOhm && !x.at_rail;
+    row.contact = x.carried && x.impedance_ohm != device::kOpenOhm;
     row.impedance_kohm = x.impedance_ohm == device::kOpenOhm
                              ? std::numeric_limits<double>::infinity()
                              : x.impedance_ohm * 1e-3;
@@ -99,13 +122,16 @@ ImpedanceCheck check_impedance(Transport& transport, const Mix& m, const Session
     row.needed_V = std::fabs(row.voltage_V) * peak[c] / std::fabs(probe_I[c]);
     out.rows.push_back(row);
     if (out.refusal.empty() && !row.contact)
-      out.refusal = "--check-impedance: channel " + std::to_string(c) + " has no contact (" +
-                    (std::isinf(row.impedance_kohm)
-                         ? std::string("no current flowed at the probe")
-                         : "at the compliance rail at the probe") +
-                    "): the stimulus was not started";
+      out.refusal = "--check-impedance: channel " + std::to_string(c) +
+                    " has no contact (no current flowed at the probe): the stimulus was not "
+                    "started";
+    else if (out.refusal.empty() && x.at_rail)
+      out.refusal = "--check-impedance: channel " + std::to_string(c) +
+                    " needs more than the device's " + number_text(out.compliance_V) +
+                    " V compliance already at the probe: the stimulus was not started";
   }
   if (!out.refusal.empty()) return out;
+  if (out.compliance_V <= 0) return out;  // not known: no verdict (the table says so)
   for (const ImpedanceRow& row : out.rows)
     if (row.needed_V > out.compliance_V) {
       out.refusal = "--check-impedance: channel " + std::to_string(row.channel) +
@@ -120,7 +146,10 @@ ImpedanceCheck check_impedance(Transport& transport, const Mix& m, const Session
 
 std::string impedance_table(const ImpedanceCheck& c) {
   std::string t = "impedance check on " + c.port + " (probe " + number_text(c.probe_mA) +
-                  " mA; compliance " + number_text(c.compliance_V) + " V):\n" +
+                  " mA; compliance " +
+                  (c.compliance_V > 0 ? number_text(c.compliance_V) + " V"
+                                      : std::string("not known: the voltages needed are not judged")) +
+                  "):\n" +
                   "  channel  impedance_kohm  voltage_V  contact  peak_mA  needed_V\n";
   char line[160];
   for (const ImpedanceRow& r : c.rows) {

@@ -42,8 +42,8 @@ struct ImpedanceCheck {
 // The probe for a mix: its used channels (a current in any pattern), alternately cathodic
 // and anodic at probe_mA (the cathodes, one more when the count is odd, share the anodes'
 // current: they sum to zero and none carries more than probe_mA), five symmetric biphasic
-// pulses at 50 Hz of the first pattern's main width (200 us for a shaped pulse), on the
-// smallest electrode area.  Bad input when the probe is outside 0.01 to 0.5 mA.
+// pulses at 50 Hz as wide as the longest main phase of any pattern (a shaped pulse's
+// longest run of one sign; at most 1000 us), on the smallest electrode area.  Bad input when the probe is outside 0.01 to 0.5 mA.
 Stimulus probe_stimulus(const Mix& m, double probe_mA);
 
 // Runs the probe (a session of its own, opt's stop and limits) and judges its readings.

@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "core/error.hpp"
+#include "host/hold.hpp"
 #include "host/line_reader.hpp"
 #include "host/live.hpp"
 #include "host/signals.hpp"
@@ -75,6 +76,9 @@ void check_request(const Mix& m, const SessionOptions& opt) {
               number_text(max_s) + "] s");
   if (opt.live && !opt.frames)
     throw Error(ExitCode::failure, "live session without a frame source (SessionOptions::frames)");
+  if (opt.live && opt.hold_sensation)
+    bad_input("--hold-sensation: not with --live (a live frame's currents would leave the held "
+              "energy behind)");
 }
 
 // A single stimulus's configuration (protocol 1 to 3), checked against the device's timing.
@@ -411,7 +415,7 @@ class SessionRun {
   device::MeasurementsHead read_measurements();
   void finish();
 
-  const Mix& m_;
+  Mix m_;  // a copy: --hold-sensation raises it to its ceiling (host/hold.hpp)
   const SessionOptions& opt_;
   StimulatorClient dev_;
   SessionReport rep_;
@@ -436,6 +440,12 @@ bool SessionRun::prepare() {
   if (opt_.suspend_on_contact_loss && !rep_.caps.measures())
     bad_input("--contact-loss suspend: " + rep_.port +
               " does not measure its pulses, so it cannot tell a lost contact (protocol 7)");
+  if (opt_.hold_sensation) {
+    if (!rep_.caps.measures())
+      bad_input("--hold-sensation: " + rep_.port +
+                " does not measure its pulses, so it cannot hold the sensation (protocol 7)");
+    m_ = hold_ceiling(m_, device_limits(opt_.limits, rep_.caps), &rep_.hold_headroom);
+  }
   plan_ = plan_session(rep_.caps, m_, opt_);
   rep_.scheduled = plan_.pulses;
   if (opt_.live) {
@@ -506,6 +516,8 @@ void SessionRun::upload(int step) {
       dev_.set_pattern(i, plan_.timings[i]);
     } else {
       dev_.set_codes(i, plan_.table_codes[i]);
+      if (opt_.hold_sensation)
+        dev_.set_hold(i, hold_energy(plan_.table_codes[i], m_.patterns[i].reference_impedance_kohm));
       rep_.peak_mA = std::max(rep_.peak_mA, peak_of(plan_.table_codes[i], rep_.caps) *
                                                 plan_.timings[i].max_units());
     }

@@ -55,6 +55,9 @@ struct SessionOptions {
   // --contact-loss suspend); false: the whole output stops (the device's default).
   bool suspend_on_contact_loss = false;
   double probe_mA = 0.05;
+  // Protocol 7: hold each pattern's pulse energy against its reference impedances as the
+  // skin changes (stimctl --hold-sensation; host/hold.hpp).  Not with live mode.
+  bool hold_sensation = false;
 };
 
 struct SessionReport {
@@ -77,6 +80,7 @@ struct SessionReport {
   // Protocol 7, a device that measures: each channel's last reading at the end.
   std::vector<device::ChannelMeasurement> measured;
   std::uint32_t suspended_pulses = 0;  // delivered at the probe while a pad had no contact
+  double hold_headroom = 0;  // --hold-sensation: the ceiling over each amplitude (0: not held)
 };
 
 // What a session sends to a device of these capabilities, once every check is made: the

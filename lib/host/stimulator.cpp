@@ -48,6 +48,8 @@ const char* msg_name(device::Msg m) {
       return "set-shape";
     case device::Msg::set_guards:
       return "set-guards";
+    case device::Msg::set_hold:
+      return "set-hold";
     case device::Msg::measurements:
       return "measurements";
     default:
@@ -141,6 +143,13 @@ void StimulatorClient::set_shape(std::uint16_t index, const device::PatternTimin
   device::put_u16(b, index);
   device::put_shape_pattern(b, t);
   request(device::Msg::set_shape, device::with_session(session_, b));
+}
+void StimulatorClient::set_hold(std::uint16_t index, std::uint64_t energy_ref) {
+  std::vector<std::uint8_t> b;
+  device::put_u16(b, index);
+  device::put_u32(b, static_cast<std::uint32_t>(energy_ref & 0xFFFFFFFFu));
+  device::put_u32(b, static_cast<std::uint32_t>(energy_ref >> 32));
+  request(device::Msg::set_hold, device::with_session(session_, b));
 }
 void StimulatorClient::set_guards(const device::Guards& g) {
   request(device::Msg::set_guards, device::with_session(session_, device::encode(g)));

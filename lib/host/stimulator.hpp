@@ -47,6 +47,8 @@ class StimulatorClient {
   // Protocol 7, a device that measures: the session's guards (the electrodes' area, the
   // density limit, the contact fraction below which a pad is lost).
   void set_guards(const device::Guards& g);
+  // Protocol 7: pattern index's held pulse energy (device::Msg::set_hold).
+  void set_hold(std::uint16_t index, std::uint64_t energy_ref);
   // Protocol 7: each of the first `channels` channels' last reading and baseline, and what
   // stopped the output (a query, paged by kMeasurementsPerReply).
   device::Measurements measurements(std::size_t channels);

@@ -62,9 +62,24 @@ Calibration::Calibration(const PixelBank& bank, const CalibrationOptions& o)
   start_threshold();
 }
 
+void Calibration::measured(const std::vector<double>& impedance_kohm) {
+  if (done() || comfort_) return;  // the threshold's trials only
+  if (z_sum_.size() < impedance_kohm.size()) {
+    z_sum_.resize(impedance_kohm.size(), 0.0);
+    z_count_.resize(impedance_kohm.size(), 0);
+  }
+  for (std::size_t c = 0; c < impedance_kohm.size(); ++c)
+    if (impedance_kohm[c] > 0) {
+      z_sum_[c] += impedance_kohm[c];
+      ++z_count_[c];
+    }
+}
+
 void Calibration::start_threshold() {
   comfort_ = false;
   unit_trials_ = 0;
+  z_sum_.clear();
+  z_count_.clear();
   stair_ = Staircase(o_.staircase);
 }
 
@@ -159,6 +174,9 @@ void Calibration::finish_threshold() {
   u.range.threshold_mA = stair_.estimate_mA();
   u.range.threshold_spread_mA = stair_.spread_mA();
   u.range.trials = unit_trials_;
+  u.range.impedance_kohm.clear();
+  for (std::size_t c = 0; c < z_sum_.size(); ++c)
+    u.range.impedance_kohm.push_back(z_count_[c] > 0 ? z_sum_[c] / z_count_[c] : 0.0);
   // The comfort limit, from the threshold up: "too strong?", 1-down-1-up.
   StaircaseOptions c_opt = o_.staircase;
   c_opt.down = 1;
@@ -227,6 +245,19 @@ Profile Calibration::profile() const {
     m.threshold_mA = median(&PrimaryRange::threshold_mA);
     m.comfort_mA = std::max(median(&PrimaryRange::comfort_mA), m.threshold_mA);
     for (const PrimaryRange& r : found) m.trials += r.trials;
+    // Each pad's impedance: its mean over the pixels that measured it.
+    std::size_t pads = 0;
+    for (const PrimaryRange& r : found) pads = std::max(pads, r.impedance_kohm.size());
+    for (std::size_t c = 0; c < pads; ++c) {
+      double sum = 0;
+      int n = 0;
+      for (const PrimaryRange& r : found)
+        if (c < r.impedance_kohm.size() && r.impedance_kohm[c] > 0) {
+          sum += r.impedance_kohm[c];
+          ++n;
+        }
+      m.impedance_kohm.push_back(n > 0 ? sum / n : 0.0);
+    }
     p.primary[k] = m;
   }
   p.carried["array"] = {{"columns", bank_.columns}, {"rows", bank_.rows}};

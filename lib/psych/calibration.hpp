@@ -75,6 +75,9 @@ class Calibration {
   // for trial_s; checked as any stimulus is.
   Mix stimulus() const;
   void respond(bool yes);
+  // A device that measures: each pad's impedance (kOhm, 0: none) at the trial about to be
+  // answered; the threshold's trials' mean goes into the range (PrimaryRange::impedance_kohm).
+  void measured(const std::vector<double>& impedance_kohm);
   const std::vector<CalibrationTrial>& trials() const { return trials_; }
   // After done(): the profile (tactile-primaries/profile/1): per pixel when several were
   // measured (the primaries' ranges then their medians), with the array's size.
@@ -120,6 +123,8 @@ class Calibration {
   bool comfort_ = false;
   Staircase stair_;
   int unit_trials_ = 0;
+  std::vector<double> z_sum_;  // the threshold's trials' impedances, summed per pad
+  std::vector<int> z_count_;
   std::vector<CalibrationTrial> trials_;
   std::vector<std::string> notes_;
 };

@@ -1,5 +1,7 @@
 #include "psych/profile.hpp"
 
+#include "core/ranges.hpp"
+
 #include "core/error.hpp"
 #include "core/number.hpp"
 #include "core/text.hpp"
@@ -39,10 +41,10 @@ PrimaryRange range_from_json(const Json& j, const std::string& where, double max
   for (const auto& [key, value] : j.items())
     if (key != "threshold_mA" && key != "comfort_mA" && key != "trials" &&
         key != "threshold_spread_mA" && key != "comfort_spread_mA" &&
-        key != "model_threshold_mA" && key != "colour")
+        key != "model_threshold_mA" && key != "colour" && key != "impedance_kohm")
       bad_input(where + ": unknown key '" + key +
                 "' (a range has threshold_mA, comfort_mA, trials, threshold_spread_mA, "
-                "comfort_spread_mA, model_threshold_mA and colour)");
+                "comfort_spread_mA, model_threshold_mA, colour and impedance_kohm)");
   for (const char* key : {"threshold_mA", "comfort_mA"})
     if (!j.contains(key)) bad_input(where + ": no " + key);
   PrimaryRange r;
@@ -85,6 +87,16 @@ PrimaryRange range_from_json(const Json& j, const std::string& where, double max
     }
     r.colour = f;
   }
+  if (j.contains("impedance_kohm")) {
+    const Json& z = j["impedance_kohm"];
+    if (!z.is_array() || z.empty() || z.size() > static_cast<std::size_t>(ranges::max_channels))
+      bad_input(where + ".impedance_kohm: expected one impedance (kOhm, or null) per pad");
+    for (std::size_t c = 0; c < z.size(); ++c) {
+      const std::string what = where + ".impedance_kohm[" + std::to_string(c) + "]";
+      r.impedance_kohm.push_back(z[c].is_null() ? 0.0 : json_finite(z[c], what));
+      if (!z[c].is_null()) ranges::check(r.impedance_kohm.back(), ranges::impedance_kohm, what);
+    }
+  }
   return r;
 }
 
@@ -97,6 +109,11 @@ Json range_to_json(const PrimaryRange& r) {
   }
   if (r.model_threshold_mA > 0) j["model_threshold_mA"] = r.model_threshold_mA;
   if (r.colour) j["colour"] = Json::array({(*r.colour)[0], (*r.colour)[1], (*r.colour)[2]});
+  if (!r.impedance_kohm.empty()) {
+    Json z = Json::array();
+    for (double v : r.impedance_kohm) z.push_back(v > 0 ? Json(v) : Json(nullptr));
+    j["impedance_kohm"] = z;
+  }
   return j;
 }
 

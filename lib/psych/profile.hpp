@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "core/json.hpp"
 #include "model/primaries.hpp"
@@ -27,6 +28,10 @@ struct PrimaryRange {
   // limit, by the bank's recruitment (calibrate writes it when the bank has one;
   // render/recruitment.hpp): the mode's colour for this person.  Each in [0, 1].
   std::optional<std::array<double, 3>> colour{};
+  // Each pad's impedance (kOhm; 0 where it carried no current) at the threshold's trials,
+  // their mean, when calibrate ran on a device that measures (protocol 7); empty: not
+  // known.  make-pulse --profile carries it into the stimulus for --hold-sensation.
+  std::vector<double> impedance_kohm{};
 };
 
 struct Profile {

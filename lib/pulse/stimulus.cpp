@@ -189,6 +189,11 @@ Json stimulus_to_json(const Stimulus& s) {
   j["count"] = s.count;
   j["duration_s"] = s.duration_s();
   j["electrode_area_mm2"] = s.electrode_area_mm2;
+  if (!s.reference_impedance_kohm.empty()) {
+    Json z = Json::array();
+    for (double v : s.reference_impedance_kohm) z.push_back(v > 0 ? Json(v) : Json(nullptr));
+    j["reference_impedance_kohm"] = z;
+  }
   const SafetyFigures f = safety_figures(s);
   j["safety"] = Json{{"peak_current_mA", f.peak_current_mA},
                      {"charge_per_phase_nC", f.charge_per_phase_nC},
@@ -205,6 +210,26 @@ Json stimulus_to_json(const Stimulus& s) {
   for (auto it = s.carried.begin(); it != s.carried.end(); ++it) j[it.key()] = it.value();
   return j;
 }
+
+namespace {
+// reference_impedance_kohm: one per channel, each 0.01 to 100000 kOhm or null (0).
+std::vector<double> reference_impedances(const Json& j, std::size_t channels) {
+  if (!j.is_array() || j.size() != channels)
+    bad_input("reference_impedance_kohm: expected a list of " + std::to_string(channels) +
+              " impedances (kOhm, or null), one per channel");
+  std::vector<double> z;
+  for (std::size_t c = 0; c < j.size(); ++c) {
+    if (j[c].is_null()) {
+      z.push_back(0);
+      continue;
+    }
+    const std::string what = "reference_impedance_kohm[" + std::to_string(c) + "]";
+    z.push_back(json_finite(j[c], what));
+    ranges::check(z.back(), ranges::impedance_kohm, what);
+  }
+  return z;
+}
+}  // namespace
 
 Stimulus stimulus_from_json(const Json& j) {
   if (!j.is_object()) bad_input("stimulus: expected a JSON object");
@@ -254,9 +279,12 @@ Stimulus stimulus_from_json(const Json& j) {
   if (!(s.electrode_area_mm2 >= 1e-4 && s.electrode_area_mm2 <= 1e4))
     bad_input("electrode_area_mm2: " + number_beside(s.electrode_area_mm2, 1e-4, 1e4) +
               " mm2 outside [0.0001, 10000] mm2");
+  if (j.contains("reference_impedance_kohm"))
+    s.reference_impedance_kohm = reference_impedances(j["reference_impedance_kohm"], s.currents_mA.size());
   static const std::set<std::string> own = {
       "format", "channels",   "currents_mA",        "max_current_mA", "pulse",
-      "count",  "duration_s", "electrode_area_mm2", "safety",         "amplitude_mA"};
+      "count",  "duration_s", "electrode_area_mm2", "safety",         "amplitude_mA",
+      "reference_impedance_kohm"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (!own.count(it.key())) s.carried[it.key()] = it.value();
   return s;

@@ -69,6 +69,10 @@ struct Stimulus {
   double max_current_mA = 2.0;      // the limit the stimulus was made for
   double amplitude_mA = 0.0;        // make-pulse's --amplitude (|weight| 1); 0: not known
   double phase_us = 0.0;            // in a mix: its first pulse after the start
+  // Each channel's impedance (kOhm) when the person's threshold was measured (calibrate's
+  // profile, through make-pulse --profile; 0: not known): stimctl --hold-sensation holds
+  // the pulse's energy against it (docs/skin.md, "Sensation held").  Empty: none.
+  std::vector<double> reference_impedance_kohm;
   Json carried = Json::object();    // e.g. mode, from the weights document
   double duration_s() const { return static_cast<double>(count) / shape.frequency_hz; }
 };

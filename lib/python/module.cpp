@@ -661,7 +661,7 @@ class Stimulator {
   Stimulator(const py::object& port, int baud, int emu_channels, std::optional<py::object> record,
              std::string backend, std::optional<py::object> emu_skin,
              std::optional<double> emu_compliance_V, std::string contact_loss,
-             std::optional<double> probe_mA)
+             std::optional<double> probe_mA, bool hold_sensation)
   {
     // stimctl's request (host/delivery), checked as stimctl checks it; CLI11's range checks
     // of stimctl's flags, with CLI11's messages.
@@ -679,6 +679,7 @@ class Stimulator {
     req_.emu_compliance_V = emu_compliance_V;
     req_.contact_loss = std::move(contact_loss);
     req_.probe_mA = probe_mA;
+    req_.hold_sensation = hold_sensation;
     // emu_channels always has a value here: a port's own channels win.
     if (req_.port == "emu") req_.emu_channels = emu_channels;
     tp::host::check_delivery(req_);
@@ -1190,11 +1191,12 @@ void bind_stimulator(py::module_& m) {
   py::class_<Stimulator>(m, "_Stimulator")
       .def(py::init<const py::object&, int, int, std::optional<py::object>, std::string,
                     std::optional<py::object>, std::optional<double>, std::string,
-                    std::optional<double>>(),
+                    std::optional<double>, bool>(),
            py::arg("port") = "emu", py::arg("baud") = 115200, py::arg("emu_channels") = 8,
            py::arg("record") = py::none(), py::arg("backend") = "auto",
            py::arg("emu_skin") = py::none(), py::arg("emu_compliance_V") = py::none(),
-           py::arg("contact_loss") = "stop", py::arg("probe_mA") = py::none())
+           py::arg("contact_loss") = "stop", py::arg("probe_mA") = py::none(),
+           py::arg("hold_sensation") = false)
       .def("open", &Stimulator::open)
       .def("deliver", &Stimulator::deliver, py::arg("stimulus"), py::arg("duration_s") = py::none())
       .def("start_live", &Stimulator::start_live, py::arg("stimulus"),

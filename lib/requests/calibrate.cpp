@@ -15,6 +15,10 @@ void check_calibrate(const CalibrateRequest& r) {
     bad_input("--responses: '" + r.responses + "' (only - , stdin, is supported)");
   if (r.port != "emu" && !r.record_path.empty())
     bad_input("--record: only with --port emu (stim-emu has its own)");
+  if (r.port != "emu" && !r.emu_skin_path.empty())
+    bad_input("--emu-skin: only with --port emu (a device's electrodes touch real skin)");
+  if (r.emu_compliance_V && r.emu_skin_path.empty())
+    bad_input("--emu-compliance-v: applies with --emu-skin (an ideal load needs no voltage)");
   if (r.bank_path == "-" && !r.responses.empty()) bad_input("--bank -: stdin carries the responses");
 }
 

@@ -3,6 +3,7 @@
 // messages before the port is opened, the pixels measured, and the calibration they make.
 // The trials themselves, a stimulator and the person's answers, are runs/calibration_run's.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ struct CalibrateRequest {
   int baud = 115200;          // a serial port's
   int emu_channels = 0;       // emulator only: its channels; 0: the bank's pads
   std::string record_path;    // emulator only
+  std::string emu_skin_path;  // emulator only: the electrodes' skin (docs/skin.md)
+  std::optional<double> emu_compliance_V;  // with emu_skin_path: 1 to 1000 V [100]
   std::string responses;      // - : the answers on stdin; empty: the terminal's keys
   bool per_pixel = false;     // every pixel
   std::string pixel;          // COLUMN,ROW as typed [the array's centre]

@@ -75,6 +75,11 @@ Stimulus make_stimulus(const Document& doc, const PulseRequest& r) {
                        "the weights' array is " + a.describe());
     amp = profile_amplitude_mA(*r.profile, doc.extra["mode"].get<std::string>(), *r.intensity,
                                "--intensity");
+    // The pads' impedance when the threshold was measured (calibrate on a device that
+    // measures), for stimctl --hold-sensation.
+    const int k = primary_index(doc.extra["mode"].get<std::string>(), "--intensity");
+    const std::vector<double>& z = r.profile->range(k, -1).impedance_kohm;
+    if (z.size() == a.size()) s.reference_impedance_kohm = z;
   } else {
     amp = *r.amplitude_mA;
   }

@@ -8,6 +8,7 @@
 #include "core/files.hpp"
 #include "core/number.hpp"
 #include "host/session.hpp"
+#include "host/skin_file.hpp"
 #include "host/signals.hpp"
 #include "host/stimulator.hpp"
 #include "host/terminal.hpp"
@@ -51,6 +52,14 @@ host::SessionReport deliver(const Calibration& cal, host::Transport& transport, 
   return r;
 }
 
+// Each channel's impedance (kOhm; 0 where it carried no current or none flowed).
+std::vector<double> impedances_kohm(const std::vector<device::ChannelMeasurement>& m) {
+  std::vector<double> z;
+  for (const auto& c : m)
+    z.push_back(c.carried && c.impedance_ohm != device::kOpenOhm ? c.impedance_ohm * 1e-3 : 0.0);
+  return z;
+}
+
 // One trial: its stimulus delivered, then the question; the answer goes to the
 // calibration and the log.
 void run_trial(Calibration& cal, host::Transport& transport, Respondent& person, LineFile& log,
@@ -68,6 +77,8 @@ void run_trial(Calibration& cal, host::Transport& transport, Respondent& person,
   if (a->kind == host::Answer::stop)
     failure("stopped by the user (" + a->given + ") after trial " + std::to_string(n) +
             "; nothing running");
+  // A device that measures: the impedances at this trial's end, for the profile.
+  if (!r.measured.empty()) cal.measured(impedances_kohm(r.measured));
   cal.respond(a->kind == host::Answer::yes);
   log.line(calibration_log_row(cal.trials().back(), columns, r.pulses, r.peak_mA));
 }
@@ -78,6 +89,9 @@ std::unique_ptr<host::Transport> open_port(const CalibrateRequest& r, const Pixe
   emu.caps.channels = static_cast<std::uint8_t>(r.emu_channels > 0 ? r.emu_channels
                                                                     : static_cast<int>(bank.pads()));
   emu.record_path = r.record_path;
+  if (!r.emu_skin_path.empty())
+    emu.skin = host::emulator_skin(r.emu_skin_path, r.emu_compliance_V, emu.caps.channels,
+                                   "--emu-skin", "--emu-compliance-v");
   return host::open_transport(r.port, r.baud, emu);
 }
 

@@ -380,6 +380,23 @@ def test_an_emulator_with_a_skin_records_what_it_measured(tmp_path, sai_doc):
     # The first pulse finds the pad lifted (as asked); the rest are probes of 0.04 mA.
     peaks = [max(abs(c) for c in p["currents_mA"]) for p in records(tmp_path / "suspend.jsonl")]
     assert peaks[0] > 0.5 and all(0.035 < x <= 0.04 for x in peaks[1:]) and len(peaks) == 5
+    # hold_sensation: a stimulus with reference impedances under a sweat ramp; the current
+    # rises as the impedance falls, as stimctl --hold-sensation does; refused without them.
+    held = json.loads(stim.to_json())
+    held["reference_impedance_kohm"] = [closed if c != 0 else None for c in held["currents_mA"]]
+    skin.write_text(json.dumps({"format": "tactile-primaries/skin/1",
+                                "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0},
+                                "events": [{"t_s": 0, "channels": "all", "rp_kohm": 5,
+                                            "ramp_s": 0.5}]}))
+    with tp.Stimulator("emu", emu_skin=str(skin), hold_sensation=True,
+                       record=str(tmp_path / "held.jsonl")) as s:
+        s.deliver(tp.Stimulus.from_json(json.dumps(held)))
+    first, last = records(tmp_path / "held.jsonl")[0], records(tmp_path / "held.jsonl")[-1]
+    big = max(range(8), key=lambda c: abs(first["currents_mA"][c]))
+    assert abs(last["currents_mA"][big]) > abs(first["currents_mA"][big]) * 1.02
+    with tp.Stimulator("emu", emu_skin=str(skin), hold_sensation=True) as s:
+        with pytest.raises(tp.BadInput, match="--hold-sensation: the stimulus has no reference"):
+            s.deliver(stim)
     with pytest.raises(tp.BadInput, match="--contact-loss: pause is not stop or suspend"):
         tp.Stimulator("emu", contact_loss="pause")
     for bad, words in ((dict(emu_compliance_V=50), "--emu-compliance-v: applies with --emu-skin"),

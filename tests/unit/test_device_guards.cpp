@@ -45,6 +45,22 @@ Result start_output(DeviceCore& core, std::int16_t code, std::uint16_t width_us,
   return send(core, 4, Msg::start, with_session(kToken, {}), 0);
 }
 
+// The same with any 8 codes (summing to zero).
+Result start_codes(DeviceCore& core, const std::vector<std::int16_t>& codes,
+                   std::uint16_t width_us, const Guards* guards, std::uint32_t period_us) {
+  PulseConfig c;
+  c.period_us = period_us;
+  c.width_us = c.balance_width_us = width_us;
+  c.channels = 8;
+  REQUIRE(send(core, 1, Msg::configure, with_session(kToken, encode(c)), 0) == Result::ok);
+  REQUIRE(send(core, 2, Msg::set_weights, with_session(kToken, encode_weights(codes)), 0) ==
+          Result::ok);
+  if (guards)
+    REQUIRE(send(core, 3, Msg::set_guards, with_session(kToken, encode(*guards)), 0) ==
+            Result::ok);
+  return send(core, 4, Msg::start, with_session(kToken, {}), 0);
+}
+
 // One channel's reading: voltage (mV), delivered current (nA), at the rail.
 struct Reading {
   std::int32_t voltage_mV;
@@ -254,6 +270,86 @@ TEST_CASE("guards: suspending, a lost pad's pattern goes on at the probe until c
           return k >= 2 ? Reading{100000, i / 2, true} : ohmic(i, 20000);
         }, 60000) == 3);
   CHECK(other.status().fault == Fault::compliance);
+}
+
+TEST_CASE("guards: a probe never carries more than the probe's current, in whole codes",
+          "[device][guards]") {
+  // An asymmetric pattern whose scaled codes scale_codes must round to a zero sum: 24 uA is
+  // 24.56 codes of 977 nA, so at most 24 codes on any pad (found by review: 25 before).
+  Guards g;
+  g.flags = kGuardSuspend;
+  g.probe_uA = 24;
+  DeviceCore core(measuring_caps());
+  REQUIRE(start_codes(core, {-48, -2, -42, 120, 131, -159, 0, 0}, 200, &g, 5000) == Result::ok);
+  std::int32_t largest_after = 0;
+  run(core, [&](std::size_t k, std::size_t c, std::int32_t i) {
+    if (k >= 3) largest_after = std::max(largest_after, std::abs(i));
+    if (c == 5 && k >= 2) return Reading{-100000, 0, true};
+    return ohmic(i, 20000);
+  }, 60000);
+  CHECK(largest_after > 0);
+  CHECK(largest_after <= 24000);
+  CHECK(largest_after / 977 == 24);
+}
+
+TEST_CASE("guards: a pad back with too little contact for its charge stays suspended",
+          "[device][guards]") {
+  // 2 mA for 800 us on 5 mm^2 needs a contact of 0.72 (Shannon's 1.85): back at 0.3, the
+  // probes go on and no full pulse is delivered (found by review: one went out, then tripped).
+  Guards g;
+  g.area_um2 = 5000000;
+  g.flags = kGuardSuspend;
+  DeviceCore core(measuring_caps());
+  REQUIRE(start_codes(core, {2047, -2047, 0, 0, 0, 0, 0, 0}, 800, &g, 20000) == Result::ok);
+  std::vector<std::int32_t> delivered;
+  run(core, [&](std::size_t k, std::size_t c, std::int32_t i) {
+    if (c == 0) delivered.push_back(i);
+    if (c == 1 && k >= 3 && k <= 5) return Reading{-100000, 0, true};
+    return ohmic(i, c == 1 && k > 5 ? 10000 / 0.3 : 10000);
+  }, 300000);
+  REQUIRE(delivered.size() == 15);
+  CHECK(core.status().state == State::running);
+  for (std::size_t k = 4; k < delivered.size(); ++k) CHECK(delivered[k] <= 50000);
+  // Back at 0.8, above 0.72: resumed.
+  DeviceCore back(measuring_caps());
+  REQUIRE(start_codes(back, {2047, -2047, 0, 0, 0, 0, 0, 0}, 800, &g, 20000) == Result::ok);
+  std::vector<std::int32_t> resumed;
+  run(back, [&](std::size_t k, std::size_t c, std::int32_t i) {
+    if (c == 0) resumed.push_back(i);
+    if (c == 1 && k >= 3 && k <= 5) return Reading{-100000, 0, true};
+    return ohmic(i, c == 1 && k > 5 ? 10000 / 0.8 : 10000);
+  }, 300000);
+  REQUIRE(resumed.size() == 15);
+  CHECK(resumed[6] <= 50000);   // the probe that finds it
+  CHECK(resumed[7] > 1900000);  // full again
+  CHECK(back.status().state == State::running);
+}
+
+TEST_CASE("guards: a reading of 0 V does not clear the baseline, and a new output starts afresh",
+          "[device][guards]") {
+  DeviceCore core(measuring_caps());
+  REQUIRE(start_output(core, 1024, 200) == Result::ok);
+  // 20 kOhm, then a shorted reading (0 V), then 300 kOhm: 15 x the baseline trips.
+  const std::size_t n = run(core, [](std::size_t k, std::size_t c, std::int32_t i) {
+    if (c == 0 && k == 1) return Reading{0, i, false};
+    return ohmic(i, c == 0 && k >= 2 ? 300000 : 20000);
+  }, 60000);
+  CHECK(n == 3);
+  CHECK(core.status().fault == Fault::contact);
+  // No current flowed, yet not at the rail: no contact either.
+  DeviceCore open(measuring_caps());
+  REQUIRE(start_output(open, 1024, 200) == Result::ok);
+  CHECK(run(open, [](std::size_t k, std::size_t c, std::int32_t i) {
+          return c == 1 && k == 2 ? Reading{-500, 0, false} : ohmic(i, 20000);
+        }, 60000) == 3);
+  CHECK(open.status().fault == Fault::contact);
+  // A new session and output: no trip, no baseline, nothing suspended from the old one.
+  send(open, 50, Msg::stop, {}, 0);
+  REQUIRE(start_output(open, 1024, 200) == Result::ok);
+  const Measurements m = query(open, 0, 2, 60);
+  CHECK(m.head.trip == Fault::none);
+  CHECK(m.head.measured == 0);
+  CHECK(m.channels[0].baseline_ohm == 0);
 }
 
 TEST_CASE("guards: set_guards' refusals, and readings of an earlier output", "[device][guards]") {

@@ -92,15 +92,17 @@ class Stimulator:
 
     def __init__(self, port="emu", *, baud=115200, emu_channels=8, record=None,
                  backend="auto", emu_skin=None, emu_compliance_V=None, contact_loss="stop",
-                 probe_mA=None):
+                 probe_mA=None, hold_sensation=False):
         """emu_skin: the emulator's skin file (stimctl --emu-skin; docs/skin.md): every
         recorded pulse then carries voltage_V and impedance_kohm; emu_compliance_V its
         output stage's compliance (1 to 1000 V [100]).  contact_loss: on a device that
         measures, "stop" the whole output when a pad loses contact, or "suspend" only the
         patterns that drive it, at probe_mA (0.01 to 0.5 [0.05]) until a probe finds the
-        contact again (stimctl --contact-loss, --probe-current)."""
+        contact again (stimctl --contact-loss, --probe-current).  hold_sensation: hold each
+        pattern's pulse energy against the stimulus's reference_impedance_kohm as the skin
+        changes (stimctl --hold-sensation; not with start_live)."""
         self._s = _core._Stimulator(port, baud, emu_channels, record, backend, emu_skin,
-                                    emu_compliance_V, contact_loss, probe_mA)
+                                    emu_compliance_V, contact_loss, probe_mA, hold_sensation)
         self.port = port
 
     def __enter__(self):

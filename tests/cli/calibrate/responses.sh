@@ -91,6 +91,35 @@ jq -e --slurpfile b rbank.json '.primaries.SAI as $r | ($b[0].recruitment.modes.
     | map(map(select(. != null and . <= $at)) | length / 4) == $r.colour' colour.json > /dev/null \
   || fail "the SAI colour: $(jq -c .primaries.SAI colour.json)"
 echo "ok: with recruitment, SAI's colour $(jq -c .primaries.SAI.colour colour.json)"
+# On an emulator with a skin (issue 41, item 6): the same answers give the same profile,
+# and each pad's impedance at the threshold's trials (the mean of their readings: Rp 50
+# kOhm, 30 nF, so 1 + 50 (1 - e^(-w/1500)) kOhm at calibrate's 200 us, within 0.05: at 200
+# Hz the interface, tau 1.5 ms, is not quite discharged between pulses), null where a pad
+# carried nothing.  make-pulse --profile carries them into the stimulus, and stimctl
+# --hold-sensation takes it; from a profile without them, it is refused.
+printf '{"format": "tactile-primaries/skin/1", "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0}}\n' > skin.json
+tail -n +2 seen.csv | cut -d, -f9 | "${cal[@]}" --emu-skin skin.json --log z.csv --output z.json 2> z.err \
+  || fail "with a skin: $(cat z.err)"
+jq -e --slurpfile s seen.json '.primaries.SAI.threshold_mA == $s[0].primaries.SAI.threshold_mA' z.json > /dev/null \
+  || fail "with a skin: another threshold"
+jq -e --slurpfile b "$BANK" '.primaries.SAI.impedance_kohm as $z | ($b[0].pixels[] | select(.pad == 36) | .patterns.SAI.weights) as $w
+    | ($z | length) == 64
+    and all(range(0; 64); if $w[.] == 0 then $z[.] == null
+                          else (($z[.] - (1 + 50 * (1 - ((-200 / 1500) | exp)))) | fabs) < 0.05 end)' z.json > /dev/null \
+  || fail "the profile's impedances: $(jq -c .primaries.SAI.impedance_kohm z.json)"
+# The pattern at the pixel calibrated, (4, 4): pad 36.
+jq '(.pixels[] | select(.pad == 36) | .patterns.SAI) as $p | .weights = $p.weights
+    | .focus = {x_mm: $p.peak.x_mm, z_mm: $p.peak.z_mm} | .mode = "SAI" | del(.pixels, .bank)' "$BANK" > sai36.json
+make-pulse --profile z.json --intensity 0.5 --frequency 20 --duration 0.5 < sai36.json > held.json 2> /dev/null || fail "make-pulse --profile"
+jq -e --slurpfile z z.json '.reference_impedance_kohm == $z[0].primaries.SAI.impedance_kohm' held.json > /dev/null \
+  || fail "make-pulse did not carry the impedances: $(jq -c .reference_impedance_kohm held.json)"
+stimctl --port emu --emu-channels 64 --emu-skin skin.json --hold-sensation < held.json 2> held.err \
+  || fail "--hold-sensation: $(cat held.err)"
+grep -q "sensation held" held.err || fail "--hold-sensation: $(cat held.err)"
+make-pulse --profile seen.json --intensity 0.5 --frequency 20 --duration 0.5 < sai36.json > noz.json 2> /dev/null || fail "make-pulse"
+refuses 2 --stdin noz.json --says "--hold-sensation: the stimulus has no reference impedance for channel" \
+  -- stimctl --port emu --emu-channels 64 --emu-skin skin.json --hold-sensation
+echo "ok: with a skin, the profile's impedances: $(jq -c '[.primaries.SAI.impedance_kohm[] | select(. != null)]' z.json)"
 # Bad input before anything is sent.
 refuses 2 --says "calibrate: --ceiling: 2.5 mA outside (0, 2] mA" -- calibrate --bank "$BANK" --log x.csv --ceiling 2.5 --responses -
 refuses 2 --says "calibrate: --start: 1.5 mA outside [0.001, 1] mA" -- calibrate --bank "$BANK" --log x.csv --start 1.5 --responses -

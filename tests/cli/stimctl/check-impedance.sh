@@ -35,7 +35,7 @@ refuses 2 --stdin stim.json --says "--check-impedance: channel 4 has no contact"
 stop_emu
 only_probe pty.jsonl
 
-# Refused before anything is sent.
+# Refused with nothing but identify sent (the record stays empty).
 refuses 2 --stdin stim.json --says "--check-impedance: emu (in-process emulator) does not measure its pulses" \
   -- stimctl --port emu --check-impedance --record none.jsonl
 [[ ! -s none.jsonl ]] || fail "a device that does not measure was probed"
