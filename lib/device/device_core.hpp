@@ -33,6 +33,14 @@
 //    peak |base code| x max|units| within the largest code, whichever of set_codes and
 //    set_shape comes second; the loads exact sums over the phases; start: at most
 //    max_edge_rate_hz edges a second over the table (edge_rate_mHz);
+//  - measurements (version 7, a device that measures: device_guards.cpp): each pulse's
+//    readings give each channel's impedance and baseline; a pad without contact, a
+//    current not delivered (the compliance rail) or a charge density above Shannon's k on
+//    the estimated contact area ends the output before the next pulse (Fault::contact,
+//    compliance, density), or with set_guards' suspend flag pauses only the patterns on a
+//    lost pad (their pulses at the probe's current, in whole codes) until a probe finds
+//    it again with room for its charge; set_hold scales a pattern to hold its pulse energy,
+//    never above its codes as uploaded;
 //  - a repeated frame (same seq, type and payload: a retransmission, or a replay of the
 //    same bytes) is answered again from the cache, but neither executed twice nor allowed
 //    to feed the watchdog; nor does a frame of the session whose seq is not newer (ahead by
