@@ -38,7 +38,7 @@ tp_cli_test(stimctl refuses-65-channels refuses 2 --stdin ${IN}/stimulus-65-chan
 foreach(script pipeline-emu mix-emu mix-refusals pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
                pty-live pty-lost-device list-ports pty-protocol pty-session pty-signal-before-start
                pty-device-bounds pty-live-limits pty-current-limit pty-replay-keepalive pty-rates
-               pty-mix pty-table256 pty-intent progress shaped skin-emu guards-emu check-impedance contact-suspend hold-sensation)
+               pty-mix pty-table256 pty-intent progress shaped skin-emu guards-emu check-impedance contact-suspend hold-sensation guards-signals)
   tp_cli_test(stimctl ${script} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(stimctl.${script} PROPERTIES TIMEOUT 120)
 endforeach()
