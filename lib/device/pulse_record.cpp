@@ -226,4 +226,23 @@ std::size_t format_record(const PulseRecord& r, char* out) {
   return w.size();
 }
 
+PulseRecord record_of(const DeliveredPulse& p) {
+  PulseRecord r;
+  r.pattern = p.pattern;
+  r.t_us = p.t_us - p.start_us;
+  r.slip_us = p.slip_us;
+  r.channels = static_cast<std::uint8_t>(p.codes.size());
+  for (std::size_t c = 0; c < p.codes.size() && c < kMaxChannels; ++c) r.main[c] = p.codes[c];
+  r.step_nA = p.caps.dac_step_nA;
+  if (p.timing.shaped()) {
+    r.shape = p.timing.shape;
+  } else {
+    balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
+    r.width_us = p.timing.width_us;
+    r.interphase_us = p.timing.interphase_us;
+    r.balance_width_us = p.timing.balance_width_us;
+  }
+  return r;
+}
+
 }  // namespace tp::device

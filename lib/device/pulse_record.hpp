@@ -54,6 +54,11 @@ struct PulseRecord {
   const ElectricalRecord* electrical = nullptr;
 };
 
+// A delivered pulse's record as an emulator delivers it (no measured timing): its pattern,
+// time from the start and slip, main codes and step, and a biphasic pulse's balancing codes
+// (balance_codes) and widths, or a shaped pulse's phases as configured.
+PulseRecord record_of(const DeliveredPulse& p);
+
 // The longest line format_record writes (64 channels, 16 phases, every field at its widest).
 inline constexpr std::size_t kMaxRecordLine = 64 + 2 * kMaxChannels * 24 + 320 + kMaxPhases * 48;
 // An electrical record's longest: each channel's voltage ("-2147483.648") and impedance

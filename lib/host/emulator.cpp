@@ -48,21 +48,7 @@ void PulseRecorder::record(const device::DeliveredPulse& p, device::DeviceCore& 
   // The device's own record (lib/device/pulse_record.hpp), as the firmware's monitor
   // writes it: the balancing phase in whole DAC codes; a shape's phases as configured (the
   // emulator delivers each phase exactly: base codes x units for its duration).
-  device::PulseRecord r;
-  r.pattern = p.pattern;
-  r.t_us = p.t_us - p.start_us;
-  r.slip_us = p.slip_us;
-  r.channels = static_cast<std::uint8_t>(p.codes.size());
-  std::copy(p.codes.begin(), p.codes.end(), r.main);
-  r.step_nA = p.caps.dac_step_nA;
-  if (p.timing.shaped()) {
-    r.shape = p.timing.shape;
-  } else {
-    device::balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
-    r.width_us = p.timing.width_us;
-    r.interphase_us = p.timing.interphase_us;
-    r.balance_width_us = p.timing.balance_width_us;
-  }
+  device::PulseRecord r = device::record_of(p);
   device::ElectricalRecord measured;
   if (skin_) {
     skin_->measure(p, measured);

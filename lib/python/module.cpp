@@ -701,21 +701,7 @@ class Stimulator {
   py::dict deliver(const PyStimulus& s, std::optional<double> duration_s) {
     tp::host::SessionOptions opt = session_options(false, duration_s);
     tp::check_mix(s.mix, tp::StimulusLimits{});
-    claim("deliver");
-    std::unique_ptr<SessionRun> run;
-    try {
-      {
-        std::lock_guard<std::mutex> lock(m_);
-        open_locked();
-        run = start(s.mix, opt);
-        current_ = run.get();
-      }
-      wait(*run);
-    } catch (...) {
-      release();
-      throw;
-    }
-    release();
+    const std::unique_ptr<SessionRun> run = run_held("deliver", s.mix, opt, std::nullopt);
     return finish(*run);
   }
 
@@ -725,21 +711,7 @@ class Stimulator {
     tp::host::SessionOptions opt = session_options(false, std::nullopt);
     tp::check_mix(s.mix, tp::StimulusLimits{});
     tp::host::probe_stimulus(s.mix, probe_mA);  // the probe's own checks, before the port
-    claim("check_impedance");
-    std::unique_ptr<SessionRun> run;
-    try {
-      {
-        std::lock_guard<std::mutex> lock(m_);
-        open_locked();
-        run = start(s.mix, opt, nullptr, probe_mA);
-        current_ = run.get();
-      }
-      wait(*run);
-    } catch (...) {
-      release();
-      throw;
-    }
-    release();
+    const std::unique_ptr<SessionRun> run = run_held("check_impedance", s.mix, opt, probe_mA);
     if (run->error) std::rethrow_exception(run->error);
     if (!run->check.refusal.empty()) tp::bad_input(run->check.refusal);
     py::list rows;
@@ -849,6 +821,29 @@ class Stimulator {
   void open_locked() {
     if (transport_) return;
     transport_ = tp::host::open_delivery(req_);
+  }
+
+  // One blocking operation holding the port (`what` names it when another holds it): the
+  // session (or, with probe_mA, the impedance check) on its thread, waited for; the run.
+  std::unique_ptr<SessionRun> run_held(const char* what, const tp::Mix& m,
+                                       const tp::host::SessionOptions& opt,
+                                       std::optional<double> probe_mA) {
+    claim(what);
+    std::unique_ptr<SessionRun> run;
+    try {
+      {
+        std::lock_guard<std::mutex> lock(m_);
+        open_locked();
+        run = start(m, opt, nullptr, probe_mA);
+        current_ = run.get();
+      }
+      wait(*run);
+    } catch (...) {
+      release();
+      throw;
+    }
+    release();
+    return run;
   }
 
   // Takes the port for one operation; bad input when another holds it.

@@ -84,14 +84,7 @@ std::size_t run(DeviceCore& core, const Board& board, std::uint64_t until_us,
   for (std::uint64_t now = 0; now < until_us; now += step_us) {
     send(core, seq++, Msg::keepalive, with_session(kToken, {}), now);
     core.advance(now, [&](const DeliveredPulse& p) {
-      PulseRecord r;
-      r.t_us = p.t_us - p.start_us;
-      r.channels = static_cast<std::uint8_t>(p.codes.size());
-      std::copy(p.codes.begin(), p.codes.end(), r.main);
-      balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
-      r.step_nA = p.caps.dac_step_nA;
-      r.width_us = p.timing.width_us;
-      r.balance_width_us = p.timing.balance_width_us;
+      PulseRecord r = record_of(p);
       ElectricalRecord m;
       for (std::size_t c = 0; c < r.channels; ++c) {
         if (r.main[c] == 0) continue;

@@ -342,15 +342,7 @@ TEST_CASE("a v5 biphasic table is accepted and delivered as before", "[device][s
     CHECK(!p.timing.shaped());
     CHECK(p.timing.length_us() == 600);
     CHECK(p.timing.max_units() == 1);
-    PulseRecord r;  // as the emulators record it
-    r.pattern = p.pattern;
-    r.t_us = p.t_us - p.start_us;
-    r.channels = static_cast<std::uint8_t>(p.codes.size());
-    std::copy(p.codes.begin(), p.codes.end(), r.main);
-    balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, r.balance);
-    r.step_nA = p.caps.dac_step_nA;
-    r.width_us = p.timing.width_us;
-    r.balance_width_us = p.timing.balance_width_us;
+    const PulseRecord r = record_of(p);  // as the emulators record it
     char line[kMaxRecordLine];
     lines.emplace_back(line, format_record(r, line));
   });
