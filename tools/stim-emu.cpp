@@ -4,6 +4,7 @@
 //   stim-emu --record pulses.jsonl > port.txt &
 //   stimctl --port "$(head -1 port.txt)" < stimulus.json
 
+#include <cstdio>
 #include <string>
 
 #include "cli/entry.hpp"
@@ -40,6 +41,11 @@ int main(int argc, char** argv) {
   std::string compliance;
   tp::cli::add_skin_flags(app, "--skin", "--compliance-v", r.skin_path, compliance,
                           "the record", "");
+  std::string skin_block;
+  auto* block = app.add_option("--skin-block", skin_block,
+                               "Write the skin (--skin, --compliance-v) as the firmware's "
+                               "simulated board reads it (scripts/firmware-emu --skin), then exit")
+                    ->type_name("FILE");
   app.add_option("--record", r.record_path, "Write each delivered pulse as a JSON line")
       ->type_name("FILE");
   app.add_option("--apply-log", r.apply_log_path, "Write 'n t_ns' per applied weight frame")
@@ -71,6 +77,7 @@ int main(int argc, char** argv) {
                                     "--max-pulse-rate", "--record", "--apply-log", "--event-log",
                                     "--skin", "--compliance-v"})
     forward->excludes(app.get_option(device_option));
+  forward->excludes(block);
 
   return tp::cli::run(app, argc, argv, [&] {
     r.given = {max_current, stall_after, stall_ms, disconnect_after, reply_delay_ms};
@@ -83,6 +90,12 @@ int main(int argc, char** argv) {
       r.disconnect_after_s = tp::parse_finite(disconnect_after, "--disconnect-after");
     r.reply_delay_ms = tp::parse_finite(reply_delay_ms, "--reply-delay-ms");
     if (!compliance.empty()) r.compliance_V = tp::parse_finite(compliance, "--compliance-v");
+    if (!skin_block.empty()) {
+      const std::size_t n = tp::host::write_skin_block(r, skin_block);
+      std::fprintf(stderr, "stim-emu: wrote the skin block (%zu bytes) to %s\n", n,
+                   skin_block.c_str());
+      return;
+    }
     const int rc = tp::host::run_pty_emulator(tp::host::pty_emulator_options(r));
     if (rc != 0) tp::failure("emulator stopped");
   });

@@ -30,6 +30,19 @@ struct Board {
   // Pins driven low at start-up to keep other parts of the board quiet (0xFF: none), such
   // as the STM32F4-Discovery's audio codec, whose I2C clock shares PB6.
   Pin hold_low;
+  // The electrodes' voltage sense (issue 41; docs/skin.md): channel c's electrode, through
+  // the board's divider and level shift, on ADC1 channel sense_adc[c] (0xFF: the board
+  // does not measure; its capabilities then say so).  A code reads
+  // (code - sense_zero_code) x sense_uV_per_code at the electrode, + = cathodic.  The output
+  // stage's compliance, V: a reading within 2 % of it is at the rail.
+  std::uint8_t sense_adc[8];
+  std::uint16_t sense_zero_code;
+  std::int32_t sense_uV_per_code;
+  std::uint16_t compliance_V;
+  // The stop input: a GPIO whose edge to its active level latches the output off
+  // (EXTI interrupt, above every other); port 0xFF: none.
+  Pin stop_input;
+  bool stop_active_high;
   // The shortest phase the DAC can follow: 8 channels of 32-bit words at the SPI clock,
   // with chip-select gaps (AD5628 timing, t4 + t8).
   std::uint16_t min_phase_us;

@@ -87,6 +87,47 @@ void gpio_alternate(Pin p, std::uint8_t af) {
   set_field(gpio_base(p) + reg::gpio::MODER, 2u * p.pin, 3u, 2u);
 }
 
+void gpio_analog(Pin p) {
+  set_field(gpio_base(p) + reg::gpio::PUPDR, 2u * p.pin, 3u, 0u);
+  set_field(gpio_base(p) + reg::gpio::MODER, 2u * p.pin, 3u, 3u);
+}
+
+namespace {
+// EXTI and SYSCFG (RM0090 12.3, 9.2.3-6); the lines' interrupts (RM0090 table 61).
+constexpr std::uint32_t EXTI = 0x40013C00, SYSCFG = 0x40013800;
+constexpr std::uint32_t EXTI_IMR = EXTI + 0x00, EXTI_RTSR = EXTI + 0x08, EXTI_FTSR = EXTI + 0x0C,
+                        EXTI_PR = EXTI + 0x14, SYSCFG_EXTICR1 = SYSCFG + 0x08;
+constexpr std::uint32_t APB2_SYSCFG = 1u << 14, NVIC_ISPR0 = 0xE000E200;
+int exti_irq(std::uint8_t line) {
+  return line <= 4 ? 6 + line : line <= 9 ? 23 : 40;
+}
+}  // namespace
+
+int stop_input_init(const Board& b) {
+  const Pin p = b.stop_input;
+  if (p.port == 0xFF || p.pin > 15) return -1;
+  at(reg::rcc::APB2ENR) |= APB2_SYSCFG;
+  __asm volatile("dsb" ::: "memory");
+  set_field(gpio_base(p) + reg::gpio::MODER, 2u * p.pin, 3u, 0u);  // input
+  set_field(gpio_base(p) + reg::gpio::PUPDR, 2u * p.pin, 3u, b.stop_active_high ? 0u : 1u);
+  set_field(SYSCFG_EXTICR1 + 4u * (p.pin / 4u), 4u * (p.pin % 4u), 0xFu, p.port);
+  const std::uint32_t bit = 1u << p.pin;
+  at(b.stop_active_high ? EXTI_RTSR : EXTI_FTSR) |= bit;
+  at(EXTI_PR) = bit;  // nothing pending from before
+  at(EXTI_IMR) |= bit;
+  const int irq = exti_irq(p.pin);
+  reg::nvic_enable(irq, 0);  // above the engine's SysTick and the UARTs
+  return irq;
+}
+
+void stop_input_acknowledge(const Board& b) {
+  if (b.stop_input.port != 0xFF) at(EXTI_PR) = 1u << b.stop_input.pin;
+}
+
+void stop_input_pend(int irq) {
+  if (irq >= 0) at(NVIC_ISPR0 + 4u * static_cast<std::uint32_t>(irq / 32)) = 1u << (irq % 32);
+}
+
 void Clock::init(std::uint32_t timer_hz) {
   namespace tim = reg::tim;
   at(reg::TIM2 + tim::CR1) = 0;
@@ -110,8 +151,9 @@ std::uint64_t Clock::now_us() {
 
 void Alarm::init(std::uint32_t core_hz) {
   cycles_per_us_ = core_hz / 1000000u;
-  // SysTick's priority (SHPR3, PM0214 4.4.8): the highest, 0, so that edges are on time.
-  at(0xE000ED20) &= 0x00FFFFFFu;
+  // SysTick's priority (SHPR3, PM0214 4.4.8): 1, above the UARTs' (2, 3) so that edges are
+  // on time; only the stop input (0) comes before it.
+  at(0xE000ED20) = (at(0xE000ED20) & 0x00FFFFFFu) | (1u << 28);
 }
 
 void Alarm::set(std::uint64_t target_us, std::uint64_t now_us) {
@@ -169,9 +211,9 @@ bool Uart::write(const std::uint8_t* p, std::size_t n) {
 void Uart::kick() {
   namespace u = reg::usart;
   constexpr std::uint32_t kTxeie = 1u << 7;
-  // The UARTs' interrupts (priority 2 and 3) are masked, not the pulse edges' SysTick: a
-  // long line must not delay an edge.
-  reg::MaskFrom no_uart(1);
+  // The UARTs' interrupts (priority 2 and 3) are masked, not the pulse edges' SysTick (1)
+  // nor the stop input (0): a long line must not delay an edge.
+  reg::MaskFrom no_uart(2);
   std::uint8_t b;
   if (synchronous_) {
     // TXE is always set: no read of SR before each byte (see hw.hpp).  One read a call

@@ -29,6 +29,16 @@ Clocks clock_init(const Board& board);
 
 void gpio_output(Pin p, bool high);
 void gpio_alternate(Pin p, std::uint8_t af);
+void gpio_analog(Pin p);  // an ADC input
+
+// The board's stop input (board.hpp): the pin an input (pulled up when active low), its
+// EXTI line interrupting on the edge to its active level, above every other interrupt.
+// Returns the line's IRQ number; -1 when the board has none.
+int stop_input_init(const Board& b);
+void stop_input_acknowledge(const Board& b);  // in its handler: clears the line's pending bit
+// What the pin's edge does, without the pin (the simulated board under QEMU, whose GPIOs
+// are not modelled): the interrupt made pending, as the EXTI makes it.
+void stop_input_pend(int irq);
 inline void gpio_set(Pin p, bool high) {
   reg::at(reg::GPIOA + 0x400u * p.port + reg::gpio::BSRR) =
       high ? (1u << p.pin) : (1u << (p.pin + 16));

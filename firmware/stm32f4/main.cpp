@@ -5,6 +5,9 @@
 //   TIM2    the microsecond clock every time comes from
 //   SPI2    the 8-channel DAC (dac_ad56x8.hpp); a GPIO enables the electrode switches
 //   USART2  the monitor: one JSON line per delivered pulse, as stim-emu --record writes
+//   ADC1    each electrode's voltage at each pulse's main phase's end (sense.hpp); under
+//           QEMU, the skin model on the skin block beside the configuration block
+//   EXTI    the stop input: its edge opens the electrode switches and latches them open
 //   IWDG    resets the MCU if this loop ever stops
 //
 // The main loop feeds received bytes to the core, lets it emit the pulses due within
@@ -18,10 +21,13 @@
 #include "device/config_block.hpp"
 #include "device/device_core.hpp"
 #include "device/pulse_record.hpp"
+#include "device/skin_block.hpp"
 #include "hw.hpp"
 #include "pulse_engine.hpp"
+#include "sense.hpp"
 
 extern "C" const std::uint8_t _config_block[];
+extern "C" const std::uint8_t _skin_block[];
 
 namespace tp::fw {
 namespace {
@@ -36,6 +42,13 @@ Alarm g_alarm;
 Uart g_host, g_monitor;
 DacAd56x8 g_dac;
 PulseEngine g_engine;
+AdcSense g_adc_sense;
+SkinSense g_skin_sense;  // the emulated board's (23 KB: its scenario's events)
+Sense* g_sense = nullptr;  // the board measures: one of the two
+int g_stop_irq = -1;
+// A monitor line and a pulse's readings: the main loop's, and the start-up probes'.
+char g_line[device::kMaxElectricalRecordLine];
+device::ElectricalRecord g_electrical;
 
 // The DAC resolutions this board's parts offer: AD5628, AD5648, AD5668.
 constexpr std::uint32_t kDacBits = (1u << 12) | (1u << 14) | (1u << 16);
@@ -67,10 +80,14 @@ std::uint16_t measure_pulse_rate(std::uint32_t early_us, std::uint32_t core_hz, 
     r.balance[i] = static_cast<std::int16_t>(-r.main[i]);
   }
   static const std::int16_t kZeros[8] = {};
-  char line[device::kMaxRecordLine];
+  // A board that measures also turns each pulse's samples into readings (under QEMU, the
+  // skin model: the costliest part) and writes them in the record.
+  static const std::uint16_t kRaw[8] = {};
+  if (g_sense) r.electrical = &g_electrical;
   const std::uint64_t t0 = g_clock.now_us();
   for (std::uint32_t k = 0; k < kProbes; ++k) {
-    (void)device::format_record(r, line);
+    if (g_sense) g_sense->reading(r, k, kRaw, g_electrical);
+    (void)device::format_record(r, g_line);
     g_dac.load(r.main, 8);
     g_dac.load(r.balance, 8);
     g_dac.load(kZeros, 8);
@@ -104,10 +121,9 @@ std::uint32_t measure_edge_rate(std::uint32_t early_us, std::uint32_t core_hz, b
   }
   for (std::size_t i = 0; i < 8; ++i) r.main[i] = static_cast<std::int16_t>(i % 2 ? -63 : 63);
   std::int16_t codes[8];
-  char line[device::kMaxRecordLine];
   const std::uint64_t t0 = g_clock.now_us();
   for (std::uint32_t p = 0; p < kProbes; ++p) {
-    (void)device::format_record(r, line);
+    (void)device::format_record(r, g_line);
     for (std::size_t k = 0; k <= device::kMaxPhases; ++k) {
       device::shape_codes(r.main, 8, r.shape, k, codes);
       g_dac.load(codes, 8);
@@ -125,7 +141,8 @@ std::uint32_t measure_edge_rate(std::uint32_t early_us, std::uint32_t core_hz, b
 }
 
 device::Capabilities capabilities(const device::DeviceConfig& c, const Board& board, bool emulated,
-                                  std::uint16_t max_pulse_rate_hz, std::uint32_t max_edge_rate_hz) {
+                                  std::uint16_t max_pulse_rate_hz, std::uint32_t max_edge_rate_hz,
+                                  const Sense* sense) {
   device::Capabilities caps;
   caps.channels = c.channels;
   caps.max_current_uA = c.max_current_uA;
@@ -144,7 +161,18 @@ device::Capabilities capabilities(const device::DeviceConfig& c, const Board& bo
   caps.features = device::kFeatureShapedPulses;
   caps.max_phases = static_cast<std::uint8_t>(device::kMaxPhases);
   caps.max_edge_rate_hz = max_edge_rate_hz;
+  if (sense) {  // every pulse measured, and the guards (docs/safety.md)
+    caps.features |= device::kFeatureMeasures;
+    caps.compliance_V = sense->compliance_V();
+  }
   return caps;
+}
+
+// The sense this board measures with: under QEMU, the skin block's model (none without a
+// block); on a real board, its ADC (none when the board file gives no sense inputs).
+Sense* choose_sense(bool emulated) {
+  if (emulated) return g_skin_sense.init(_skin_block, device::kSkinBlockMaxSize) ? &g_skin_sense : nullptr;
+  return g_adc_sense.init(kBoard) ? &g_adc_sense : nullptr;
 }
 
 // Idle under QEMU.  With -icount, an idle CPU's virtual time jumps ahead by the host's real
@@ -179,6 +207,12 @@ extern "C" void USART2_IRQHandler() {
 extern "C" void tp_fault_stop() {
   gpio_set(kBoard.output_enable, false);
 }
+// The stop input (priority 0, above the engine): the switches open at once, and stay open.
+extern "C" void EXTI_IRQHandler() {
+  stop_input_acknowledge(kBoard);
+  tp_fault_stop();
+  g_engine.stop_input();
+}
 extern "C" void abort() {
   reg::disable_irq();
   tp_fault_stop();
@@ -205,12 +239,14 @@ extern "C" void firmware_main() {
   g_dac.init(kBoard, config.dac_bits);
   // The alarm wakes the engine early enough to cover its own interrupt latency, then it
   // waits on the clock: edges fall on their microsecond.  (QEMU's slower virtual core,
-  // 32 ns an instruction, needs more.)
-  const std::uint32_t early_us = clocks.emulated ? 50u : 3u;
+  // 32 ns an instruction, needs more; a real board's ADC, 8 conversions of 0.7 us before
+  // the main phase's end, 8 more.)
+  g_sense = choose_sense(clocks.emulated);
+  const std::uint32_t early_us = clocks.emulated ? 50u : g_sense ? 11u : 3u;
   static device::DeviceCore core(
       capabilities(config, kBoard, clocks.emulated,
                    measure_pulse_rate(early_us, clocks.sysclk_hz, clocks.emulated),
-                   measure_edge_rate(early_us, clocks.sysclk_hz, clocks.emulated)));
+                   measure_edge_rate(early_us, clocks.sysclk_hz, clocks.emulated), g_sense));
   const std::uint32_t step_nA = core.caps().dac_step_nA;
 
   gpio_alternate(kBoard.host_tx, 7);
@@ -221,6 +257,8 @@ extern "C" void firmware_main() {
   g_monitor.init(reg::USART2, clocks.apb1_hz, kBoard.monitor_baud, false, clocks.emulated);
   g_alarm.init(clocks.sysclk_hz);
   g_engine.init(g_dac, g_clock, g_alarm, early_us, clocks.sysclk_hz);
+  g_engine.set_sense(g_sense);
+  g_stop_irq = stop_input_init(kBoard);
   reg::nvic_enable(reg::IRQ_USART1, 2);
   reg::nvic_enable(reg::IRQ_USART2, 3);
   reg::enable_irq();
@@ -246,16 +284,31 @@ extern "C" void firmware_main() {
       engine_on = false;
     }
     if (core.status().state == device::State::running && !engine_on) {
+      g_engine.release_stop();  // a new session's output (the stop input's ended the old)
       g_engine.start_output();
       engine_on = true;
     }
   };
 
   std::uint8_t rx[64];
-  char line[device::kMaxRecordLine];
   std::uint32_t monitor_lost = 0;
+  std::uint64_t pressed_output_us = UINT64_MAX;  // the simulated board's last press
   for (;;) {
     iwdg_feed();
+    // 0. The stop input: the engine has latched the switches open; the core ends the
+    // session.  Under QEMU the skin's stop_input events press it, through its interrupt.
+    if (g_engine.take_stop()) {
+      core.stop_input(g_clock.now_us());
+      follow();
+    }
+    std::uint64_t stop_t_us = 0;
+    if (g_sense == &g_skin_sense && core.status().state == device::State::running &&
+        core.output_start_us() != pressed_output_us &&
+        g_skin_sense.first_stop_input(stop_t_us) &&
+        g_clock.now_us() >= core.output_start_us() + stop_t_us) {
+      pressed_output_us = core.output_start_us();
+      stop_input_pend(g_stop_irq);
+    }
     // 1. The host's bytes; each reply is queued once the engine has followed its frame.
     std::size_t n = 0;
     while (n < sizeof rx && g_host.read(rx[n])) ++n;
@@ -309,12 +362,22 @@ extern "C" void firmware_main() {
     if ((g_dac.faults() != 0 || g_engine.readback_faults() != 0) && core.status().fault != device::Fault::output_fault)
       core.output_fault();
     follow();
-    // 4. The monitor: whole lines only; lost ones are counted in the next.
+    // 4. Each delivered pulse's readings (a board that measures) to the core, whose guards
+    // may end the output (the engine then drops what it has queued); then the monitor:
+    // whole lines only; lost ones are counted in the next.
     device::PulseRecord r;
-    while (g_engine.pop_record(r)) {
+    std::uint16_t raw[kSenseChannels];
+    std::uint64_t output_us = 0;
+    while (g_engine.pop_record(r, raw, output_us)) {
+      if (g_sense) {
+        g_sense->reading(r, output_us, raw, g_electrical);
+        core.measured(output_us, r, g_electrical);
+        r.electrical = &g_electrical;
+        follow();
+      }
       r.dropped_before += monitor_lost;
-      const std::size_t len = device::format_record(r, line);
-      if (g_monitor.write(reinterpret_cast<const std::uint8_t*>(line), len))
+      const std::size_t len = device::format_record(r, g_line);
+      if (g_monitor.write(reinterpret_cast<const std::uint8_t*>(g_line), len))
         monitor_lost = 0;
       else
         monitor_lost = r.dropped_before + 1;

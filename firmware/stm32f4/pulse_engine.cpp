@@ -40,6 +40,7 @@ bool PulseEngine::submit(const PulseJob& job) {
 void PulseEngine::start_output() {
   reg::CriticalSection cs;
   finish_requested_ = false;  // a completed output's last pulses are delivered all the same
+  if (stop_latched_) return;  // the stop input holds the switches open
   if (stop_requested_)
     restart_pending_ = true;  // after the stopped output's last pulse has ended
   else
@@ -79,14 +80,46 @@ void PulseEngine::outputs_off() {
   loaded_ = false;
   if (restart_pending_) {  // a new output started while the old one's last pulse ended
     restart_pending_ = false;
-    stage_->enable(true);
+    if (!stop_latched_) stage_->enable(true);
   }
 }
 
+void PulseEngine::stop_input() {
+  stage_->enable(false);
+  stop_latched_ = true;
+  stop_event_ = true;
+}
+
+bool PulseEngine::take_stop() {
+  reg::CriticalSection cs;
+  const bool event = stop_event_;
+  stop_event_ = false;
+  return event;
+}
+
+void PulseEngine::release_stop() {
+  reg::CriticalSection cs;
+  if (!stop_event_) stop_latched_ = false;
+}
+
+void PulseEngine::sample_if_measured(int edge_index) {
+  if (sense_ && edge_index == sense_edge_) sense_->sample(sampled_, current_.channels);
+}
+
 bool PulseEngine::pop_record(device::PulseRecord& r) {
+  std::uint16_t raw[kSenseChannels];
+  std::uint64_t output_us = 0;
+  return pop_record(r, raw, output_us);
+}
+
+bool PulseEngine::pop_record(device::PulseRecord& r, std::uint16_t* raw,
+                             std::uint64_t& output_us) {
   reg::CriticalSection cs;
   if (rec_head_ == rec_tail_) return false;
-  r = records_[rec_tail_ % kRecords];
+  const std::uint32_t k = rec_tail_ % kRecords;
+  r = records_[k];
+  std::copy(samples_[k], samples_[k] + kSenseChannels, raw);
+  output_us = record_output_us_[k];
   rec_tail_ = rec_tail_ + 1;
   return true;
 }
@@ -138,7 +171,8 @@ void PulseEngine::on_alarm() {
     const std::uint64_t now = clock_->now_us();
     more = false;
     if (phase_ == Phase::idle) {
-      if (job_head_ == job_tail_) break;
+      // The stop input latched: nothing more starts; the main loop drops the queue.
+      if (job_head_ == job_tail_ || stop_latched_) break;
       const PulseJob& job = jobs_[job_tail_ % kJobs];
       if (!loaded_) {
         if (job.shape.n != 0)
@@ -183,7 +217,16 @@ void PulseEngine::on_alarm() {
       last_length_us_ =
           std::uint64_t{current_.width_us} + current_.interphase_us + current_.balance_width_us;
       have_last_start_ = true;
+      sense_edge_ = 1;
       if (current_.shape.n != 0) {
+        int strongest = 0;
+        for (std::size_t k = 0; k < current_.shape.n; ++k) {
+          const int u = current_.shape.units[k] < 0 ? -current_.shape.units[k] : current_.shape.units[k];
+          if (u > strongest) {
+            strongest = u;
+            sense_edge_ = static_cast<std::uint8_t>(k + 1);
+          }
+        }
         last_length_us_ = 0;
         for (std::size_t k = 0; k < current_.shape.n; ++k)
           last_length_us_ += current_.shape.duration_us[k];
@@ -215,6 +258,7 @@ void PulseEngine::on_alarm() {
       next = std::min(next, due - early_us_);
       break;
     }
+    if (phase_ == Phase::main) sample_if_measured(1);
     if (phase_ == Phase::main && job.interphase_us) {  // main -> gap
       edge(due, 1);
       phase_ = Phase::gap;
@@ -263,6 +307,7 @@ void PulseEngine::shaped_edge(std::uint64_t now, std::uint64_t& next, bool& more
     return;
   }
   const std::size_t k = shape_k_ + 1u;  // the edge's index: phase k starts (or the end)
+  sample_if_measured(static_cast<int>(k));
   edge(due, static_cast<int>(k));
   check_shape_phase();
   more = true;
@@ -307,6 +352,8 @@ void PulseEngine::finish_pulse() {
       for (std::size_t k = 0; k < job.shape.n; ++k)
         r.measured_duration_us[k] = static_cast<std::uint32_t>(edges_[k + 1] - edges_[k]);
     }
+    std::copy(sampled_, sampled_ + kSenseChannels, samples_[rec_head_ % kRecords]);
+    record_output_us_[rec_head_ % kRecords] = job.start_us;
     r.dropped_before = records_lost_;
     records_lost_ = 0;
     rec_head_ = rec_head_ + 1;

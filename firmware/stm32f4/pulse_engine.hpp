@@ -20,6 +20,7 @@
 #include "device/pulse_record.hpp"
 #include "hw.hpp"
 #include "output_stage.hpp"
+#include "sense.hpp"
 
 namespace tp::fw {
 
@@ -51,6 +52,10 @@ class PulseEngine {
   void init(OutputStage& stage, Clock& clock, Alarm& alarm, std::uint32_t early_us,
             std::uint32_t core_hz);
 
+  // A board that measures: each pulse sampled before its main phase's end (a shape's
+  // strongest phase), the samples kept with its record.
+  void set_sense(Sense* sense) { sense_ = sense; }
+
   // Main loop.
   bool submit(const PulseJob& job);  // false: the queue is full (the pulse is not delivered)
   void start_output();               // output-enable high
@@ -59,6 +64,18 @@ class PulseEngine {
   std::uint32_t stop_output(std::uint64_t& start_us);
   void finish_output();  // the queued pulses first (a completed stimulus)
   bool pop_record(device::PulseRecord& r);
+  // The same, with the pulse's samples (set_sense) and its output's start command.
+  bool pop_record(device::PulseRecord& r, std::uint16_t* raw, std::uint64_t& output_us);
+
+  // The stop input (its interrupt, above the engine's): the electrode switches are already
+  // open; the queue is dropped and the pulse in flight ends with them open, and no output
+  // starts (start_output) until release_stop().  Main loop: take_stop() reports the press
+  // once; release_stop() clears the latch when a new session's output starts, unless
+  // another press is still to be taken.
+  void stop_input();
+  bool take_stop();
+  void release_stop();
+  bool stop_latched() const { return stop_latched_; }
   std::uint32_t lost_pulses() const { return lost_; }
   // Shaped-pulse edges whose read-back codes were not the phase's (an output fault).
   std::uint32_t readback_faults() const { return readback_faults_; }
@@ -69,6 +86,8 @@ class PulseEngine {
  private:
   enum class Phase : std::uint8_t { idle, main, gap, balance, shaped };
   static constexpr std::uint32_t kJobs = 32, kRecords = 8;
+  void sample_if_measured(int edge_index);  // before edge edge_index
+  void drop_latched();
   void edge(std::uint64_t scheduled, int index);
   void finish_pulse();
   void shaped_edge(std::uint64_t now, std::uint64_t& next, bool& more);
@@ -84,6 +103,12 @@ class PulseEngine {
   PulseJob jobs_[kJobs];
   volatile std::uint32_t job_head_ = 0, job_tail_ = 0;
   device::PulseRecord records_[kRecords];
+  std::uint16_t samples_[kRecords][kSenseChannels] = {};
+  std::uint64_t record_output_us_[kRecords] = {};
+  Sense* sense_ = nullptr;
+  std::uint16_t sampled_[kSenseChannels] = {};  // the pulse in flight's
+  std::uint8_t sense_edge_ = 1;                  // the edge it is sampled before
+  volatile bool stop_latched_ = false, stop_event_ = false;
   volatile std::uint32_t rec_head_ = 0, rec_tail_ = 0;
   volatile std::uint32_t records_lost_ = 0;
   std::uint32_t lost_ = 0;

@@ -8,6 +8,10 @@
 //     50 + 50 us pulses and the 100 us gap, every 3.2 ms each), taken from the core as the
 //     firmware's main loop takes them: DeviceCore::advance (the scheduler's heap, the
 //     codes' expansion and scaling) and the balancing codes, each call timed.
+//  1b. The guards' cost per pulse (protocol 7, issue 41): the same table again with the
+//     density guard on, each pulse measured as a board that measures reports it (every
+//     channel carrying current through 10 kOhm), DeviceCore::measured timed alone: the
+//     impedance, the baseline and the three guards on 8 channels.
 //  2. The longest check at start: 256 patterns whose closed slip bound is too loose, so
 //     the core simulates the exact schedule (about 12800 pulses of a budget of 16384),
 //     timed against the IWDG's timeout (~150 ms, 100 ms at the shortest: hw.hpp).
@@ -159,6 +163,8 @@ extern "C" void firmware_main() {
   caps.channels = 8;
   caps.min_width_us = 50;
   caps.watchdog_ms = 1000;
+  caps.features = device::kFeatureMeasures;  // changes nothing in part 1: no guards, no hold
+  caps.compliance_V = 100;
   static device::DeviceCore core(caps);
 
   // 1. 16 patterns, every 3200 us, staggered 200 us apart: utilisation 1, no slip.
@@ -198,6 +204,48 @@ extern "C" void firmware_main() {
   }
   send(core, device::Msg::stop, token(), now);
 
+  // 1b. The same table, the density guard on (5 mm^2, k 1.85), every pulse measured.
+  send(core, device::Msg::configure_table, table(16, 8, 100), now);
+  for (std::uint16_t i = 0; i < 16; ++i) {
+    send(core, device::Msg::set_pattern, pattern(i, 3200, 200u * i, 50), now);
+    send(core, device::Msg::set_codes, codes(i), now);
+  }
+  Bytes guards;
+  guards.u32(kToken);
+  guards.u32(5000000);  // area_um2
+  guards.u16(1850);     // Shannon's k
+  guards.u16(100);      // lost contact
+  guards.u16(50);       // probe
+  guards.u8(0);
+  send(core, device::Msg::set_guards, guards, now);
+  send(core, device::Msg::start, token(), now);
+  const bool guarded = core.status().state == device::State::running;
+  static device::ElectricalRecord reading;
+  constexpr std::uint32_t kMeasured = 1600;
+  std::uint64_t guard_us = 0;
+  std::uint32_t measured = 0;
+  const std::uint64_t out_us = core.output_start_us();
+  for (std::uint32_t k = 0; guarded && measured < kMeasured && k < 2 * kMeasured; ++k) {
+    now += 200;
+    if (now % 100000 == 0) send(core, device::Msg::keepalive, token(), now);
+    core.advance(now, [&](const device::DeliveredPulse& p) {
+      const device::PulseRecord r = device::record_of(p);
+      for (std::size_t c = 0; c < 8; ++c) {
+        const std::int32_t asked = r.main[c] * static_cast<std::int32_t>(r.step_nA);
+        reading.carried[c] = r.main[c] != 0;
+        reading.current_nA[c] = asked;
+        reading.voltage_mV[c] = asked / 100;  // 10 kOhm: nA x 1e4 ohm / 1e6 = mV
+        reading.at_rail[c] = false;
+      }
+      const std::uint64_t t0 = g_clock.now_us();
+      core.measured(out_us, r, reading);
+      guard_us += g_clock.now_us() - t0;
+      ++measured;
+    });
+  }
+  const bool guards_ok = guarded && core.status().state == device::State::running;
+  send(core, device::Msg::stop, token(), now);
+
   // 2. 256 patterns: four at 1000 Hz, 252 at 1 Hz staggered over the second.
   send(core, device::Msg::configure_table, table(256, 8, 100), now);
   for (std::uint16_t i = 0; i < 256; ++i) {
@@ -222,7 +270,12 @@ extern "C" void firmware_main() {
   work(total_us * 10 / (pulses ? pulses : 1), per_us_x100);
   text(" a pulse (mean), ");
   work(worst_us * 10, per_us_x100);
-  text(" at most (a call); start of 256 patterns with the exact slip check: ");
+  text(" at most (a call); guards ");
+  work(guard_us * 10 / (measured ? measured : 1), per_us_x100);
+  text(" a pulse (mean, ");
+  number(measured);
+  text(guards_ok ? " measured, none tripped)" : " measured, FAILED)");
+  text("; start of 256 patterns with the exact slip check: ");
   number(start_us);
   text(" us (");
   text(started ? "accepted" : "refused");

@@ -44,6 +44,7 @@ TP_WEAK_HANDLER(TIM2_IRQHandler);
 TP_WEAK_HANDLER(USART1_IRQHandler);
 TP_WEAK_HANDLER(USART2_IRQHandler);
 TP_WEAK_HANDLER(TIM5_IRQHandler);
+TP_WEAK_HANDLER(EXTI_IRQHandler);  // every EXTI line's vector: the board's stop input
 #undef TP_WEAK_HANDLER
 
 namespace {
@@ -68,6 +69,8 @@ constexpr VectorTable make_table() {
   t.irq[tp::fw::reg::IRQ_USART1] = USART1_IRQHandler;
   t.irq[tp::fw::reg::IRQ_USART2] = USART2_IRQHandler;
   t.irq[tp::fw::reg::IRQ_TIM5] = TIM5_IRQHandler;
+  constexpr int kExti[] = {6, 7, 8, 9, 10, 23, 40};  // EXTI0-4, EXTI9_5, EXTI15_10
+  for (int irq : kExti) t.irq[irq] = EXTI_IRQHandler;
   return t;
 }
 }  // namespace

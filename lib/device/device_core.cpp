@@ -489,6 +489,21 @@ void DeviceCore::output_fault() {
   if (!was_running) ++output_ends_;  // the stage must stop even if nothing ran
 }
 
+void DeviceCore::stop_input(std::uint64_t now_us) {
+  const bool was_running = status_.state == State::running;
+  if (was_running) {
+    readings_.trip = Fault::stop_input;
+    readings_.trip_channel = kNoChannel;
+    const std::uint64_t t_us = now_us > start_us_ ? now_us - start_us_ : 0;
+    readings_.trip_t_us = t_us > 0xFFFFFFFFu ? 0xFFFFFFFFu : static_cast<std::uint32_t>(t_us);
+    readings_.trip_ohm = kOpenOhm;
+  }
+  pending_trip_ = Fault::none;
+  end_session();
+  status_.fault = Fault::stop_input;
+  if (!was_running) ++output_ends_;  // the stage must stop (and stay off) even if idle
+}
+
 void DeviceCore::link_lost() {
   const bool was_running = status_.state == State::running;
   end_session();

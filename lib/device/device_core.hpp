@@ -145,6 +145,11 @@ class DeviceCore {
   // counted, and the output ends with Fault::overrun, so that a host never takes fewer
   // pulses than it asked for as a completed stimulus.
   void overrun(std::uint64_t start_us, std::uint32_t n);
+  // The board's stop input (a firmware's GPIO interrupt, which has already opened the
+  // electrode switches; an emulator's scripted equivalent) at now_us: the output ends with
+  // Fault::stop_input and the session with it, so nothing of it can be restarted: only a new
+  // session (configure) delivers again.  The measurements' trip says when (channel 0xFF).
+  void stop_input(std::uint64_t now_us);
   // The link is gone (port closed): stop output and end the session.
   void link_lost();
   // The output stage failed: stop output, end the session, and refuse every later
@@ -159,6 +164,8 @@ class DeviceCore {
   void set_line_counts(std::uint32_t line_errors, std::uint32_t overruns);
 
   const Status& status() const { return status_; }
+  // The running (or last) output's start command, device time.
+  std::uint64_t output_start_us() const { return start_us_; }
   const Capabilities& caps() const { return caps_; }
 
  private:
@@ -181,8 +188,8 @@ class DeviceCore {
   // The guards (device_guards.cpp): the first channel of the pulse that trips, and why.
   Fault check_channel(const PulseRecord& r, ElectricalRecord& m, std::size_t c);
   // Lost contact or density for a charge per phase (fC) at impedance z against base.
-  Fault density_fault(double charge_fC, std::uint32_t z, std::uint32_t base) const;
-  double full_charge_fC(std::size_t c) const;  // the table's largest on channel c
+  Fault density_fault(float charge_pC, std::uint32_t z, std::uint32_t base) const;
+  float full_charge_pC(std::size_t c) const;  // the table's largest on channel c
   void trip(Fault cause, std::size_t channel, std::uint64_t t_us);
   void apply_trip();  // a trip found during advance(), after the pulse in hand
   struct InAdvance {
@@ -244,7 +251,9 @@ class DeviceCore {
   // Measurements (version 7): the session's guards, each channel's last reading, and what
   // tripped; reset at each start.
   Guards guards_;
-  double density_limit_uC2_ = 0;  // 10^k x the area in cm^2 (0: no density guard)
+  // 10^k x the area in cm^2 (0: no density guard); single precision, as the guards compute
+  // (device_guards.cpp).
+  float density_limit_uC2_ = 0;
   ChannelMeasurement reading_[kMaxChannels];
   MeasurementsHead readings_;
   Fault pending_trip_ = Fault::none;

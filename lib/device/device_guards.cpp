@@ -34,14 +34,18 @@ std::uint64_t largest_run_unit_us(const Shape& s) {
   return best;
 }
 
-// Channel c's charge per phase, fC (nA x us).
-double phase_charge_fC(const PulseRecord& r, std::size_t c) {
-  const double step = r.step_nA;
+// Channel c's charge per phase, pC (nA x us / 1000), in single precision: the MCU's FPU
+// multiplies floats in hardware, doubles in a library (issue 41's budget of 500
+// instructions a pulse for the measurement and the guards).  A biphasic pulse's charge is
+// exact in integers first (|code| x width x step < 2^47).
+float phase_charge_pC(const PulseRecord& r, std::size_t c) {
   if (r.shape.n != 0)
-    return magnitude(r.main[c]) * step * static_cast<double>(largest_run_unit_us(r.shape));
-  const double main = static_cast<double>(magnitude(r.main[c])) * r.width_us;
-  const double balance = static_cast<double>(magnitude(r.balance[c])) * r.balance_width_us;
-  return (main > balance ? main : balance) * step;
+    return static_cast<float>(magnitude(r.main[c])) * static_cast<float>(r.step_nA) *
+           static_cast<float>(largest_run_unit_us(r.shape)) * 1e-3f;
+  const std::uint32_t main = magnitude(r.main[c]) * std::uint32_t{r.width_us};  // < 2^31
+  const std::uint32_t balance = magnitude(r.balance[c]) * std::uint32_t{r.balance_width_us};
+  return static_cast<float>(main > balance ? main : balance) * static_cast<float>(r.step_nA) *
+         1e-3f;
 }
 
 // The current asked of channel c in the phase measured (a shaped pulse's strongest), nA.
@@ -55,10 +59,30 @@ std::uint64_t asked_nA(const PulseRecord& r, std::size_t c) {
 }
 
 // |V / I|, ohm: mV / nA = 10^6 ohm; kOpenOhm when no current flowed (below 1 nA).
+// The quotient floor(|mV| x 10^6 / i), exact: estimated in single precision (a hardware
+// division on the MCU; the 64-bit integer one is a library call of ~100 instructions),
+// then corrected by the remainder, whose division fits 32 bits (the estimate is within a
+// few parts in 10^7, so the remainder is within ~400 x i < 2^31 for i <= 2 mA); a
+// remainder that does not fit takes the 64-bit division.
+std::uint64_t ohm_quotient(std::uint32_t mV, std::uint32_t i) {
+  const std::uint64_t num = std::uint64_t{mV} * 1000000u;
+  const float est = static_cast<float>(mV) * 1e6f / static_cast<float>(i);
+  if (!(est < 4.0e9f)) return num / i;
+  std::uint64_t q = static_cast<std::uint32_t>(est);
+  const std::uint64_t qi = q * i;
+  constexpr std::uint64_t kFits = 0x7FFFFFFFu;
+  if (qi <= num) {
+    const std::uint64_t rem = num - qi;
+    return rem <= kFits ? q + static_cast<std::uint32_t>(rem) / i : num / i;
+  }
+  const std::uint64_t over = qi - num;
+  return over <= kFits ? q - (static_cast<std::uint32_t>(over) + i - 1) / i : num / i;
+}
+
 std::uint32_t impedance_ohm(std::int32_t voltage_mV, std::int32_t current_nA) {
-  const std::uint64_t i = magnitude(current_nA);
+  const std::uint32_t i = magnitude(current_nA);
   if (i == 0) return kOpenOhm;
-  const std::uint64_t ohm = std::uint64_t{magnitude(voltage_mV)} * 1000000u / i;
+  const std::uint64_t ohm = ohm_quotient(magnitude(voltage_mV), i);
   // At least 1 ohm: 0 marks a channel without a baseline (a shorted pad reads 1).
   return ohm >= kOpenOhm ? kOpenOhm - 1 : ohm == 0 ? 1u : static_cast<std::uint32_t>(ohm);
 }
@@ -85,10 +109,10 @@ Fault DeviceCore::check_channel(const PulseRecord& r, ElectricalRecord& m, std::
   }
   if (z == kOpenOhm) return Fault::contact;  // no current flowed, whatever the rail said
   if (reading.baseline_ohm == 0 || z < reading.baseline_ohm) reading.baseline_ohm = z;
-  return density_fault(phase_charge_fC(r, c), z, reading.baseline_ohm);
+  return density_fault(phase_charge_pC(r, c), z, reading.baseline_ohm);
 }
 
-Fault DeviceCore::density_fault(double charge_fC, std::uint32_t z, std::uint32_t base) const {
+Fault DeviceCore::density_fault(float charge_pC, std::uint32_t z, std::uint32_t base) const {
   // The contact estimated from the impedance against the baseline (the interface's
   // resistance scales as 1 / contact): base / z.
   if (std::uint64_t{z} * guards_.lost_contact_milli > std::uint64_t{base} * 1000u)
@@ -96,15 +120,16 @@ Fault DeviceCore::density_fault(double charge_fC, std::uint32_t z, std::uint32_t
   if (density_limit_uC2_ <= 0) return Fault::none;
   // Shannon's k on the estimated contact area A c: log10(Q / (A c)) + log10(Q) <= k, Q in
   // uC and A in cm^2, that is Q^2 <= 10^k A c.  With c = base / z: Q^2 z <= 10^k A base.
-  const double q_uC = charge_fC * 1e-9;
-  return q_uC * q_uC * z > density_limit_uC2_ * static_cast<double>(base) ? Fault::density
-                                                                          : Fault::none;
+  const float q_uC = charge_pC * 1e-6f;
+  return q_uC * q_uC * static_cast<float>(z) > density_limit_uC2_ * static_cast<float>(base)
+             ? Fault::density
+             : Fault::none;
 }
 
-double DeviceCore::full_charge_fC(std::size_t c) const {
+float DeviceCore::full_charge_pC(std::size_t c) const {
   // The largest charge per phase any pattern of the table puts on channel c at its own
   // amplitude (not its probe): what a resumed pad is about to carry.
-  double most = 0;
+  float most = 0;
   for (std::uint16_t i = 0; i < patterns_; ++i) {
     const Pattern& p = pattern_[i];
     for (std::size_t k = 0; k < p.count; ++k) {
@@ -117,7 +142,7 @@ double DeviceCore::full_charge_fC(std::size_t c) const {
       one.width_us = timing_[i].width_us;
       one.balance_width_us = timing_[i].width_us;
       one.shape = timing_[i].shape;
-      const double q = phase_charge_fC(one, 0) * p.scale / kFullScale;
+      const float q = phase_charge_pC(one, 0) * static_cast<float>(p.scale) / kFullScale;
       if (q > most) most = q;
     }
   }
@@ -141,7 +166,7 @@ void DeviceCore::measured(std::uint64_t start_us, const PulseRecord& r, Electric
       // A probe found contact: resumed only if the pad's full charge fits the contact seen
       // (else it stays suspended: its next full pulse would break the density limit).
       const ChannelMeasurement& x = reading_[c];
-      if (density_fault(full_charge_fC(c), x.impedance_ohm, x.baseline_ohm) == Fault::none)
+      if (density_fault(full_charge_pC(c), x.impedance_ohm, x.baseline_ohm) == Fault::none)
         suspended_ &= ~bit;
     }
     reading_[c].suspended = (suspended_ & bit) != 0;
@@ -181,7 +206,7 @@ Result DeviceCore::set_guards(const FixedBytes<kMaxPayload>& payload) {
   // firmware; at most 2500 products, a relative error below 1e-12).
   double ten_k = 1.0;
   for (std::uint16_t i = 0; i < g.shannon_k_milli; ++i) ten_k *= 1.0023052380778996;
-  density_limit_uC2_ = g.area_um2 * 1e-8 * ten_k;
+  density_limit_uC2_ = static_cast<float>(g.area_um2 * 1e-8 * ten_k);
   return Result::ok;
 }
 

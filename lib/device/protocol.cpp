@@ -59,6 +59,8 @@ const char* to_string(Fault f) {
       return "an electrode needed more than the compliance voltage";
     case Fault::density:
       return "the charge density on an electrode's contact area was above the limit";
+    case Fault::stop_input:
+      return "its stop input was pressed (the output is latched off until a new session)";
   }
   return "unknown fault";
 }

@@ -150,8 +150,12 @@ enum class Fault : std::uint8_t {
   // Version 7's guards (a device that measures): the output stopped at a pulse that showed
   contact = 7,     // an electrode without contact (or with less than Guards::lost_contact)
   compliance = 8,  // an electrode needing more than the compliance voltage: not delivered
-  density = 9      // a charge density on the estimated contact area above Shannon's k
+  density = 9,     // a charge density on the estimated contact area above Shannon's k
+  // The board's stop input (a firmware's GPIO interrupt, an emulator's scripted equivalent)
+  // opened the electrode switches: the output is latched off until a new session starts.
+  stop_input = 10
 };
+inline constexpr Fault kLastFault = Fault::stop_input;
 const char* to_string(Fault f);
 
 struct Capabilities {
@@ -259,13 +263,14 @@ struct ChannelMeasurement {
 };
 inline constexpr std::size_t kChannelMeasurementSize = 13;
 inline constexpr std::uint32_t kOpenOhm = 0xFFFFFFFFu;
+inline constexpr std::uint8_t kNoChannel = 0xFF;  // a trip of no channel (the stop input)
 // What stopped the output, and the count of pulses measured since the start.
 struct MeasurementsHead {
   std::uint32_t measured = 0;  // pulses measured since the last start
   std::uint32_t suspended = 0;  // pulses delivered at the probe (kGuardSuspend) since then
-  Fault trip = Fault::none;    // contact, compliance or density; none
-  std::uint8_t trip_channel = 0;
-  std::uint32_t trip_t_us = 0;  // the tripping pulse's start, from the output's start
+  Fault trip = Fault::none;    // contact, compliance, density or stop_input; none
+  std::uint8_t trip_channel = 0;  // kNoChannel: the stop input
+  std::uint32_t trip_t_us = 0;  // the tripping pulse's start (the stop input's time), from the output's start
   std::uint32_t trip_ohm = 0;   // the channel's impedance then (kOpenOhm: no current)
   std::uint8_t first = 0, n = 0;  // the channels that follow
 };

@@ -76,7 +76,7 @@ std::vector<std::uint8_t> encode(const Status& s) {
 std::optional<Status> decode_status(const std::vector<std::uint8_t>& b, std::size_t at) {
   if (b.size() != at + kStatusSize) return std::nullopt;
   const std::uint8_t* p = b.data() + at;
-  if (p[0] > 1 || p[1] > static_cast<std::uint8_t>(Fault::density)) return std::nullopt;
+  if (p[0] > 1 || p[1] > static_cast<std::uint8_t>(kLastFault)) return std::nullopt;
   Status s;
   s.state = static_cast<State>(p[0]);
   s.fault = static_cast<Fault>(p[1]);
@@ -152,7 +152,7 @@ std::optional<Measurements> decode_measurements(const std::vector<std::uint8_t>&
   Measurements m;
   m.head.measured = get_u32(p);
   m.head.suspended = get_u32(p + 4);
-  if (p[8] > static_cast<std::uint8_t>(Fault::density)) return std::nullopt;
+  if (p[8] > static_cast<std::uint8_t>(kLastFault)) return std::nullopt;
   m.head.trip = static_cast<Fault>(p[8]);
   m.head.trip_channel = p[9];
   m.head.trip_t_us = get_u32(p + 10);

@@ -29,10 +29,13 @@ void set_skin_field(SkinInterface& s, SkinField f, double value) {
   }
 }
 
-SkinScenario::SkinScenario(const SkinInterface& base) : area_mm2_(base.area_mm2) {
+void SkinScenario::reset(const SkinInterface& base) {
+  area_mm2_ = base.area_mm2;
   for (auto& channel : start_)
     for (std::size_t f = 0; f < kSkinFields; ++f)
       channel[f] = skin_field(base, static_cast<SkinField>(f));
+  n_ = 0;
+  stops_ = 0;
 }
 
 void SkinScenario::set_override(std::size_t channel, SkinField field, double value) {
@@ -49,6 +52,20 @@ bool SkinScenario::add_event(const SkinEvent& e) {
   }
   event_[k] = e;
   ++n_;
+  return true;
+}
+
+bool SkinScenario::add_stop_input(std::uint64_t t_us) {
+  if (stops_ == kMaxStopInputs) return false;
+  stop_us_[stops_++] = t_us;
+  return true;
+}
+
+bool SkinScenario::first_stop_input(std::uint64_t& t_us) const {
+  if (stops_ == 0) return false;
+  t_us = stop_us_[0];
+  for (std::size_t k = 1; k < stops_; ++k)
+    if (stop_us_[k] < t_us) t_us = stop_us_[k];
   return true;
 }
 
@@ -94,16 +111,16 @@ struct Phases {
   std::size_t n = 0, main = 0;
 };
 
-Phases phases_of(const DeliveredPulse& p, std::size_t channel, const std::int16_t* balance) {
+Phases phases_of(const PulseRecord& r, std::size_t channel) {
   Phases ph;
-  const double step_mA = p.caps.dac_step_nA * 1e-6;
-  const double code = p.codes[channel];
-  if (p.timing.shaped()) {
-    const Shape& s = p.timing.shape;
+  const double step_mA = r.step_nA * 1e-6;
+  const double code = r.main[channel];
+  if (r.shape.n != 0) {
+    const Shape& s = r.shape;
     int strongest = 0;
     for (std::size_t k = 0; k < s.n && k < kMaxPhases; ++k) {
       ph.current_mA[k] = code * s.units[k] * step_mA;
-      ph.duration_us[k] = s.duration_us[k];
+      ph.duration_us[k] = r.measured ? r.measured_duration_us[k] : s.duration_us[k];
       const int u = s.units[k] < 0 ? -s.units[k] : s.units[k];
       if (u > strongest) {
         strongest = u;
@@ -114,40 +131,42 @@ Phases phases_of(const DeliveredPulse& p, std::size_t channel, const std::int16_
     return ph;
   }
   ph.current_mA[0] = code * step_mA;
-  ph.duration_us[0] = p.timing.width_us;
+  ph.duration_us[0] = r.measured ? r.measured_width_us : r.width_us;
   ph.current_mA[1] = 0;
-  ph.duration_us[1] = p.timing.interphase_us;
-  ph.current_mA[2] = balance[channel] * step_mA;
-  ph.duration_us[2] = p.timing.balance_width_us;
+  ph.duration_us[1] = r.measured ? r.measured_interphase_us : r.interphase_us;
+  ph.current_mA[2] = r.balance[channel] * step_mA;
+  ph.duration_us[2] = r.measured ? r.measured_balance_us : r.balance_width_us;
   ph.n = 3;
   return ph;
 }
 }  // namespace
 
 void SimulatedSkin::measure(const DeliveredPulse& p, ElectricalRecord& m) {
+  measure(record_of(p), p.start_us, m);
+}
+
+void SimulatedSkin::measure(const PulseRecord& r, std::uint64_t start_us, ElectricalRecord& m) {
   m = ElectricalRecord{};
-  if (p.start_us != output_start_us_) {  // a new output: every channel discharged
-    output_start_us_ = p.start_us;
+  if (start_us != output_start_us_) {  // a new output: every channel discharged
+    output_start_us_ = start_us;
     for (std::size_t c = 0; c < kMaxChannels; ++c) {
       state_[c] = SkinState{};
-      last_us_[c] = p.start_us;
+      last_us_[c] = start_us;
     }
   }
-  std::int16_t balance[kMaxChannels] = {};
-  if (!p.timing.shaped())
-    balance_codes(p.codes, p.timing.width_us, p.timing.balance_width_us, balance);
-  const std::uint64_t t_us = p.t_us >= p.start_us ? p.t_us - p.start_us : 0;
-  for (std::size_t c = 0; c < p.codes.size() && c < kMaxChannels; ++c) {
+  const std::uint64_t t_us = r.t_us;  // from the output's start
+  const std::uint64_t t_abs = start_us + t_us;
+  for (std::size_t c = 0; c < r.channels && c < kMaxChannels; ++c) {
     const SkinInterface s = scenario_.at(c, t_us);
-    if (p.t_us > last_us_[c])  // discharged since its last pulse
-      phase_voltage_V(s, state_[c], 0.0, static_cast<double>(p.t_us - last_us_[c]));
-    const Phases ph = phases_of(p, c, balance);
+    if (t_abs > last_us_[c])  // discharged since its last pulse
+      phase_voltage_V(s, state_[c], 0.0, static_cast<double>(t_abs - last_us_[c]));
+    const Phases ph = phases_of(r, c);
     double end_V[kMaxPhases + 2] = {};
     const double peak_V =
         pulse_peak_voltage_V(s, state_[c], ph.current_mA, ph.duration_us, ph.n, end_V);
     double length_us = 0;
     for (std::size_t k = 0; k < ph.n; ++k) length_us += ph.duration_us[k];
-    last_us_[c] = p.t_us + static_cast<std::uint64_t>(length_us);
+    last_us_[c] = t_abs + static_cast<std::uint64_t>(length_us);
     const double i = ph.current_mA[ph.main];
     if (i == 0) continue;
     m.carried[c] = true;

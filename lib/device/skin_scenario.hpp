@@ -35,7 +35,10 @@ class SkinScenario {
   static constexpr std::size_t kMaxEvents = 512;  // field changes, all events together
 
   // Every channel starts from `base` (its area too).
-  explicit SkinScenario(const SkinInterface& base = SkinInterface{});
+  explicit SkinScenario(const SkinInterface& base = SkinInterface{}) { reset(base); }
+  // As constructed from base: no overrides, events or stop inputs (in place: a firmware
+  // has no room for a second scenario on its stack).
+  void reset(const SkinInterface& base);
 
   // Channel c starts with `field` at `value` instead of the base's.
   void set_override(std::size_t channel, SkinField field, double value);
@@ -43,10 +46,26 @@ class SkinScenario {
   // in any order: evaluation takes them by time, and in the order added at one time.
   bool add_event(const SkinEvent& e);
 
+  // The board's stop input pressed at t_us from the start of every output (an emulator's
+  // equivalent of the firmware's GPIO stop input); false when kMaxStopInputs are held.
+  static constexpr std::size_t kMaxStopInputs = 16;
+  bool add_stop_input(std::uint64_t t_us);
+  // The earliest stop input in an output, into t_us; false when there is none.
+  bool first_stop_input(std::uint64_t& t_us) const;
+
   // Channel c's interface at t_us from the start of the output.
   SkinInterface at(std::size_t channel, std::uint64_t t_us) const;
 
+  // What the scenario holds (skin_block.hpp writes it so): each channel's starting value of
+  // each field, the pads' area, the events in time order, the stop inputs.
+  double start_value(std::size_t channel, SkinField f) const {
+    return start_[channel][static_cast<std::size_t>(f)];
+  }
+  double area_mm2() const { return area_mm2_; }
   std::size_t events() const { return n_; }
+  const SkinEvent& event(std::size_t k) const { return event_[k]; }
+  std::size_t stop_inputs() const { return stops_; }
+  std::uint64_t stop_input(std::size_t k) const { return stop_us_[k]; }
 
  private:
   double field_at(std::size_t channel, SkinField f, std::uint64_t t_us) const;
@@ -55,6 +74,8 @@ class SkinScenario {
   double area_mm2_ = 1.0;
   SkinEvent event_[kMaxEvents];
   std::size_t n_ = 0;
+  std::uint64_t stop_us_[kMaxStopInputs] = {};
+  std::size_t stops_ = 0;
 };
 
 // What an emulator's (or a simulated board's) electrodes touch: each channel's interface
@@ -74,8 +95,13 @@ class SimulatedSkin {
   // The pulse delivered at p.t_us (its output started at p.start_us; the scenario's time is
   // from there, and a new output starts every channel discharged), measured into m.
   void measure(const DeliveredPulse& p, ElectricalRecord& m);
+  // The same from a pulse's record (a firmware's simulated board: the codes it latched and,
+  // when r.measured, the phases' durations as its clock measured them), of the output whose
+  // start command came at start_us.
+  void measure(const PulseRecord& r, std::uint64_t start_us, ElectricalRecord& m);
 
   double compliance_V() const { return compliance_V_; }
+  void set_compliance_V(double v) { compliance_V_ = v; }
 
  private:
   const SkinScenario& scenario_;

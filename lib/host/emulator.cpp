@@ -51,7 +51,7 @@ void PulseRecorder::record(const device::DeliveredPulse& p, device::DeviceCore& 
   device::PulseRecord r = device::record_of(p);
   device::ElectricalRecord measured;
   if (skin_) {
-    skin_->measure(p, measured);
+    skin_->measure(r, p.start_us, measured);
     core.measured(p.start_us, r, measured);
     r.electrical = &measured;
   }
@@ -64,6 +64,24 @@ void PulseRecorder::record(const device::DeliveredPulse& p, device::DeviceCore& 
     failed_ = true;
     throw;
   }
+}
+
+void PulseRecorder::advance(device::DeviceCore& core, std::uint64_t now_us) {
+  const auto sink = [this, &core, now_us](const device::DeliveredPulse& p) {
+    if (now_us > p.t_us) latest_us_ = std::max(latest_us_, now_us - p.t_us);
+    if (now_us > p.t_us + kLateUs) ++late_;
+    record(p, core);
+  };
+  std::uint64_t first_us = 0;
+  if (scenario_ && core.status().state == device::State::running &&
+      scenario_->first_stop_input(first_us)) {
+    const std::uint64_t stop_us = core.output_start_us() + first_us;
+    if (now_us >= stop_us) {
+      if (stop_us > 0) core.advance(stop_us - 1, sink);  // the pulses before it
+      core.stop_input(stop_us);
+    }
+  }
+  core.advance(now_us, sink);
 }
 
 device::Capabilities emulator_capabilities(device::Capabilities caps, const EmulatorSkin& skin) {
@@ -122,8 +140,7 @@ class LoopbackTransport final : public Transport {
  private:
   void advance() {
     try {
-      core_.advance(monotonic_us(),
-                    [this](const device::DeliveredPulse& p) { recorder_.record(p, core_); });
+      recorder_.advance(core_, monotonic_us());
     } catch (const Error& e) {
       // The record cannot be written (a full disk): the device's output stops at once, as
       // stim-emu's does, and the message says so.
@@ -267,12 +284,19 @@ class PtyEmulator {
       throw;
     }
     try {
-      core_.advance(monotonic_us(), sink());
+      recorder_.advance(core_, monotonic_us());
     } catch (const Error&) {
       // The record's last pulses could not be written: said below.
     }
     core_.link_lost();  // output stops before the emulator goes
     if (recorder_.failed()) failure("--record: cannot write '" + opt_.record_path + "'");
+    if (!forward() && recorder_.pulses() > 0)
+      std::fprintf(stderr,
+                   "stim-emu: %llu pulses delivered, each within %s ms of its time (%llu more "
+                   "than 1 ms late)\n",
+                   static_cast<unsigned long long>(recorder_.pulses()),
+                   number_text(static_cast<double>(recorder_.latest_us()) * 1e-3).c_str(),
+                   static_cast<unsigned long long>(recorder_.late()));
     return 0;
   }
 
@@ -280,9 +304,6 @@ class PtyEmulator {
   static constexpr std::size_t kMaxToDevice = 65536;
 
   bool forward() const { return !opt_.forward_socket.empty(); }
-  std::function<void(const device::DeliveredPulse&)> sink() {
-    return [this](const device::DeliveredPulse& p) { recorder_.record(p, core_); };
-  }
 
   // The pseudo-terminal; its slave kept open here in raw mode, so that the line behaves
   // like a serial port (no echo, no line editing) and reads on the master never fail while
@@ -323,7 +344,7 @@ class PtyEmulator {
     }
     stalled_ = opt_.faults.stall_after_s >= 0 && up_s >= opt_.faults.stall_after_s &&
                up_s < opt_.faults.stall_after_s + opt_.faults.stall_s;
-    core_.advance(now, sink());
+    recorder_.advance(core_, now);
     send_due(now);
     pollfd pfds[2];
     const int pr = wait(now, pfds);
@@ -345,17 +366,17 @@ class PtyEmulator {
   int wait(std::uint64_t now, pollfd (&pfds)[2]) {
     std::uint64_t next = forward() ? UINT64_MAX : core_.next_event_us();
     if (!replies_.empty()) next = std::min(next, replies_.front().first);
-    int timeout_ms = 5;
-    if (next != UINT64_MAX)
-      timeout_ms = next <= now
-                       ? 0
-                       : static_cast<int>(std::min<std::uint64_t>((next - now + 999) / 1000, 5));
+    // To the microsecond (ppoll), so that pulses are not late by poll's rounding up to a
+    // millisecond; at most 5 ms.
+    std::uint64_t wait_us = 5000;
+    if (next != UINT64_MAX) wait_us = next <= now ? 0 : std::min<std::uint64_t>(next - now, 5000);
+    const timespec timeout{0, static_cast<long>(wait_us * 1000)};
     const bool read_host = !stalled_ && (!forward() || to_device_.size() < kMaxToDevice);
     const short device_events =
         static_cast<short>(stalled_ ? 0 : (POLLIN | (to_device_.empty() ? 0 : POLLOUT)));
     pfds[0] = {master_, static_cast<short>(read_host ? POLLIN : 0), 0};
     pfds[1] = {device_fd_, device_events, 0};
-    return poll(pfds, forward() ? 2 : 1, timeout_ms);
+    return ppoll(pfds, forward() ? 2 : 1, &timeout, nullptr);
   }
 
   // Replies whose time has come, oldest first.  A host that does not read fills the line:
@@ -425,7 +446,7 @@ class PtyEmulator {
     inject(bytes, opt_.faults, rng_);
     out_.clear();
     const std::uint64_t t_rx = monotonic_us();
-    core_.advance(t_rx, sink());
+    recorder_.advance(core_, t_rx);
     core_.receive(bytes.data(), bytes.size(), t_rx, out_);
     log_events(t_rx);
     inject(out_, opt_.faults, rng_);

@@ -34,7 +34,18 @@ class PulseRecorder {
   // Records the pulse; with a skin, measures it first and reports the readings to the
   // core (DeviceCore::measured: its guards may end the output before the next pulse).
   void record(const device::DeliveredPulse& p, device::DeviceCore& core);
+  // The emulated board's turn at now_us: the core's pulses due, each recorded; and, when the
+  // skin presses the stop input (its stop_input events) within a running output, the pulses
+  // before it, then DeviceCore::stop_input at its time (the firmware's GPIO stop input).
+  void advance(device::DeviceCore& core, std::uint64_t now_us);
   std::uint64_t pulses() const { return pulses_; }
+  // The most any pulse came after its time (the time advance() was called for it, less
+  // its scheduled start), us: how late the emulator delivers.
+  std::uint64_t latest_us() const { return latest_us_; }
+  // The pulses that came more than kLateUs after their time (the process was descheduled:
+  // an emulator is a user-space program; each is delivered all the same, in order).
+  static constexpr std::uint64_t kLateUs = 1000;
+  std::uint64_t late() const { return late_; }
   double peak_mA() const { return peak_mA_; }
   bool failed() const { return failed_; }
 
@@ -44,6 +55,7 @@ class PulseRecorder {
   std::optional<device::SimulatedSkin> skin_;
   bool failed_ = false;
   std::uint64_t pulses_ = 0;
+  std::uint64_t latest_us_ = 0, late_ = 0;
   double peak_mA_ = 0.0;
 };
 

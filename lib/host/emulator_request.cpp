@@ -1,5 +1,7 @@
 #include "host/emulator_request.hpp"
 
+#include "core/files.hpp"
+#include "device/skin_block.hpp"
 #include "host/skin_file.hpp"
 
 #include <cmath>
@@ -70,6 +72,20 @@ PtyEmulatorOptions pty_emulator_options(const EmulatorRequest& r) {
   o.event_log_path = r.event_log_path;
   o.forward_socket = r.forward_socket;
   return o;
+}
+
+std::size_t write_skin_block(const EmulatorRequest& r, const std::string& path) {
+  if (r.skin_path.empty())
+    bad_input("--skin-block: needs --skin (the skin the firmware's simulated board runs)");
+  const PtyEmulatorOptions o = pty_emulator_options(r);
+  std::string block(device::kSkinBlockMaxSize, '\0');
+  const std::size_t n = device::encode_skin_block(
+      *o.skin.scenario, static_cast<std::size_t>(r.channels), o.skin.compliance_V,
+      reinterpret_cast<std::uint8_t*>(block.data()));
+  if (n == 0) bad_input("--skin-block: the skin cannot be written as a block");
+  block.resize(n);
+  write_file_atomically(path, block, "--skin-block");
+  return n;
 }
 
 }  // namespace tp::host

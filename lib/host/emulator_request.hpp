@@ -40,4 +40,9 @@ struct EmulatorRequest {
 // step the device core derives from it.
 PtyEmulatorOptions pty_emulator_options(const EmulatorRequest& r);
 
+// stim-emu --skin-block FILE: the request's skin (--skin, required) and compliance, checked as
+// pty_emulator_options checks them, written to path as the firmware's simulated board reads
+// them (device/skin_block.hpp; scripts/firmware-emu --skin), atomically.  Returns its size.
+std::size_t write_skin_block(const EmulatorRequest& r, const std::string& path);
+
 }  // namespace tp::host

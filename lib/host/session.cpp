@@ -617,6 +617,14 @@ bool SessionRun::device_ended(const device::Status& st) {
   }
   const std::string counts =
       std::to_string(st.pulses) + " of " + number_text(plan_.pulses) + " pulses delivered";
+  if (st.fault == device::Fault::stop_input) {
+    const device::MeasurementsHead h = read_measurements();
+    const std::string when = h.trip == device::Fault::stop_input
+                                 ? " at t = " + number_text(h.trip_t_us * 1e-6) + " s"
+                                 : "";
+    failure("device stopped the output: its stop input was pressed" + when +
+            " (the output is latched off until a new session); " + counts);
+  }
   if (st.fault == device::Fault::contact || st.fault == device::Fault::compliance ||
       st.fault == device::Fault::density) {
     const std::string trip = guard_trip_text(read_measurements(), rep_.caps);

@@ -114,9 +114,21 @@ void add_overrides(const Json& list, std::size_t channels, device::SkinScenario&
 
 void add_events(const Json& list, std::size_t channels, device::SkinScenario& s,
                 const std::string& where) {
-  for_each_object(list, field_keys({"t_s", "ramp_s", "channels", "note"}), where,
+  for_each_object(list, field_keys({"t_s", "ramp_s", "channels", "stop_input", "note"}), where,
                   [&](const Json& e, const std::string& at) {
     if (!e.contains("t_s")) bad_input(at + ": no t_s");
+    if (e.contains("stop_input")) {  // the board's stop input, pressed at t_s
+      if (!e["stop_input"].is_boolean() || !e["stop_input"].get<bool>())
+        bad_input(at + ".stop_input: expected true");
+      for (const auto& [key, value] : e.items())
+        if (key != "t_s" && key != "stop_input" && key != "note")
+          bad_input(at + ": a stop input has only t_s (found '" + key + "')");
+      if (!s.add_stop_input(
+              static_cast<std::uint64_t>(std::llround(seconds(e, "t_s", at) * 1e6))))
+        bad_input(at + ": more than " + std::to_string(device::SkinScenario::kMaxStopInputs) +
+                  " stop inputs");
+      return;
+    }
     if (!e.contains("channels")) bad_input(at + ": no channels");
     device::SkinEvent ev;
     ev.t_us = static_cast<std::uint64_t>(std::llround(seconds(e, "t_s", at) * 1e6));

@@ -413,3 +413,36 @@ TEST_CASE("protocol 7: the capabilities carry the compliance, version 6's read w
   v6.resize(kCapabilitiesSize);
   CHECK(!decode_capabilities(v6, 0));
 }
+
+TEST_CASE("stop input: the output ends at once, and only a new session delivers again",
+          "[device][guards]") {
+  DeviceCore core(measuring_caps());
+  REQUIRE(start_output(core, 1024, 200) == Result::ok);
+  const std::size_t before = run(core, [](std::size_t, std::size_t, std::int32_t i) {
+    return ohmic(i, 20000);
+  }, 12000);  // pulses at 0, 5 and 10 ms
+  CHECK(before == 3);
+  const std::uint32_t ends = core.output_ends();
+  core.stop_input(12345);
+  CHECK(core.output_ends() == ends + 1);  // the firmware's engine follows it
+  CHECK(core.status().state == State::idle);
+  CHECK(core.status().fault == Fault::stop_input);
+  CHECK(core.status().pulses == 3);
+  std::size_t after = 0;
+  core.advance(100000, [&](const DeliveredPulse&) { ++after; });
+  CHECK(after == 0);
+  const Measurements m = query(core, 0, 8);
+  CHECK(m.head.trip == Fault::stop_input);
+  CHECK(m.head.trip_channel == kNoChannel);
+  CHECK(m.head.trip_t_us == 12345);
+  // The old session cannot be restarted: its token ended with it.
+  CHECK(send(core, 90, Msg::start, with_session(kToken, {}), 13000) == Result::wrong_session);
+  // Pressed while idle, it still counts as an end (the stage stops and stays off).
+  core.stop_input(14000);
+  CHECK(core.output_ends() == ends + 2);
+  // A new session delivers again.
+  REQUIRE(start_output(core, 1024, 200) == Result::ok);
+  CHECK(core.status().state == State::running);
+  CHECK(core.status().fault == Fault::none);
+  CHECK(std::string(to_string(Fault::stop_input)).find("stop input") != std::string::npos);
+}

@@ -5,9 +5,11 @@
 #include <catch2/catch.hpp>
 
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/json.hpp"
+#include "device/skin_block.hpp"
 #include "host/skin_file.hpp"
 #include "model/skin.hpp"
 
@@ -103,4 +105,70 @@ TEST_CASE("skin files: bad fields refused by name", "[host][skin]") {
                                 Json{{"resistivity_ohm_m", 2.3}}});
   CHECK(skin_from_json(both, "--skin both.json").layers.size() == 2);
   CHECK(host::skin_scenario_from_json(both, 8, "--skin both.json").events() == 3);
+}
+
+TEST_CASE("skin files: the stop input pressed, and its refusals", "[host][skin]") {
+  const std::string head = R"({"format": "tactile-primaries/skin/1", "electrode": {}, "events": )";
+  const device::SkinScenario s = host::skin_scenario_from_json(
+      parse_json_strict(head + R"([{"t_s": 0.7, "stop_input": true}, {"t_s": 0.35, "stop_input": true}]})", "skin"),
+      8, "--skin s.json");
+  std::uint64_t t = 0;
+  REQUIRE(s.first_stop_input(t));
+  CHECK(t == us(0.35));
+  CHECK(s.stop_inputs() == 2);
+  CHECK(s.events() == 0);
+  CHECK(refusal(head + R"([{"t_s": 1, "stop_input": false}]})") ==
+        "--skin s.json: events[0].stop_input: expected true");
+  CHECK(refusal(head + R"([{"t_s": 1, "stop_input": true, "channels": [0]}]})") ==
+        "--skin s.json: events[0]: a stop input has only t_s (found 'channels')");
+  CHECK(refusal(head + R"([{"stop_input": true}]})") == "--skin s.json: events[0]: no t_s");
+  std::string many = head + "[";
+  for (int k = 0; k < 17; ++k) many += std::string(k ? "," : "") + R"({"t_s": 1, "stop_input": true})";
+  CHECK(refusal(many + "]}") == "--skin s.json: events[16]: more than 16 stop inputs");
+}
+
+TEST_CASE("skin blocks: the firmware's simulated board reads back the scenario exactly",
+          "[host][skin][device]") {
+  device::SkinScenario s =
+      host::skin_scenario_from_json(parse_json_strict(kExample, "skin"), 8, "--skin s.json");
+  REQUIRE(s.add_stop_input(us(0.75)));
+  std::vector<std::uint8_t> block(device::kSkinBlockMaxSize);
+  const std::size_t n = device::encode_skin_block(s, 8, 20.0, block.data());
+  // Header 23, 8 channels x 5 values, 3 counts, 3 events, 1 stop input, the CRC.
+  CHECK(n == 23 + 8 * 5 * 8 + 3 + 3 * device::kSkinEventSize + 8 + 2);
+  device::SkinScenario back;
+  double compliance = 0;
+  REQUIRE(device::decode_skin_block(block.data(), block.size(), back, compliance));
+  CHECK(compliance == 20.0);
+  CHECK(back.events() == 3);
+  std::uint64_t t = 0;
+  REQUIRE(back.first_stop_input(t));
+  CHECK(t == us(0.75));
+  for (std::size_t c = 0; c < 8; ++c)
+    for (double ts : {0.0, 0.1, 0.2, 0.5, 1.0, 3.0}) {
+      const device::SkinInterface a = s.at(c, us(ts)), b = back.at(c, us(ts));
+      CHECK(a.rs_kohm == b.rs_kohm);
+      CHECK(a.rp_kohm == b.rp_kohm);
+      CHECK(a.cp_nf == b.cp_nf);
+      CHECK(a.contact == b.contact);
+      CHECK(a.area_mm2 == b.area_mm2);
+    }
+  // Every single corrupted byte is refused (the CRC, or a field's check), and a refused block
+  // leaves the scenario as it was; so does erased flash.
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<std::uint8_t> bad(block.begin(), block.begin() + static_cast<long>(n));
+    bad[i] ^= 0x10;
+    device::SkinScenario kept;
+    REQUIRE(kept.add_stop_input(5));
+    double v = 7;
+    CHECK_FALSE(device::decode_skin_block(bad.data(), bad.size(), kept, v));
+    CHECK(kept.stop_inputs() == 1);
+    CHECK(v == 7);
+  }
+  const std::vector<std::uint8_t> erased(device::kSkinBlockMaxSize, 0xFF);
+  CHECK_FALSE(device::decode_skin_block(erased.data(), erased.size(), back, compliance));
+  // A block cut short is refused; nor can one be written without channels or compliance.
+  CHECK_FALSE(device::decode_skin_block(block.data(), n - 1, back, compliance));
+  CHECK(device::encode_skin_block(s, 0, 20.0, block.data()) == 0);
+  CHECK(device::encode_skin_block(s, 8, 0.0, block.data()) == 0);
 }

@@ -25,6 +25,13 @@ constexpr Board make() {
   b.dac_ldac = {1, 8};       // PB8
   b.output_enable = {1, 9};  // PB9
   b.hold_low = {0xFF, 0};    // none
+  const std::uint8_t sense[8] = {10, 11, 12, 13, 14, 15, 8, 9};  // PC0-PC5 (A0-A5), PB0-1
+  for (int c = 0; c < 8; ++c) b.sense_adc[c] = sense[c];
+  b.sense_zero_code = 2048;       // +-60 V -> 0-3.3 V (firmware/README.md)
+  b.sense_uV_per_code = 29297;
+  b.compliance_V = 60;
+  b.stop_input = {2, 13};         // PC13, to ground through a normally-open switch (pull-up)
+  b.stop_active_high = false;
   b.min_phase_us = 20;
   return b;
 }

@@ -26,6 +26,13 @@ constexpr Board make() {
   b.dac_ldac = {3, 0};       // PD0
   b.output_enable = {3, 1};  // PD1
   b.hold_low = {3, 4};       // PD4: the CS43L22 codec's reset, so that it leaves PB6 alone
+  const std::uint8_t sense[8] = {1, 8, 9, 11, 12, 14, 15, 4};  // PA1, PB0-1, PC1-2, PC4-5, PA4
+  for (int c = 0; c < 8; ++c) b.sense_adc[c] = sense[c];
+  b.sense_zero_code = 2048;  // +-60 V -> 0-3.3 V (firmware/README.md)
+  b.sense_uV_per_code = 29297;
+  b.compliance_V = 60;
+  b.stop_input = {0, 0};  // PA0: the B1 button (pressed: high; the board's pull-down)
+  b.stop_active_high = true;
   b.min_phase_us = 20;
   return b;
 }
