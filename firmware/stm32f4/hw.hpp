@@ -51,6 +51,10 @@ class Clock {
  public:
   void init(std::uint32_t timer_hz);
   std::uint64_t now_us();
+  // The counter's microseconds alone (the low 32 bits of now_us()), one register read: for
+  // a wait's last microseconds, whose readings must come faster than the counter ticks.
+  // now_us() must still be called at least every 71 minutes (the firmware's loop does).
+  static std::uint32_t counter() { return reg::at(reg::TIM2 + reg::tim::CNT); }
 
  private:
   std::uint32_t last_ = 0;

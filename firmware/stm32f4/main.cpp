@@ -368,12 +368,13 @@ extern "C" void firmware_main() {
     device::PulseRecord r;
     std::uint16_t raw[kSenseChannels];
     std::uint64_t output_us = 0;
-    while (g_engine.pop_record(r, raw, output_us)) {
+    while (g_engine.pop_record(r, output_us, raw)) {
       if (g_sense) {
         g_sense->reading(r, output_us, raw, g_electrical);
         core.measured(output_us, r, g_electrical);
         r.electrical = &g_electrical;
-        follow();
+        follow();  // a trip drops the engine's queue first
+        g_engine.readings_done();
       }
       r.dropped_before += monitor_lost;
       const std::size_t len = device::format_record(r, g_line);

@@ -91,6 +91,7 @@ void PulseEngine::stop_input() {
 }
 
 bool PulseEngine::take_stop() {
+  if (!stop_event_) return false;  // the loop's every turn: no critical section
   reg::CriticalSection cs;
   const bool event = stop_event_;
   stop_event_ = false;
@@ -109,11 +110,18 @@ void PulseEngine::sample_if_measured(int edge_index) {
 bool PulseEngine::pop_record(device::PulseRecord& r) {
   std::uint16_t raw[kSenseChannels];
   std::uint64_t output_us = 0;
-  return pop_record(r, raw, output_us);
+  return pop_record(r, output_us, raw);
 }
 
-bool PulseEngine::pop_record(device::PulseRecord& r, std::uint16_t* raw,
-                             std::uint64_t& output_us) {
+void PulseEngine::readings_done() {
+  reg::CriticalSection cs;
+  if (unguarded_ != 0) unguarded_ = unguarded_ - 1;
+  const std::uint64_t now = clock_->now_us();
+  alarm_->set(now, now);  // a pulse may be waiting for it
+}
+
+bool PulseEngine::pop_record(device::PulseRecord& r, std::uint64_t& output_us,
+                             std::uint16_t* raw) {
   reg::CriticalSection cs;
   if (rec_head_ == rec_tail_) return false;
   const std::uint32_t k = rec_tail_ % kRecords;
@@ -154,7 +162,15 @@ void PulseEngine::edge(std::uint64_t scheduled, int index) {
                                                                               : rate);
       }
     } else {
-      now = clock_->now_us();
+      // The last microseconds: the counter alone, a few instructions a reading (a full
+      // now_us() took ~30 under QEMU, nearly a microsecond of its core, so the releasing
+      // reading could come 2 us after the edge's microsecond).
+      const auto target = static_cast<std::uint32_t>(scheduled);
+      std::uint32_t c = Clock::counter();
+      for (std::uint32_t k = 0; static_cast<std::int32_t>(c - target) < 0 && k < 1000000u; ++k)
+        c = Clock::counter();
+      const auto d = static_cast<std::int32_t>(c - target);
+      now = d >= 0 ? scheduled + static_cast<std::uint32_t>(d) : clock_->now_us();
     }
   }
   // The edge's time is the reading that released it: the LDAC pulse follows that reading
@@ -171,8 +187,9 @@ void PulseEngine::on_alarm() {
     const std::uint64_t now = clock_->now_us();
     more = false;
     if (phase_ == Phase::idle) {
-      // The stop input latched: nothing more starts; the main loop drops the queue.
-      if (job_head_ == job_tail_ || stop_latched_) break;
+      // The stop input latched: nothing more starts; the main loop drops the queue.  Nor
+      // while the last pulse's readings are unguarded (readings_done).
+      if (job_head_ == job_tail_ || stop_latched_ || unguarded_ != 0) break;
       const PulseJob& job = jobs_[job_tail_ % kJobs];
       if (!loaded_) {
         if (job.shape.n != 0)
@@ -352,8 +369,11 @@ void PulseEngine::finish_pulse() {
       for (std::size_t k = 0; k < job.shape.n; ++k)
         r.measured_duration_us[k] = static_cast<std::uint32_t>(edges_[k + 1] - edges_[k]);
     }
-    std::copy(sampled_, sampled_ + kSenseChannels, samples_[rec_head_ % kRecords]);
-    record_output_us_[rec_head_ % kRecords] = job.start_us;
+    if (sense_) {  // its samples, kept with it; and no next pulse until they are guarded
+      std::copy(sampled_, sampled_ + kSenseChannels, samples_[rec_head_ % kRecords]);
+      record_output_us_[rec_head_ % kRecords] = job.start_us;
+      unguarded_ = unguarded_ + 1;
+    }
     r.dropped_before = records_lost_;
     records_lost_ = 0;
     rec_head_ = rec_head_ + 1;

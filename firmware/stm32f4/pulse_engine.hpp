@@ -65,7 +65,12 @@ class PulseEngine {
   void finish_output();  // the queued pulses first (a completed stimulus)
   bool pop_record(device::PulseRecord& r);
   // The same, with the pulse's samples (set_sense) and its output's start command.
-  bool pop_record(device::PulseRecord& r, std::uint16_t* raw, std::uint64_t& output_us);
+  bool pop_record(device::PulseRecord& r, std::uint64_t& output_us, std::uint16_t* raw);
+  // A board that measures: no pulse starts while a delivered pulse's readings are still to
+  // be guarded (the main loop calls this once the core has them, after following the
+  // core), so a guard that trips always stops the output before the next pulse, whatever
+  // the rate; at the rates the device reports, the loop keeps up.
+  void readings_done();
 
   // The stop input (its interrupt, above the engine's): the electrode switches are already
   // open; the queue is dropped and the pulse in flight ends with them open, and no output
@@ -109,6 +114,7 @@ class PulseEngine {
   std::uint16_t sampled_[kSenseChannels] = {};  // the pulse in flight's
   std::uint8_t sense_edge_ = 1;                  // the edge it is sampled before
   volatile bool stop_latched_ = false, stop_event_ = false;
+  volatile std::uint32_t unguarded_ = 0;  // measured pulses whose readings the core lacks
   volatile std::uint32_t rec_head_ = 0, rec_tail_ = 0;
   volatile std::uint32_t records_lost_ = 0;
   std::uint32_t lost_ = 0;

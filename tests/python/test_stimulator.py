@@ -405,3 +405,23 @@ def test_an_emulator_with_a_skin_records_what_it_measured(tmp_path, sai_doc):
         with pytest.raises(tp.BadInput, match=words):
             with tp.Stimulator("emu", **bad) as s:
                 s.deliver(stim)
+
+
+def test_the_stop_input_ends_a_delivery_and_a_new_session_delivers_again(tmp_path, sai_doc):
+    # Issue 41, item 4: the skin's stop_input event presses the emulated board's stop input
+    # 0.25 s into each output: the delivery fails saying so, with exactly the pulses before
+    # it delivered; the same Stimulator's next delivery (a new session) starts again.
+    skin = tmp_path / "skin.json"
+    skin.write_text(json.dumps({
+        "format": "tactile-primaries/skin/1",
+        "electrode": {"rs_kohm": 1.0, "rp_kohm": 50.0, "cp_nf": 30.0},
+        "events": [{"t_s": 0.25, "stop_input": True}]}))
+    rec = tmp_path / "rec.jsonl"
+    stim = tp.make_pulse(sai_doc, 1.0, 10, duration_s=0.5)
+    with tp.Stimulator("emu", record=str(rec), emu_skin=str(skin)) as s:
+        for _ in range(2):
+            with pytest.raises(tp.Failure, match=r"its stop input was pressed at t = 0.25 s "
+                                                 r"\(the output is latched off until a new "
+                                                 r"session\); 3 of 5 pulses delivered"):
+                s.deliver(stim)
+    assert [p["t_s"] for p in records(rec)] == [0, 0.1, 0.2] * 2

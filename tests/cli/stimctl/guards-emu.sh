@@ -8,6 +8,7 @@
 #    1.71 at full contact, 2.31 on a quarter; a 100 V compliance and Rp 10 kOhm, so that
 #    the quarter needs 78 V): the output stops at the first pulse that breaks the density
 #    limit ("density"), so the limit is never broken twice;
+#  - the lift at 100 pulses a second: the pulse at 0.45 s is the last;
 #  - the same skins without the events: every pulse delivered, exit 0.
 source "$TP_SOURCE/tests/cli/stimctl/common.sh"
 make_stimulus stim.json --frequency 10 --duration 1
@@ -39,6 +40,16 @@ grep -q "channel 2 lost contact at t = 0.5 s (no current flowed); 6 of 10 pulses
 [[ $(last_t lift.jsonl) == 0.5 ]] || fail "lifted pad: pulses after 0.5 s: $(last_t lift.jsonl)"
 jq -se '.[-1] | .voltage_V[2] == -20 and .impedance_kohm[2] == null' lift.jsonl > /dev/null \
   || fail "lifted pad: the last record: $(tail -1 lift.jsonl)"
+
+# The same lift at 100 pulses a second: the pulse at 0.45 s is the last (the firmware's
+# engine starts no pulse before the last one's readings are guarded).
+cp lift.json lift100.json
+make_stimulus fast.json --frequency 100 --duration 1
+guarded lift100.json fast.json 20
+[[ $RC == 1 ]] || fail "lifted pad at 100 Hz: exit $RC: $(cat lift100.err)"
+grep -q "channel 2 lost contact at t = 0.45 s (no current flowed); 46 of 100 pulses delivered" lift100.err \
+  || fail "lifted pad at 100 Hz: $(cat lift100.err)"
+[[ $(last_t lift100.jsonl) == 0.45 ]] || fail "lifted pad at 100 Hz: pulses after 0.45 s: $(last_t lift100.jsonl)"
 
 guarded rs.json stim.json 20
 [[ $RC == 1 ]] || fail "compliance: exit $RC: $(cat rs.err)"
