@@ -186,7 +186,15 @@ class DeviceCore {
   std::uint16_t hold_scale(std::uint16_t i) const;
   Result measurements(const FixedBytes<kMaxPayload>& payload, FixedBytes<kMaxPayload>& body) const;
   // The guards (device_guards.cpp): the first channel of the pulse that trips, and why.
-  Fault check_channel(const PulseRecord& r, ElectricalRecord& m, std::size_t c);
+  // What a pulse's charge per phase and asked current take, once a pulse
+  // (device_guards.cpp).
+  struct PulseTerms {
+    float uC_per_code_us = 0;  // step x 1e-9: a code for a microsecond, in uC
+    float shaped_uC_per_code = 0;  // a shape's largest same-sign run, in uC a code
+    std::uint32_t units = 1;       // the measured phase's units (a shape's strongest)
+  };
+  Fault check_channel(const PulseRecord& r, const PulseTerms& t, ElectricalRecord& m,
+                      std::size_t c);
   // Lost contact or density for a charge per phase (fC) at impedance z against base.
   Fault density_fault(float charge_pC, std::uint32_t z, std::uint32_t base) const;
   float full_charge_pC(std::size_t c) const;  // the table's largest on channel c

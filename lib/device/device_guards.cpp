@@ -48,14 +48,14 @@ float phase_charge_pC(const PulseRecord& r, std::size_t c) {
          1e-3f;
 }
 
-// The current asked of channel c in the phase measured (a shaped pulse's strongest), nA.
-std::uint64_t asked_nA(const PulseRecord& r, std::size_t c) {
+// The measured phase's units (a shaped pulse's strongest; 1 for a biphasic pulse).
+std::uint32_t measured_units(const PulseRecord& r) {
   std::uint32_t units = r.shape.n == 0 ? 1 : 0;
   for (std::size_t k = 0; k < r.shape.n && k < kMaxPhases; ++k) {
     const std::uint32_t u = magnitude(r.shape.units[k]);
     if (u > units) units = u;
   }
-  return std::uint64_t{magnitude(r.main[c])} * r.step_nA * units;
+  return units;
 }
 
 // |V / I|, ohm: mV / nA = 10^6 ohm; kOpenOhm when no current flowed (below 1 nA).
@@ -89,7 +89,8 @@ std::uint32_t impedance_ohm(std::int32_t voltage_mV, std::int32_t current_nA) {
 
 }  // namespace
 
-Fault DeviceCore::check_channel(const PulseRecord& r, ElectricalRecord& m, std::size_t c) {
+Fault DeviceCore::check_channel(const PulseRecord& r, const PulseTerms& t, ElectricalRecord& m,
+                                std::size_t c) {
   if (!m.carried[c]) {  // its last reading stands (another pattern's pulse, say)
     m.impedance_ohm[c] = 0;
     return Fault::none;
@@ -105,11 +106,29 @@ Fault DeviceCore::check_channel(const PulseRecord& r, ElectricalRecord& m, std::
   // (almost nothing flowed), or through one that needs more than the compliance.
   if (m.at_rail[c]) {
     const std::uint64_t delivered = magnitude(m.current_nA[c]);
-    return delivered * 1000u < asked_nA(r, c) * lost ? Fault::contact : Fault::compliance;
+    const std::uint64_t asked_nA = std::uint64_t{magnitude(r.main[c])} * r.step_nA * t.units;
+    return delivered * 1000u < asked_nA * lost ? Fault::contact : Fault::compliance;
   }
   if (z == kOpenOhm) return Fault::contact;  // no current flowed, whatever the rail said
   if (reading.baseline_ohm == 0 || z < reading.baseline_ohm) reading.baseline_ohm = z;
-  return density_fault(phase_charge_pC(r, c), z, reading.baseline_ohm);
+  const std::uint32_t base = reading.baseline_ohm;
+  // The contact estimated from the impedance against the baseline (the interface's
+  // resistance scales as 1 / contact): base / z.
+  if (std::uint64_t{z} * lost > std::uint64_t{base} * 1000u) return Fault::contact;
+  if (density_limit_uC2_ <= 0) return Fault::none;
+  // The charge per phase (phase_charge_pC's, from the pulse's terms), then Shannon's k on
+  // the estimated contact area (density_fault).
+  float q_uC;
+  if (r.shape.n != 0) {
+    q_uC = static_cast<float>(magnitude(r.main[c])) * t.shaped_uC_per_code;
+  } else {
+    const std::uint32_t main = magnitude(r.main[c]) * std::uint32_t{r.width_us};  // < 2^31
+    const std::uint32_t balance = magnitude(r.balance[c]) * std::uint32_t{r.balance_width_us};
+    q_uC = static_cast<float>(main > balance ? main : balance) * t.uC_per_code_us;
+  }
+  return q_uC * q_uC * static_cast<float>(z) > density_limit_uC2_ * static_cast<float>(base)
+             ? Fault::density
+             : Fault::none;
 }
 
 Fault DeviceCore::density_fault(float charge_pC, std::uint32_t z, std::uint32_t base) const {
@@ -153,8 +172,14 @@ void DeviceCore::measured(std::uint64_t start_us, const PulseRecord& r, Electric
   if (start_us != start_us_) return;  // an earlier output's
   ++readings_.measured;
   const bool suspend = (guards_.flags & kGuardSuspend) != 0;
+  PulseTerms t;
+  t.uC_per_code_us = static_cast<float>(r.step_nA) * 1e-9f;
+  if (r.shape.n != 0)
+    t.shaped_uC_per_code =
+        static_cast<float>(r.step_nA) * static_cast<float>(largest_run_unit_us(r.shape)) * 1e-9f;
+  t.units = measured_units(r);
   for (std::size_t c = 0; c < r.channels && c < kMaxChannels; ++c) {
-    const Fault f = check_channel(r, m, c);
+    const Fault f = check_channel(r, t, m, c);
     const std::uint64_t bit = std::uint64_t{1} << c;
     // Suspending: a pad without contact pauses the patterns that drive it (pulse_codes
     // delivers only their probe); a probe that finds it again resumes them.
