@@ -5,7 +5,7 @@
 #    advance above 6000.
 #  - The guards (protocol 7): DeviceCore::measured on the same table with the density guard
 #    on, 8 channels carrying current in every pulse: at most 2000 instructions a pulse
-#    (1531 measured: 191 a channel; issue 41 asks 500, met by pulses of up to 2 channels),
+#    (1428 measured: 179 a channel; issue 41 asks 500, met by pulses of up to 2 channels),
 #    none tripped.
 #  - The start of a 256-pattern table whose slip the core checks by the exact schedule
 #    (~12800 pulses): at most 150 ms of QEMU's core (4.7 million instructions, ~28 ms at
