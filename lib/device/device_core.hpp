@@ -193,9 +193,10 @@ class DeviceCore {
     float shaped_uC_per_code = 0;  // a shape's largest same-sign run, in uC a code
     std::uint32_t units = 1;       // the measured phase's units (a shape's strongest)
   };
+  // A channel that carried current in r: its reading, baseline and guards.
   Fault check_channel(const PulseRecord& r, const PulseTerms& t, ElectricalRecord& m,
                       std::size_t c);
-  // Lost contact or density for a charge per phase (fC) at impedance z against base.
+  // Lost contact or density for a charge per phase (pC) at impedance z against base.
   Fault density_fault(float charge_pC, std::uint32_t z, std::uint32_t base) const;
   float full_charge_pC(std::size_t c) const;  // the table's largest on channel c
   void trip(Fault cause, std::size_t channel, std::uint64_t t_us);

@@ -91,10 +91,6 @@ std::uint32_t impedance_ohm(std::int32_t voltage_mV, std::int32_t current_nA) {
 
 Fault DeviceCore::check_channel(const PulseRecord& r, const PulseTerms& t, ElectricalRecord& m,
                                 std::size_t c) {
-  if (!m.carried[c]) {  // its last reading stands (another pattern's pulse, say)
-    m.impedance_ohm[c] = 0;
-    return Fault::none;
-  }
   ChannelMeasurement& reading = reading_[c];
   reading.carried = true;
   reading.at_rail = m.at_rail[c];
@@ -179,6 +175,10 @@ void DeviceCore::measured(std::uint64_t start_us, const PulseRecord& r, Electric
         static_cast<float>(r.step_nA) * static_cast<float>(largest_run_unit_us(r.shape)) * 1e-9f;
   t.units = measured_units(r);
   for (std::size_t c = 0; c < r.channels && c < kMaxChannels; ++c) {
+    if (!m.carried[c]) {  // its last reading stands (another pattern's pulse, say)
+      m.impedance_ohm[c] = 0;
+      continue;
+    }
     const Fault f = check_channel(r, t, m, c);
     const std::uint64_t bit = std::uint64_t{1} << c;
     // Suspending: a pad without contact pauses the patterns that drive it (pulse_codes
