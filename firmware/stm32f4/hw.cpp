@@ -124,6 +124,13 @@ void stop_input_acknowledge(const Board& b) {
   if (b.stop_input.port != 0xFF) at(EXTI_PR) = 1u << b.stop_input.pin;
 }
 
+bool stop_input_held(const Board& b) {
+  const Pin p = b.stop_input;
+  if (p.port == 0xFF || p.pin > 15) return false;
+  const bool high = (at(gpio_base(p) + reg::gpio::IDR) >> p.pin) & 1u;
+  return high == b.stop_active_high;
+}
+
 void stop_input_pend(int irq) {
   if (irq >= 0) at(NVIC_ISPR0 + 4u * static_cast<std::uint32_t>(irq / 32)) = 1u << (irq % 32);
 }

@@ -36,6 +36,7 @@ void gpio_analog(Pin p);  // an ADC input
 // Returns the line's IRQ number; -1 when the board has none.
 int stop_input_init(const Board& b);
 void stop_input_acknowledge(const Board& b);  // in its handler: clears the line's pending bit
+bool stop_input_held(const Board& b);         // the pin at its active level now
 // What the pin's edge does, without the pin (the simulated board under QEMU, whose GPIOs
 // are not modelled): the interrupt made pending, as the EXTI makes it.
 void stop_input_pend(int irq);

@@ -259,6 +259,10 @@ extern "C" void firmware_main() {
   g_engine.init(g_dac, g_clock, g_alarm, early_us, clocks.sysclk_hz);
   g_engine.set_sense(g_sense);
   g_stop_irq = stop_input_init(kBoard);
+  // A stop input held at the active level (a maintained e-stop) keeps every output off; a
+  // board's pin only (QEMU models no GPIO levels).
+  const auto stop_held = [&] { return !clocks.emulated && stop_input_held(kBoard); };
+  if (stop_held()) g_engine.stop_input();
   reg::nvic_enable(reg::IRQ_USART1, 2);
   reg::nvic_enable(reg::IRQ_USART2, 3);
   reg::enable_irq();
@@ -284,9 +288,13 @@ extern "C" void firmware_main() {
       engine_on = false;
     }
     if (core.status().state == device::State::running && !engine_on) {
-      g_engine.release_stop();  // a new session's output (the stop input's ended the old)
-      g_engine.start_output();
-      engine_on = true;
+      if (stop_held()) {
+        g_engine.stop_input();  // a maintained stop input: latched, the session ends below
+      } else {
+        g_engine.release_stop();  // a new session's output (the stop input ended the old)
+        g_engine.start_output();
+        engine_on = true;
+      }
     }
   };
 
@@ -297,8 +305,9 @@ extern "C" void firmware_main() {
     iwdg_feed();
     // 0. The stop input: the engine has latched the switches open; the core ends the
     // session.  Under QEMU the skin's stop_input events press it, through its interrupt.
-    if (g_engine.take_stop()) {
-      core.stop_input(g_clock.now_us());
+    std::uint64_t pressed_at_us = 0;
+    if (g_engine.take_stop(pressed_at_us)) {
+      core.stop_input(pressed_at_us);
       follow();
     }
     std::uint64_t stop_t_us = 0;
@@ -358,8 +367,11 @@ extern "C" void firmware_main() {
     // A pulse the engine had no room for: it is behind its schedule, and the output ends
     // (Fault::overrun) rather than deliver less than was asked.
     if (not_queued != 0) core.overrun(not_queued_start_us, not_queued);
-    // 3. The DAC failed: no more output until a reset.
-    if ((g_dac.faults() != 0 || g_engine.readback_faults() != 0) && core.status().fault != device::Fault::output_fault)
+    // 3. The DAC or the sense failed: no more output until a reset.
+    // An ADC conversion that never completed (its readings are not to be trusted) is one
+    // too.
+    if ((g_dac.faults() != 0 || g_engine.readback_faults() != 0 || g_adc_sense.timeouts() != 0) &&
+        core.status().fault != device::Fault::output_fault)
       core.output_fault();
     follow();
     // 4. Each delivered pulse's readings (a board that measures) to the core, whose guards

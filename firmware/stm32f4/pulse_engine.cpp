@@ -72,6 +72,9 @@ void PulseEngine::finish_output() {
 }
 
 void PulseEngine::outputs_off() {
+  // Atomic against the stop input's interrupt: it must not come between the latch's test
+  // and output-enable below.
+  reg::CriticalSection cs;
   stage_->load(kZeros, 8);
   stage_->latch();
   stage_->enable(false);
@@ -88,13 +91,15 @@ void PulseEngine::stop_input() {
   stage_->enable(false);
   stop_latched_ = true;
   stop_event_ = true;
+  stop_at_us_ = clock_->now_us();  // safe here: now_us() masks every interrupt
 }
 
-bool PulseEngine::take_stop() {
+bool PulseEngine::take_stop(std::uint64_t& at_us) {
   if (!stop_event_) return false;  // the loop's every turn: no critical section
   reg::CriticalSection cs;
   const bool event = stop_event_;
   stop_event_ = false;
+  at_us = stop_at_us_;
   return event;
 }
 

@@ -73,12 +73,12 @@ class PulseEngine {
   void readings_done();
 
   // The stop input (its interrupt, above the engine's): the electrode switches are already
-  // open; the queue is dropped and the pulse in flight ends with them open, and no output
-  // starts (start_output) until release_stop().  Main loop: take_stop() reports the press
-  // once; release_stop() clears the latch when a new session's output starts, unless
-  // another press is still to be taken.
+  // open; the queue is dropped and the pulse in flight ends with them open (it is recorded
+  // and counted whole), and no output starts (start_output) until release_stop().  Main
+  // loop: take_stop() reports the press once, with its time; release_stop() clears the
+  // latch when a new session's output starts, unless another press is still to be taken.
   void stop_input();
-  bool take_stop();
+  bool take_stop(std::uint64_t& at_us);
   void release_stop();
   bool stop_latched() const { return stop_latched_; }
   std::uint32_t lost_pulses() const { return lost_; }
@@ -114,6 +114,7 @@ class PulseEngine {
   std::uint16_t sampled_[kSenseChannels] = {};  // the pulse in flight's
   std::uint8_t sense_edge_ = 1;                  // the edge it is sampled before
   volatile bool stop_latched_ = false, stop_event_ = false;
+  std::uint64_t stop_at_us_ = 0;
   volatile std::uint32_t unguarded_ = 0;  // measured pulses whose readings the core lacks
   volatile std::uint32_t rec_head_ = 0, rec_tail_ = 0;
   volatile std::uint32_t records_lost_ = 0;

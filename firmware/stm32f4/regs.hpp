@@ -122,8 +122,8 @@ inline std::uint32_t primask() {
 }
 
 // Interrupts of priority `level` and below (numerically >= level) masked for the lifetime
-// of the object (BASEPRI, PM0214 2.1.3); more urgent ones, such as the pulse edges' SysTick
-// at priority 0, still come.
+// of the object (BASEPRI, PM0214 2.1.3); more urgent ones, such as the stop input at
+// priority 0 and the pulse edges' SysTick at 1, still come.
 class MaskFrom {
  public:
   explicit MaskFrom(std::uint8_t level) {

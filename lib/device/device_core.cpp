@@ -500,7 +500,10 @@ void DeviceCore::stop_input(std::uint64_t now_us) {
   }
   pending_trip_ = Fault::none;
   end_session();
-  status_.fault = Fault::stop_input;
+  // Idle, it does not hide why the last output ended (a guard, a fault, the watchdog).
+  const Fault f = status_.fault;
+  if (was_running || f == Fault::none || f == Fault::completed || f == Fault::stopped)
+    status_.fault = Fault::stop_input;
   if (!was_running) ++output_ends_;  // the stage must stop (and stay off) even if idle
 }
 

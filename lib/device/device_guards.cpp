@@ -215,7 +215,11 @@ void DeviceCore::apply_trip() {
     end_session();
     status_.fault = cause;
   } else if (status_.fault == Fault::completed) {
-    status_.fault = cause;  // its last pulses were not delivered as asked
+    // Its last pulses were not delivered as asked.  A firmware's engine may still hold some
+    // of them (the core completes when it hands over the last): a new end, which the
+    // firmware follows by dropping them.
+    status_.fault = cause;
+    ++output_ends_;
   }
 }
 

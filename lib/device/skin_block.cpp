@@ -48,8 +48,18 @@ struct Reader {
   }
 };
 
+// The ranges a skin file's values have (skin_circuit.hpp; docs/skin.md), so that a block
+// carries nothing the emulators' files could not.
+bool within(double v, double lo, double hi) { return v >= lo && v <= hi; }
 bool field_ok(SkinField f, double v) {
-  return f != SkinField::contact || v <= 1.0;
+  switch (f) {
+    case SkinField::rs_kohm: return within(v, 0.01, 1000);
+    case SkinField::rp_kohm: return within(v, 0.1, 10000);
+    case SkinField::cp_nf: return within(v, 0.01, 10000);
+    case SkinField::j_half_mA_mm2: return v == 0 || within(v, 0.001, 1000);
+    case SkinField::contact: return within(v, 0, 1);
+  }
+  return false;
 }
 
 // The header's fields after magic, version and size: the compliance, area and starting
@@ -58,7 +68,9 @@ bool read_start(Reader& r, SkinScenario* s, double& compliance_V) {
   compliance_V = static_cast<double>(r.u(4)) * 1e-3;
   const double area = r.f64();
   const std::size_t channels = static_cast<std::size_t>(r.u(1));
-  if (channels == 0 || channels > kMaxChannels || compliance_V <= 0 || area <= 0) return false;
+  if (channels == 0 || channels > kMaxChannels || !within(compliance_V, 1, kSkinBlockMaxComplianceV) ||
+      !within(area, 0.01, 10000))
+    return false;
   if (s) {
     SkinInterface base;
     base.area_mm2 = area;
@@ -100,7 +112,7 @@ bool read_events(Reader& r, SkinScenario* s) {
 
 std::size_t encode_skin_block(const SkinScenario& s, std::size_t channels, double compliance_V,
                               std::uint8_t* out) {
-  if (channels == 0 || channels > kMaxChannels || !(compliance_V > 0) ||
+  if (channels == 0 || channels > kMaxChannels || !(compliance_V >= 1) ||
       compliance_V > kSkinBlockMaxComplianceV)
     return 0;
   Writer w{out};

@@ -28,18 +28,18 @@ inline constexpr std::size_t kSkinBlockMaxSize = 4 + 2 + 4 + 4 + 8 + 1 +
                                                  kMaxChannels * kSkinFields * 8 + 2 + 1 +
                                                  SkinScenario::kMaxEvents * kSkinEventSize +
                                                  SkinScenario::kMaxStopInputs * 8 + 2;
-// The compliance a block may give, V (as the protocol's compliance_V: 1 to 65535).
-inline constexpr double kSkinBlockMaxComplianceV = 65535;
+// The compliance a block may give, V: 1 to 1000, as stim-emu --compliance-v.
+inline constexpr double kSkinBlockMaxComplianceV = 1000;
 
 // Writes the scenario's first `channels` channels and the compliance into out (capacity
 // kSkinBlockMaxSize); returns the block's size, 0 when the values cannot be written (no
-// channels, or a compliance outside (0, kSkinBlockMaxComplianceV]).
+// channels, or a compliance outside [1, kSkinBlockMaxComplianceV]).
 std::size_t encode_skin_block(const SkinScenario& s, std::size_t channels, double compliance_V,
                               std::uint8_t* out);
 
 // Reads a block of at most max_size bytes into s and compliance_V; false when it is not one
-// (erased flash, a bad magic, version, size or CRC, a value that is not finite or is
-// negative, a contact above 1, a field or channel out of range): s is then as it was.
+// (erased flash, a bad magic, version, size or CRC, a value outside a skin file's ranges,
+// a field or channel count out of range): s is then as it was.
 bool decode_skin_block(const std::uint8_t* block, std::size_t max_size, SkinScenario& s,
                        double& compliance_V);
 

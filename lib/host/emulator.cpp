@@ -78,7 +78,8 @@ void PulseRecorder::advance(device::DeviceCore& core, std::uint64_t now_us) {
     const std::uint64_t stop_us = core.output_start_us() + first_us;
     if (now_us >= stop_us) {
       if (stop_us > 0) core.advance(stop_us - 1, sink);  // the pulses before it
-      core.stop_input(stop_us);
+      // Unless one of them ended the output (a guard): that is what the host is told.
+      if (core.status().state == device::State::running) core.stop_input(stop_us);
     }
   }
   core.advance(now_us, sink);

@@ -446,3 +446,61 @@ TEST_CASE("stop input: the output ends at once, and only a new session delivers 
   CHECK(core.status().fault == Fault::none);
   CHECK(std::string(to_string(Fault::stop_input)).find("stop input") != std::string::npos);
 }
+
+TEST_CASE("guards: a trip after the core completed is an end a firmware follows",
+          "[device][guards]") {
+  // A firmware's core completes when it hands its last pulse to the engine, before any of
+  // the last pulses' readings: a guard that trips on one of them must end the output again
+  // (output_ends), so that the firmware drops what its engine still holds.
+  DeviceCore core(measuring_caps());
+  PulseConfig c;
+  c.period_us = 1000;
+  c.width_us = c.balance_width_us = 200;
+  c.channels = 8;
+  c.max_pulses = 5;
+  REQUIRE(send(core, 1, Msg::configure, with_session(kToken, encode(c)), 0) == Result::ok);
+  REQUIRE(send(core, 2, Msg::set_weights,
+               with_session(kToken, encode_weights({1024, -1024, 0, 0, 0, 0, 0, 0})), 0) ==
+          Result::ok);
+  REQUIRE(send(core, 3, Msg::start, with_session(kToken, {}), 0) == Result::ok);
+  std::vector<PulseRecord> handed;
+  std::uint64_t start = 0;
+  core.advance(10000, [&](const DeliveredPulse& p) {
+    handed.push_back(record_of(p));
+    start = p.start_us;
+  });
+  REQUIRE(handed.size() == 5);
+  CHECK(core.status().fault == Fault::completed);
+  const std::uint32_t ends = core.output_ends();
+  // Pulse 1 measured fine; pulse 2 finds channel 0 without contact (at the rail, nothing
+  // delivered).
+  for (std::size_t k = 0; k < 3; ++k) {
+    ElectricalRecord m;
+    for (std::size_t ch = 0; ch < 2; ++ch) {
+      const auto asked = static_cast<std::int32_t>(handed[k].main[ch] * static_cast<std::int32_t>(handed[k].step_nA));
+      const bool lifted = k == 2 && ch == 0;
+      m.carried[ch] = true;
+      m.at_rail[ch] = lifted;
+      m.current_nA[ch] = lifted ? 0 : asked;
+      m.voltage_mV[ch] = lifted ? 100000 : asked / 100;
+    }
+    core.measured(start, handed[k], m);
+  }
+  CHECK(core.status().fault == Fault::contact);
+  CHECK(core.output_ends() == ends + 1);
+}
+
+TEST_CASE("stop input: pressed while idle, it keeps why the last output ended",
+          "[device][guards]") {
+  DeviceCore core(measuring_caps());
+  REQUIRE(start_output(core, 1024, 200) == Result::ok);
+  run(core, [](std::size_t k, std::size_t c, std::int32_t i) {
+    return k == 2 && c == 0 ? Reading{100000, 0, true} : ohmic(i, 20000);
+  }, 20000);
+  REQUIRE(core.status().fault == Fault::contact);
+  const std::uint32_t ends = core.output_ends();
+  core.stop_input(30000);
+  CHECK(core.status().fault == Fault::contact);  // not hidden by the later press
+  CHECK(core.output_ends() == ends + 1);         // but the stage still stops
+  CHECK(query(core, 0, 8).head.trip == Fault::contact);
+}

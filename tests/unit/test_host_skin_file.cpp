@@ -170,5 +170,17 @@ TEST_CASE("skin blocks: the firmware's simulated board reads back the scenario e
   // A block cut short is refused; nor can one be written without channels or compliance.
   CHECK_FALSE(device::decode_skin_block(block.data(), n - 1, back, compliance));
   CHECK(device::encode_skin_block(s, 0, 20.0, block.data()) == 0);
-  CHECK(device::encode_skin_block(s, 8, 0.0, block.data()) == 0);
+  CHECK(device::encode_skin_block(s, 8, 0.5, block.data()) == 0);
+  CHECK(device::encode_skin_block(s, 8, 1000.5, block.data()) == 0);
+  // A value no skin file could hold (a zero Rp, a contact above 1) is refused even under a
+  // good CRC.
+  for (const auto& [field, value] : {std::pair{SkinField::rp_kohm, 0.0},
+                                     std::pair{SkinField::contact, 1.5},
+                                     std::pair{SkinField::cp_nf, 20000.0}}) {
+    device::SkinScenario odd = s;
+    odd.set_override(3, field, value);
+    const std::size_t m = device::encode_skin_block(odd, 8, 20.0, block.data());
+    REQUIRE(m > 0);
+    CHECK_FALSE(device::decode_skin_block(block.data(), m, back, compliance));
+  }
 }
