@@ -23,7 +23,8 @@ if(NOT TP_SANITIZE)
 foreach(script pty-pipeline pty-libserialport pty-refusals pty-faults pty-watchdog pty-signals
                pty-live pty-lost-device pty-protocol pty-session pty-signal-before-start
                pty-device-bounds pty-live-limits pty-timing pty-current-limit pty-replay-keepalive
-               pty-rates pty-mix pty-table256 pty-intent pty-gap shaped guards-emu stop-input)
+               pty-rates pty-mix pty-table256 pty-intent pty-gap shaped guards-emu stop-input
+               contact-suspend hold-sensation)
   add_test(NAME firmware.${script} COMMAND ${TP_CHECK} script ${CMAKE_CURRENT_SOURCE_DIR}/stimctl/${script}.sh)
   set_tests_properties(firmware.${script} PROPERTIES
     ENVIRONMENT "${TP_CLI_ENV};TP_DEVICE=firmware;TP_FIRMWARE=${TP_FIRMWARE_ELF}"

@@ -21,6 +21,7 @@ cat > skin.json <<'JSON'
 JSON
 start_emu --record rec.jsonl --skin skin.json
 stimctl --port "$PORT" --contact-loss suspend < mix.json 2> err.txt || fail "suspend: $(cat err.txt)"
+sleep 0.2  # the firmware's monitor writes its last lines after the host has finished
 stop_emu
 grep -q "40 of 40 pulses" err.txt || fail "suspend: $(cat err.txt)"
 # Pattern 0 (A): full before the loss is found and after the contact is found again, at the

@@ -4,7 +4,8 @@
 # The law, pulse energy sum Z I^2 held (Tachi et al. 1977): pulse k's current is the
 # ceiling's (2 mA: codes +-2047) x min(1, 0.5 x sqrt(E_ref / E_k-1)), E = sum over the pads
 # of Z x code^2 with each pad's impedance at the previous pulse, in the device's 4-ohm units.
-# Checked from stim-emu's record on a real pseudo-terminal: every pulse within one DAC step
+# Checked from the device's record on a real pseudo-terminal (stim-emu; the firmware under
+# QEMU as firmware.hold-sensation): every pulse within one DAC step
 # of the law (and 0.06 of a code for the scale's 1/32768), the width exactly 200 us; without
 # --hold-sensation every pulse at 1 mA; refusals.
 source "$TP_SOURCE/tests/cli/stimctl/common.sh"
@@ -19,6 +20,7 @@ cat > sweat.json <<'JSON'
 JSON
 start_emu --record held.jsonl --skin sweat.json
 stimctl --port "$PORT" --hold-sensation < held.json 2> held.err || fail "hold: $(cat held.err)"
+sleep 0.2  # the firmware's monitor writes its last lines after the host has finished
 stop_emu
 grep -q "20 of 20 pulses.*sensation held (up to 2 x each amplitude)" held.err || fail "hold: $(cat held.err)"
 jq -se '
@@ -36,6 +38,7 @@ jq -se '.[0].currents_mA[0] < 1.001 and .[-1].currents_mA[0] > 1.1' held.jsonl >
 # Without the law, nothing changes.
 start_emu --record plain.jsonl --skin sweat.json
 stimctl --port "$PORT" < held.json 2> plain.err || fail "plain: $(cat plain.err)"
+sleep 0.2
 stop_emu
 jq -se 'length == 20 and all(.[]; .currents_mA[0] == 1.000448)' plain.jsonl > /dev/null || fail "without the law: $(jq -c '.currents_mA[0]' plain.jsonl | tr '\n' ' ')"
 # Refused: no reference impedance, a device that does not measure, live mode.
