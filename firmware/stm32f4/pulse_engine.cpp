@@ -239,16 +239,9 @@ void PulseEngine::on_alarm() {
       last_length_us_ =
           std::uint64_t{current_.width_us} + current_.interphase_us + current_.balance_width_us;
       have_last_start_ = true;
-      sense_edge_ = 1;
+      // Sampled before the end of the main phase, or of a shape's strongest.
+      sense_edge_ = static_cast<std::uint8_t>(current_.shape.strongest() + 1);
       if (current_.shape.n != 0) {
-        int strongest = 0;
-        for (std::size_t k = 0; k < current_.shape.n; ++k) {
-          const int u = current_.shape.units[k] < 0 ? -current_.shape.units[k] : current_.shape.units[k];
-          if (u > strongest) {
-            strongest = u;
-            sense_edge_ = static_cast<std::uint8_t>(k + 1);
-          }
-        }
         last_length_us_ = 0;
         for (std::size_t k = 0; k < current_.shape.n; ++k)
           last_length_us_ += current_.shape.duration_us[k];

@@ -31,16 +31,7 @@ Pin adc_pin(std::uint8_t ch) {
 // code x its units) and that phase's units.
 std::int32_t measured_code(const device::PulseRecord& r, std::size_t c) {
   if (r.shape.n == 0) return r.main[c];
-  int strongest = 0;
-  std::int32_t units = 0;
-  for (std::size_t k = 0; k < r.shape.n; ++k) {
-    const int u = r.shape.units[k] < 0 ? -r.shape.units[k] : r.shape.units[k];
-    if (u > strongest) {
-      strongest = u;
-      units = r.shape.units[k];
-    }
-  }
-  return r.main[c] * units;
+  return r.main[c] * r.shape.units[r.shape.strongest()];
 }
 
 }  // namespace

@@ -50,12 +50,7 @@ float phase_charge_pC(const PulseRecord& r, std::size_t c) {
 
 // The measured phase's units (a shaped pulse's strongest; 1 for a biphasic pulse).
 std::uint32_t measured_units(const PulseRecord& r) {
-  std::uint32_t units = r.shape.n == 0 ? 1 : 0;
-  for (std::size_t k = 0; k < r.shape.n && k < kMaxPhases; ++k) {
-    const std::uint32_t u = magnitude(r.shape.units[k]);
-    if (u > units) units = u;
-  }
-  return units;
+  return r.shape.n == 0 ? 1u : magnitude(r.shape.units[r.shape.strongest()]);
 }
 
 // |V / I|, ohm: mV / nA = 10^6 ohm; kOpenOhm when no current flowed (below 1 nA).

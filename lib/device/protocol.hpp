@@ -284,6 +284,20 @@ struct Shape {
   std::uint8_t n = 0;
   std::uint16_t duration_us[kMaxPhases] = {};
   std::int16_t units[kMaxPhases] = {};
+  // The strongest phase (the largest |units|, the first of them; 0 when n == 0): the one a
+  // device that measures samples at its end.
+  std::size_t strongest() const {
+    std::size_t best = 0;
+    int most = 0;
+    for (std::size_t k = 0; k < n && k < kMaxPhases; ++k) {
+      const int u = units[k] < 0 ? -units[k] : units[k];
+      if (u > most) {
+        most = u;
+        best = k;
+      }
+    }
+    return best;
+  }
 };
 
 // A pattern's timing (set_pattern, set_shape): its pulse shape, period, phase (its first

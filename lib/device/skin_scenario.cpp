@@ -117,17 +117,12 @@ Phases phases_of(const PulseRecord& r, std::size_t channel) {
   const double code = r.main[channel];
   if (r.shape.n != 0) {
     const Shape& s = r.shape;
-    int strongest = 0;
     for (std::size_t k = 0; k < s.n && k < kMaxPhases; ++k) {
       ph.current_mA[k] = code * s.units[k] * step_mA;
       ph.duration_us[k] = r.measured ? r.measured_duration_us[k] : s.duration_us[k];
-      const int u = s.units[k] < 0 ? -s.units[k] : s.units[k];
-      if (u > strongest) {
-        strongest = u;
-        ph.main = k;
-      }
       ph.n = k + 1;
     }
+    ph.main = s.strongest();
     return ph;
   }
   ph.current_mA[0] = code * step_mA;
