@@ -5,7 +5,7 @@
 #    advance above 6000.
 #  - The guards (protocol 7): DeviceCore::measured on the same table with the density guard
 #    on: with 8 channels carrying current in every pulse at most 2000 instructions a pulse
-#    (1425 measured; issue 41 asks 500), and with 2 channels at most 500 (472 measured);
+#    (1425 measured; issue 41 asks 500), and with 2 channels at most 500 (469 measured);
 #    none tripped.
 #  - The start of a 256-pattern table whose slip the core checks by the exact schedule
 #    (~12800 pulses): at most 150 ms of QEMU's core (4.7 million instructions, ~28 ms at
